@@ -1,0 +1,197 @@
+// Raw Q32.32 arithmetic on int64_t, written once over a 128-bit backend `U`
+// (NativeU128 or PortableU128). A raw value R stands for R * 2^-32.
+//
+// Every operation here is exact up to one final rounding (to nearest, ties to
+// even) and saturates to INT64_MAX / INT64_MIN when the rounded result does not
+// fit. Nothing here has undefined behaviour: signed values are handled as
+// sign + unsigned magnitude, or as two's complement in unsigned words.
+#pragma once
+
+#include <cstdint>
+
+#include "fixed/checked.h"
+#include "fixed/u128.h"
+
+namespace bitstep::raw {
+
+inline constexpr int64_t max_raw = INT64_MAX;
+inline constexpr int64_t min_raw = INT64_MIN;
+inline constexpr int fraction_bits = 32;
+
+// magnitude >> shift, rounded to nearest with ties to even. 0 < shift < 128.
+template <class U>
+constexpr U round_shift(U magnitude, int shift) {
+  const U one{1};
+  const U half = one << (shift - 1);
+  const U remainder = magnitude & ((one << shift) - one);
+  U quotient = magnitude >> shift;
+  if (remainder > half || (remainder == half && (quotient.lo() & 1u) != 0)) quotient = quotient + one;
+  return quotient;
+}
+
+// A signed result given as sign + magnitude, saturated into int64_t.
+template <class U>
+constexpr int64_t signed_saturate(bool negative, U magnitude, bool& saturated) {
+  constexpr uint64_t limit_positive = uint64_t{1} << 63;  // exclusive
+  if (negative) {
+    if (magnitude.hi() != 0 || magnitude.lo() > limit_positive) {
+      saturated = true;
+      return min_raw;
+    }
+    return static_cast<int64_t>(uint64_t{0} - magnitude.lo());
+  }
+  if (magnitude.hi() != 0 || magnitude.lo() >= limit_positive) {
+    saturated = true;
+    return max_raw;
+  }
+  return static_cast<int64_t>(magnitude.lo());
+}
+
+// a * b exactly, as a two's complement 128-bit value (|a*b| <= 2^126 fits).
+template <class U>
+constexpr U signed_product(int64_t a, int64_t b) {
+  const U p = U::mul(magnitude(a), magnitude(b));
+  return (a < 0) != (b < 0) ? -p : p;
+}
+
+// An exact signed sum of 128-bit terms. Signed overflow of the 128-bit sum is
+// counted, so the sum is exact for any number of terms: true value =
+// sum + wraps * 2^128. Only a final `wraps != 0` makes the result saturate.
+template <class U>
+struct Accumulator {
+  U sum{};
+  int wraps = 0;
+
+  constexpr void add(U term) {
+    const U next = sum + term;
+    const bool term_negative = top_bit(term);
+    if (top_bit(sum) == term_negative && top_bit(next) != term_negative) wraps += term_negative ? -1 : 1;
+    sum = next;
+  }
+  constexpr void add_product(int64_t a, int64_t b) { add(signed_product<U>(a, b)); }
+  constexpr void sub_product(int64_t a, int64_t b) { add(-signed_product<U>(a, b)); }
+  // A raw Q32.32 value c joins a sum of raw products (Q64.64) as c << 32.
+  constexpr void add_raw(int64_t c) {
+    const U wide = U{magnitude(c)} << fraction_bits;
+    add(c < 0 ? -wide : wide);
+  }
+
+  // The sum of Q64.64 products rounded once to Q32.32.
+  constexpr int64_t to_raw(bool& saturated) const {
+    if (wraps != 0) {
+      saturated = true;
+      return wraps > 0 ? max_raw : min_raw;
+    }
+    const bool negative = top_bit(sum);
+    const U magnitude = negative ? -sum : sum;
+    return signed_saturate(negative, round_shift(magnitude, fraction_bits), saturated);
+  }
+};
+
+template <class U>
+constexpr int64_t mul(int64_t a, int64_t b) {
+  bool saturated = false;
+  const U product = U::mul(magnitude(a), magnitude(b));
+  const int64_t r = signed_saturate((a < 0) != (b < 0), round_shift(product, fraction_bits), saturated);
+  BITSTEP_FAULT_IF(saturated, "mul", "result out of range, saturated", a, b);
+  return r;
+}
+
+// round(numerator / divisor) for magnitudes, ties to even, then signed and
+// saturated. A zero divisor saturates (0 / 0 = 0).
+template <class U>
+constexpr int64_t divide_magnitudes(bool negative, U numerator, uint64_t divisor, bool& saturated) {
+  if (divisor == 0) {
+    if (numerator == U{0}) return 0;
+    saturated = true;
+    return negative ? min_raw : max_raw;
+  }
+  if (numerator.hi() >= divisor) {  // quotient >= 2^64
+    saturated = true;
+    return negative ? min_raw : max_raw;
+  }
+  uint64_t remainder = 0;
+  uint64_t quotient = numerator.divrem(divisor, remainder);
+  const uint64_t rest = divisor - remainder;  // remainder < divisor, so 2r vs d is r vs d - r
+  if (remainder > rest || (remainder == rest && (quotient & 1u) != 0)) {
+    if (quotient == UINT64_MAX) {
+      saturated = true;
+      return negative ? min_raw : max_raw;
+    }
+    ++quotient;
+  }
+  return signed_saturate(negative, U{quotient}, saturated);
+}
+
+// (a << 32) / b: the numerator is at most 2^95, exact in 128 bits.
+template <class U>
+constexpr int64_t div(int64_t a, int64_t b) {
+  bool saturated = false;
+  const int64_t r =
+      divide_magnitudes((a < 0) != (b < 0), U{magnitude(a)} << fraction_bits, magnitude(b), saturated);
+  BITSTEP_FAULT_IF(b == 0, "div", "division by zero", a, b);
+  BITSTEP_FAULT_IF(saturated, "div", "result out of range, saturated", a, b);
+  return r;
+}
+
+// a * b / c with the exact 128-bit product, rounded once.
+template <class U>
+constexpr int64_t mul_div(int64_t a, int64_t b, int64_t c) {
+  bool saturated = false;
+  const bool negative = ((a < 0) != (b < 0)) != (c < 0);
+  const int64_t r = divide_magnitudes(negative, U::mul(magnitude(a), magnitude(b)), magnitude(c), saturated);
+  BITSTEP_FAULT_IF(c == 0, "mul_div", "division by zero", a, c);
+  BITSTEP_FAULT_IF(saturated, "mul_div", "result out of range, saturated", a, b);
+  return r;
+}
+
+// a * b + c rounded once.
+template <class U>
+constexpr int64_t mul_add(int64_t a, int64_t b, int64_t c) {
+  Accumulator<U> sum;
+  sum.add_product(a, b);
+  sum.add_raw(c);
+  bool saturated = false;
+  const int64_t r = sum.to_raw(saturated);
+  BITSTEP_FAULT_IF(saturated, "mul_add", "result out of range, saturated", a, b);
+  return r;
+}
+
+// a0 b0 + a1 b1 + a2 b2 rounded once.
+template <class U>
+constexpr int64_t dot3(int64_t a0, int64_t b0, int64_t a1, int64_t b1, int64_t a2, int64_t b2) {
+  Accumulator<U> sum;
+  sum.add_product(a0, b0);
+  sum.add_product(a1, b1);
+  sum.add_product(a2, b2);
+  bool saturated = false;
+  const int64_t r = sum.to_raw(saturated);
+  BITSTEP_FAULT_IF(saturated, "dot", "result out of range, saturated", a0, b0);
+  return r;
+}
+
+// a b - c d rounded once (one component of a cross product).
+template <class U>
+constexpr int64_t mul_sub_mul(int64_t a, int64_t b, int64_t c, int64_t d) {
+  Accumulator<U> sum;
+  sum.add_product(a, b);
+  sum.sub_product(c, d);
+  bool saturated = false;
+  const int64_t r = sum.to_raw(saturated);
+  BITSTEP_FAULT_IF(saturated, "cross", "result out of range, saturated", a, b);
+  return r;
+}
+
+// a + b and a - b wrap modulo 2^64 (two's complement), computed in uint64_t.
+constexpr int64_t add(int64_t a, int64_t b) {
+  const int64_t r = static_cast<int64_t>(static_cast<uint64_t>(a) + static_cast<uint64_t>(b));
+  BITSTEP_FAULT_IF((a < 0) == (b < 0) && (r < 0) != (a < 0), "add", "overflow, wrapped", a, b);
+  return r;
+}
+constexpr int64_t sub(int64_t a, int64_t b) {
+  const int64_t r = static_cast<int64_t>(static_cast<uint64_t>(a) - static_cast<uint64_t>(b));
+  BITSTEP_FAULT_IF((a < 0) != (b < 0) && (r < 0) != (a < 0), "sub", "overflow, wrapped", a, b);
+  return r;
+}
+
+}  // namespace bitstep::raw

@@ -1,0 +1,79 @@
+// The bitstep command line.
+#include <fmt/core.h>
+
+#include <cstring>
+#include <string_view>
+
+#include "fixed/checked.h"
+#include "fixed/u128.h"
+#include "tools/bench_fixed.h"
+#include "tools/fixed_accuracy.h"
+#include "tools/known_answer.h"
+
+namespace {
+
+constexpr const char* usage =
+    "usage: bitstep <command> [options]\n"
+    "\n"
+    "commands:\n"
+    "  selftest [--samples N]   fixed-point known-answer hash and accuracy table\n"
+    "  bench fixed [--quick]    ns/op of fixed-point operations next to float and double\n"
+    "  version                  engine version and build options\n"
+    "  help                     this text\n";
+
+int selftest(int argc, char** argv) {
+  uint64_t samples = 1000000;
+  for (int i = 0; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--samples") == 0 && i + 1 < argc) {
+      char* end = nullptr;
+      samples = std::strtoull(argv[++i], &end, 10);
+      if (*end != '\0' || samples == 0) {
+        fmt::print(stderr, "bitstep selftest: --samples needs a positive integer, got '{}'\n", argv[i]);
+        return 2;
+      }
+    } else {
+      fmt::print(stderr, "bitstep selftest: unknown option '{}'\n", argv[i]);
+      return 2;
+    }
+  }
+  const bitstep::KnownAnswer answer = bitstep::run_known_answer();
+  const bool hash_ok = answer.hash == bitstep::expected_known_answer_hash;
+  fmt::print("known-answer hash: {:016x} over {} operations ({}; expected {:016x})\n\n", answer.hash,
+             answer.operations, hash_ok ? "match" : "MISMATCH", bitstep::expected_known_answer_hash);
+
+  bool within = true;
+  fmt::print("| function | reference | bound (ulp) | worst (ulp) | samples | worst input |\n");
+  fmt::print("|---|---|---|---|---|---|\n");
+  for (const bitstep::AccuracyRow& row : bitstep::measure_accuracy(samples)) {
+    const bool ok = row.worst_ulps <= row.bound_ulps;
+    within = within && ok;
+    fmt::print("| {} | {} | {} | {:.4f}{} | {} | {} |\n", row.function, row.reference, row.bound_ulps,
+               row.worst_ulps, ok ? "" : " FAIL", row.samples, row.worst_input);
+  }
+  return hash_ok && within ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    fmt::print(stderr, "{}", usage);
+    return 2;
+  }
+  const std::string_view command = argv[1];
+  if (command == "selftest") return selftest(argc - 2, argv + 2);
+  if (command == "bench" && argc >= 3 && std::string_view(argv[2]) == "fixed") {
+    return bitstep::run_bench_fixed(argc - 3, argv + 3);
+  }
+  if (command == "version") {
+    fmt::print("bitstep {} (Q32.32, {} 128-bit arithmetic{})\n", BITSTEP_VERSION, bitstep::wide_backend_name,
+               bitstep::checked_build ? ", checked" : "");
+    return 0;
+  }
+  if (command == "help" || command == "--help" || command == "-h") {
+    fmt::print("{}", usage);
+    return 0;
+  }
+  fmt::print(stderr, "bitstep: unknown command '{}'\n{}", command, usage);
+  return 2;
+}
