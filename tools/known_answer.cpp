@@ -16,13 +16,14 @@ struct SplitMix64 {
     z = (z ^ (z >> 27)) * 0x94D049BB133111EBu;
     return z ^ (z >> 31);
   }
-  // A raw value of random sign whose magnitude has a random bit length in
-  // [min_bits, max_bits]: log-uniform over the scales a simulation meets.
+  // A raw value of random sign whose magnitude has exactly `bits` bits, bits
+  // uniform in [min_bits, max_bits]: log-uniform over the scales a simulation
+  // meets, and never zero.
   Fixed scaled(int min_bits, int max_bits, bool allow_negative = true) {
     const uint64_t r = next();
     const int span = max_bits - min_bits + 1;
     const int bits = min_bits + static_cast<int>(r % static_cast<uint64_t>(span));
-    const uint64_t m = next() >> (64 - bits);
+    const uint64_t m = (next() >> (64 - bits)) | (uint64_t{1} << (bits - 1));
     const bool negative = allow_negative && ((r >> 40) & 1u) != 0;
     return Fixed::from_raw(negative ? -static_cast<int64_t>(m) : static_cast<int64_t>(m));
   }

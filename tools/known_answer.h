@@ -17,6 +17,6 @@ KnownAnswer run_known_answer();
 
 // The value every build must produce, frozen when the number layer was
 // written. Change it only with a commit that says why the bits moved.
-inline constexpr uint64_t expected_known_answer_hash = 0xe7b73a30145c3bf5;
+inline constexpr uint64_t expected_known_answer_hash = 0xaed220f648e6e6a9;
 
 }  // namespace bitstep

@@ -1,13 +1,18 @@
 // Standalone known-answer program for tools/crosscheck.sh: built by each
-// cross compiler from fixed/ and tools/known_answer.cpp alone, it prints the
-// hash and exits 0 only if it is the frozen value.
+// cross compiler from fixed/ and tools/known_answer.cpp alone, it prints
+// "<hash> <operations> <128-bit backend> <byte order>" and exits 0 only if the
+// hash is the frozen value.
+#include <bit>
 #include <cinttypes>
 #include <cstdio>
 
+#include "fixed/u128.h"
 #include "tools/known_answer.h"
 
 int main() {
   const bitstep::KnownAnswer answer = bitstep::run_known_answer();
-  std::printf("%016" PRIx64 " %" PRIu64 "\n", answer.hash, answer.operations);
+  const char* byte_order = std::endian::native == std::endian::little ? "little-endian" : "big-endian";
+  std::printf("%016" PRIx64 " %" PRIu64 " %s %s\n", answer.hash, answer.operations, bitstep::wide_backend_name,
+              byte_order);
   return answer.hash == bitstep::expected_known_answer_hash ? 0 : 1;
 }
