@@ -58,7 +58,7 @@ constexpr std::array<uint64_t, 46> inverse_integer = make_inverse_integers();
 
 // round(a * b / 2^62) for signed Q62 values.
 template <class U>
-int64_t mul_q62(int64_t a, int64_t b) {
+constexpr int64_t mul_q62(int64_t a, int64_t b) {
   const uint64_t m = round_shift(U::mul(magnitude(a), magnitude(b)), q62).lo();
   return (a < 0) != (b < 0) ? static_cast<int64_t>(uint64_t{0} - m) : static_cast<int64_t>(m);
 }
@@ -101,7 +101,9 @@ template <class U>
 int64_t sin_q62(int64_t r) {
   const int64_t z = mul_q62<U>(r, r);
   int64_t sum = static_cast<int64_t>(inverse_factorial[17]);
-  for (int n = 15; n >= 1; n -= 2) sum = static_cast<int64_t>(inverse_factorial[static_cast<size_t>(n)]) - mul_q62<U>(z, sum);
+  for (int n = 15; n >= 1; n -= 2) {
+    sum = static_cast<int64_t>(inverse_factorial[static_cast<size_t>(n)]) - mul_q62<U>(z, sum);
+  }
   return mul_q62<U>(r, sum);
 }
 
@@ -110,42 +112,63 @@ template <class U>
 int64_t cos_q62(int64_t r) {
   const int64_t z = mul_q62<U>(r, r);
   int64_t sum = static_cast<int64_t>(inverse_factorial[18]);
-  for (int n = 16; n >= 0; n -= 2) sum = static_cast<int64_t>(inverse_factorial[static_cast<size_t>(n)]) - mul_q62<U>(z, sum);
+  for (int n = 16; n >= 0; n -= 2) {
+    sum = static_cast<int64_t>(inverse_factorial[static_cast<size_t>(n)]) - mul_q62<U>(z, sum);
+  }
   return sum;
 }
 
-// sin and cos of |x| in Q62, from the reduced angle and its quadrant.
+// sin of |x| (cosine = false) or cos of |x| (cosine = true) in Q62: with
+// |x| = k pi/2 + r, sin |x| = sin r, cos r, -sin r, -cos r for k mod 4 = 0..3
+// and cos |x| is sin shifted by one quarter turn. Only one series is evaluated.
 template <class U>
-void sin_cos_q62(uint64_t x, int64_t& sin_out, int64_t& cos_out) {
+int64_t sin_or_cos_q62(uint64_t x, bool cosine) {
   const Reduced reduced = reduce_quarter_turns<U>(x);
-  const int64_t s = sin_q62<U>(reduced.r_q62);
-  const int64_t c = cos_q62<U>(reduced.r_q62);
-  switch (reduced.quadrant) {
-    case 0: sin_out = s, cos_out = c; break;
-    case 1: sin_out = c, cos_out = -s; break;
-    case 2: sin_out = -s, cos_out = -c; break;
-    default: sin_out = -c, cos_out = s; break;
-  }
+  const unsigned quadrant = (reduced.quadrant + (cosine ? 1u : 0u)) & 3u;
+  const int64_t v = (quadrant & 1u) != 0 ? cos_q62<U>(reduced.r_q62) : sin_q62<U>(reduced.r_q62);
+  return quadrant >= 2 ? -v : v;
 }
 
-// atan u = u - u^3/3 + u^5/5 - ... for 0 <= u <= tan(pi/8) ~ 0.4143, up to
-// u^45/45 (the next term is < 2^-65).
+// atan u = u - u^3/3 + u^5/5 - ... for u >= 0, up to u^top/top (top odd).
 template <class U>
-uint64_t atan_series_q62(uint64_t u) {
+constexpr uint64_t atan_series_q62(uint64_t u, int top) {
   const int64_t z = mul_q62<U>(static_cast<int64_t>(u), static_cast<int64_t>(u));
-  int64_t sum = static_cast<int64_t>(inverse_integer[45]);
-  for (int n = 43; n >= 1; n -= 2) sum = static_cast<int64_t>(inverse_integer[static_cast<size_t>(n)]) - mul_q62<U>(z, sum);
+  int64_t sum = static_cast<int64_t>(inverse_integer[static_cast<size_t>(top)]);
+  for (int n = top - 2; n >= 1; n -= 2) {
+    sum = static_cast<int64_t>(inverse_integer[static_cast<size_t>(n)]) - mul_q62<U>(z, sum);
+  }
   return static_cast<uint64_t>(mul_q62<U>(static_cast<int64_t>(u), sum));
 }
 
-// atan t for t in [0, 1] (Q62), in [0, pi/4]. Above tan(pi/8) it uses
-// atan t = pi/4 - atan((1 - t) / (1 + t)).
+// atan t for t in [0, 1] the slow way, for the compile-time table only:
+// atan t = pi/4 - atan((1 - t) / (1 + t)) above tan(pi/8) ~ 0.4142, then the
+// series to u^45/45 (the next term is < 2^-65).
+constexpr uint64_t atan_reference_q62(uint64_t t) {
+  if (t <= tan_pi_8_q62) return atan_series_q62<PortableU128>(t, 45);
+  uint64_t remainder = 0;
+  const uint64_t u = (PortableU128{one_q62 - t} << q62).divrem(one_q62 + t, remainder);
+  return quarter_pi_q62 - atan_series_q62<PortableU128>(u, 45);
+}
+
+// atan(j/8) for j = 0..8 in Q62.
+constexpr std::array<uint64_t, 9> atan_eighths = [] {
+  std::array<uint64_t, 9> table{};
+  for (uint64_t j = 0; j < table.size(); ++j) table[j] = atan_reference_q62(j << (q62 - 3));
+  return table;
+}();
+
+// atan t for t in [0, 1] (Q62), in [0, pi/4]: with c = j/8 the nearest
+// eighth, atan t = atan c + atan u, u = (t - c) / (1 + t c), |u| <= 1/16, so
+// the series to u^15/15 suffices (the next term is < 2^-72).
 template <class U>
 uint64_t atan_unit_q62(uint64_t t) {
-  if (t <= tan_pi_8_q62) return atan_series_q62<U>(t);
+  const uint64_t j = (t + (uint64_t{1} << (q62 - 4))) >> (q62 - 3);  // round(8 t), 0..8
+  const uint64_t c = j << (q62 - 3);
+  const uint64_t denominator = one_q62 + static_cast<uint64_t>(mul_q62<U>(static_cast<int64_t>(t), static_cast<int64_t>(c)));
   uint64_t remainder = 0;
-  const uint64_t u = (U{one_q62 - t} << q62).divrem(one_q62 + t, remainder);
-  return quarter_pi_q62 - atan_series_q62<U>(u);
+  const uint64_t u = (U{t >= c ? t - c : c - t} << q62).divrem(denominator, remainder);
+  const uint64_t a = atan_series_q62<U>(u, 15);
+  return t >= c ? atan_eighths[j] + a : atan_eighths[j] - a;
 }
 
 // atan2 of two magnitudes in the same units, in [0, pi/2] (Q62).
@@ -177,22 +200,19 @@ uint64_t clamp_unit(int64_t a) {
 
 template <class U>
 int64_t sin(int64_t a) {
-  int64_t s = 0, c = 0;
-  sin_cos_q62<U>(magnitude(a), s, c);
+  const int64_t s = sin_or_cos_q62<U>(magnitude(a), false);
   return q62_to_raw<U>(a < 0 ? -s : s);  // sin(-x) = -sin x
 }
 
 template <class U>
 int64_t cos(int64_t a) {
-  int64_t s = 0, c = 0;
-  sin_cos_q62<U>(magnitude(a), s, c);
-  return q62_to_raw<U>(c);
+  return q62_to_raw<U>(sin_or_cos_q62<U>(magnitude(a), true));  // cos(-x) = cos x
 }
 
 template <class U>
 int64_t tan(int64_t a) {
-  int64_t s = 0, c = 0;
-  sin_cos_q62<U>(magnitude(a), s, c);
+  const int64_t s = sin_or_cos_q62<U>(magnitude(a), false);
+  const int64_t c = sin_or_cos_q62<U>(magnitude(a), true);
   // Q62 / Q62 -> Q32: (s << 32) / c, rounded once; saturates near the poles.
   bool saturated = false;
   const bool negative = (a < 0) != ((s < 0) != (c < 0));
