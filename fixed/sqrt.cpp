@@ -2,6 +2,7 @@
 // from above in 64 bits, one 128/64 Newton step, and an exact repair. Every
 // result is then rounded from exact integer remainders.
 #include <array>
+#include <cstddef>
 
 #include "fixed/fixed.h"
 #include "fixed/raw_math.h"
@@ -28,12 +29,12 @@ constexpr uint64_t isqrt_bitwise(uint64_t n) {
 // ceil(sqrt((i + 1) 2^57)), good to 1/64 (6 bits).
 constexpr std::array<uint64_t, 96> make_sqrt_seeds() {
   std::array<uint64_t, 96> seeds{};
-  for (uint64_t i = 32; i < 128; ++i) {
+  for (size_t i = 32; i < 128; ++i) {
     if (i == 127) {
       seeds[i - 32] = uint64_t{1} << 32;  // sqrt(2^64)
       continue;
     }
-    const uint64_t top = (i + 1) << 57;
+    const uint64_t top = (uint64_t{i} + 1) << 57;
     const uint64_t root = isqrt_bitwise(top);
     seeds[i - 32] = root * root == top ? root : root + 1;
   }
@@ -52,7 +53,7 @@ uint64_t isqrt_floor(U n) {
   const uint64_t t = m.hi();  // >= 2^62
 
   // 64-bit Newton from above: 6 -> 12 -> 24 -> 48 correct bits; g stays >= floor(sqrt(t)).
-  uint64_t g = sqrt_seeds[(t >> 57) - 32];
+  uint64_t g = sqrt_seeds[static_cast<size_t>(t >> 57) - 32];
   for (int i = 0; i < 3; ++i) g = (g + t / g) >> 1;
 
   // (g + 1) 2^32 >= sqrt(m), since (g + 1)^2 > t. One 128/64 Newton step takes

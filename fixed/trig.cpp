@@ -41,8 +41,8 @@ constexpr uint64_t tan_pi_8_q62 = uint64_t{0x1A827999FCEF3242};
 constexpr std::array<uint64_t, 19> make_inverse_factorials() {
   std::array<uint64_t, 19> c{};
   uint64_t factorial = 1;
-  for (uint64_t n = 0; n < c.size(); ++n) {
-    if (n > 0) factorial *= n;
+  for (size_t n = 0; n < c.size(); ++n) {
+    if (n > 0) factorial *= uint64_t{n};
     c[n] = (one_q62 + factorial / 2) / factorial;
   }
   return c;
@@ -51,7 +51,7 @@ constexpr std::array<uint64_t, 19> inverse_factorial = make_inverse_factorials()
 
 constexpr std::array<uint64_t, 46> make_inverse_integers() {
   std::array<uint64_t, 46> c{};
-  for (uint64_t n = 1; n < c.size(); ++n) c[n] = (one_q62 + n / 2) / n;
+  for (size_t n = 1; n < c.size(); ++n) c[n] = (one_q62 + uint64_t{n} / 2) / uint64_t{n};
   return c;
 }
 constexpr std::array<uint64_t, 46> inverse_integer = make_inverse_integers();
@@ -153,7 +153,7 @@ constexpr uint64_t atan_reference_q62(uint64_t t) {
 // atan(j/8) for j = 0..8 in Q62.
 constexpr std::array<uint64_t, 9> atan_eighths = [] {
   std::array<uint64_t, 9> table{};
-  for (uint64_t j = 0; j < table.size(); ++j) table[j] = atan_reference_q62(j << (q62 - 3));
+  for (size_t j = 0; j < table.size(); ++j) table[j] = atan_reference_q62(uint64_t{j} << (q62 - 3));
   return table;
 }();
 
@@ -162,9 +162,10 @@ constexpr std::array<uint64_t, 9> atan_eighths = [] {
 // the series to u^15/15 suffices (the next term is < 2^-72).
 template <class U>
 uint64_t atan_unit_q62(uint64_t t) {
-  const uint64_t j = (t + (uint64_t{1} << (q62 - 4))) >> (q62 - 3);  // round(8 t), 0..8
-  const uint64_t c = j << (q62 - 3);
-  const uint64_t denominator = one_q62 + static_cast<uint64_t>(mul_q62<U>(static_cast<int64_t>(t), static_cast<int64_t>(c)));
+  const size_t j = static_cast<size_t>((t + (uint64_t{1} << (q62 - 4))) >> (q62 - 3));  // round(8 t), 0..8
+  const uint64_t c = uint64_t{j} << (q62 - 3);
+  const int64_t tc = mul_q62<U>(static_cast<int64_t>(t), static_cast<int64_t>(c));
+  const uint64_t denominator = one_q62 + static_cast<uint64_t>(tc);
   uint64_t remainder = 0;
   const uint64_t u = (U{t >= c ? t - c : c - t} << q62).divrem(denominator, remainder);
   const uint64_t a = atan_series_q62<U>(u, 15);

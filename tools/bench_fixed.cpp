@@ -35,6 +35,7 @@
 #include "fixed/fixed.h"
 #include "fixed/u128.h"
 #include "fixed/vec3.h"
+#include "tools/splitmix64.h"
 
 namespace bitstep {
 
@@ -96,16 +97,6 @@ FloatVec3<F> normalize(FloatVec3<F> v) {
 
 // ---- operands ---------------------------------------------------------------
 
-// SplitMix64: a tiny, well-mixed, fully specified integer generator.
-struct SplitMix64 {
-  uint64_t state;
-  uint64_t next() {
-    uint64_t z = (state += 0x9E3779B97F4A7C15u);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9u;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBu;
-    return z ^ (z >> 31);
-  }
-};
 
 // Raw magnitudes with a bit length uniform in [min_bits, max_bits], i.e. values
 // log-uniform in [2^(min_bits - 33), 2^(max_bits - 32)), of random sign if `signed_values`.

@@ -10,7 +10,7 @@ out=build/crosscheck
 mkdir -p "$out"
 
 sources=(fixed/*.cpp tools/known_answer.cpp tools/known_answer_main.cpp)
-common=(-std=c++20 -I. -Wall -Wextra -Werror)
+common=(-std=c++20 -I. -Wall -Wextra -Wpedantic -Wconversion -Wsign-conversion -Wshadow -Werror)
 
 # name | compiler | flags | runner ("-" = run directly)
 builds=(

@@ -2,28 +2,24 @@
 
 #include "fixed/decimal.h"
 #include "fixed/mat33.h"
+#include "tools/splitmix64.h"
 
 namespace bitstep {
 
 namespace {
 
-// SplitMix64: a tiny, well-mixed, fully specified integer generator.
-struct SplitMix64 {
-  uint64_t state;
-  uint64_t next() {
-    uint64_t z = (state += 0x9E3779B97F4A7C15u);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9u;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBu;
-    return z ^ (z >> 31);
-  }
+// Operands drawn from a seeded SplitMix64.
+struct Operands {
+  SplitMix64 rng;
+
   // A raw value of random sign whose magnitude has exactly `bits` bits, bits
   // uniform in [min_bits, max_bits]: log-uniform over the scales a simulation
   // meets, and never zero.
   Fixed scaled(int min_bits, int max_bits, bool allow_negative = true) {
-    const uint64_t r = next();
+    const uint64_t r = rng.next();
     const int span = max_bits - min_bits + 1;
     const int bits = min_bits + static_cast<int>(r % static_cast<uint64_t>(span));
-    const uint64_t m = (next() >> (64 - bits)) | (uint64_t{1} << (bits - 1));
+    const uint64_t m = (rng.next() >> (64 - bits)) | (uint64_t{1} << (bits - 1));
     const bool negative = allow_negative && ((r >> 40) & 1u) != 0;
     return Fixed::from_raw(negative ? -static_cast<int64_t>(m) : static_cast<int64_t>(m));
   }
@@ -70,7 +66,7 @@ constexpr int kinds = 24;
 // Operand ranges keep every result inside the range, so the checked build runs
 // this too (saturation and wrapping are covered by tests/fixed/checked_tests.cpp).
 KnownAnswer run_known_answer() {
-  SplitMix64 rng{0x0B175E9u};
+  Operands rng{{0x0B175E9u}};
   Fold fold;
   const Fixed one = Fixed::one();
   for (int pass = 0; pass < rounds; ++pass) {
