@@ -22,7 +22,7 @@
 
 namespace bitstep {
 
-enum class ParseError { none, syntax, out_of_range, division_by_zero, too_many_digits };
+enum class ParseError { none, syntax, out_of_range, division_by_zero, too_many_digits, exponent_too_large };
 
 constexpr const char* describe(ParseError e) {
   switch (e) {
@@ -31,6 +31,7 @@ constexpr const char* describe(ParseError e) {
     case ParseError::out_of_range: return "outside the Q32.32 range [-2147483648, 2147483647.99999999977]";
     case ParseError::division_by_zero: return "ratio with a zero denominator";
     case ParseError::too_many_digits: return "more than 40 significant digits in a ratio term";
+    case ParseError::exponent_too_large: return "exponent beyond +-10^9 in a ratio term";
   }
   return "unknown error";
 }
@@ -48,11 +49,17 @@ using Big = BigUint<16>;
 // A decimal number as mantissa * 10^exponent, with the mantissa's digit count.
 struct Decimal {
   Big mantissa;
-  int exponent = 0;
-  int digits = 0;  // significant digits kept in the mantissa
+  int64_t exponent = 0;
+  int64_t digits = 0;  // significant digits kept in the mantissa
   bool negative = false;
-  bool truncated = false;  // non-zero digits were dropped beyond max_digits
+  bool truncated = false;           // non-zero digits were dropped beyond max_digits
+  bool exponent_saturated = false;  // the written exponent exceeded +-10^9
 };
+
+// Written exponents are exact up to this magnitude. A single decimal beyond it
+// is far out of range (or rounds to 0) either way; a ratio term beyond it is
+// an error, because the two exponents of a ratio may cancel.
+inline constexpr int64_t exponent_limit = 1000000000;
 
 constexpr bool is_digit(char c) { return c >= '0' && c <= '9'; }
 
@@ -61,7 +68,7 @@ constexpr bool is_digit(char c) { return c >= '0' && c <= '9'; }
 constexpr bool read_decimal(std::string_view text, size_t& pos, int max_digits, Decimal& out) {
   if (pos < text.size() && (text[pos] == '+' || text[pos] == '-')) out.negative = text[pos++] == '-';
   bool any_digit = false, seen_point = false;
-  int dropped_integer_digits = 0, kept_fraction_digits = 0;
+  int64_t dropped_integer_digits = 0, kept_fraction_digits = 0;
   for (; pos < text.size(); ++pos) {
     const char c = text[pos];
     if (c == '.' && !seen_point) {
@@ -86,14 +93,18 @@ constexpr bool read_decimal(std::string_view text, size_t& pos, int max_digits, 
     }
   }
   if (!any_digit) return false;
-  int exponent = 0;
+  int64_t exponent = 0;
   if (pos < text.size() && (text[pos] == 'e' || text[pos] == 'E')) {
     ++pos;
     bool exponent_negative = false;
     if (pos < text.size() && (text[pos] == '+' || text[pos] == '-')) exponent_negative = text[pos++] == '-';
     if (pos >= text.size() || !is_digit(text[pos])) return false;
     for (; pos < text.size() && is_digit(text[pos]); ++pos) {
-      if (exponent < 100000) exponent = exponent * 10 + (text[pos] - '0');  // larger is out of range anyway
+      exponent = exponent * 10 + (text[pos] - '0');
+      if (exponent > exponent_limit) {
+        exponent = exponent_limit;
+        out.exponent_saturated = true;
+      }
     }
     if (exponent_negative) exponent = -exponent;
   }
@@ -132,13 +143,13 @@ constexpr ParseResult round_ratio(bool negative, const Big& numerator, const Big
 
 // value = (a / b) * 10^exponent rounded; a, b are mantissas (b != 0) and
 // `magnitude_exponent` bounds log10 of the value: value < 10^magnitude_exponent.
-constexpr ParseResult round_scaled(bool negative, Big a, Big b, int exponent, int magnitude_upper,
-                                   int magnitude_lower) {
+constexpr ParseResult round_scaled(bool negative, Big a, Big b, int64_t exponent, int64_t magnitude_upper,
+                                   int64_t magnitude_lower) {
   if (magnitude_lower >= 10) return {Fixed{}, ParseError::out_of_range};  // >= 1e10 > 2^31
   if (magnitude_upper < -10) return {Fixed{}, ParseError::none};          // < 1e-11 < half an ulp
   a.shift_left(32);
-  if (exponent > 0) a.mul_pow10(exponent);
-  if (exponent < 0) b.mul_pow10(-exponent);
+  if (exponent > 0) a.mul_pow10(static_cast<int>(exponent));  // |exponent| <= 10 + 61 here
+  if (exponent < 0) b.mul_pow10(static_cast<int>(-exponent));
   if (a.overflow || b.overflow) return {Fixed{}, ParseError::too_many_digits};
   return round_ratio(negative, a, b);
 }
@@ -156,13 +167,14 @@ constexpr ParseResult parse_raw(std::string_view hex) {
     negative = true;
     hex.remove_prefix(1);
   }
-  if (hex.empty() || hex.size() > 16) return {Fixed{}, hex.empty() ? ParseError::syntax : ParseError::out_of_range};
-  uint64_t v = 0;
+  if (hex.empty()) return {Fixed{}, ParseError::syntax};
   for (char c : hex) {
-    const int d = hex_value(c);
-    if (d < 0) return {Fixed{}, ParseError::syntax};
-    v = (v << 4) | static_cast<uint64_t>(d);
+    if (hex_value(c) < 0) return {Fixed{}, ParseError::syntax};
   }
+  while (hex.size() > 1 && hex[0] == '0') hex.remove_prefix(1);  // leading zeros carry no value
+  if (hex.size() > 16) return {Fixed{}, ParseError::out_of_range};
+  uint64_t v = 0;
+  for (char c : hex) v = (v << 4) | static_cast<uint64_t>(hex_value(c));
   const uint64_t limit = uint64_t{1} << 63;
   if (v > limit || (v == limit && !negative)) return {Fixed{}, ParseError::out_of_range};
   return {Fixed::from_raw(static_cast<int64_t>(negative ? uint64_t{0} - v : v)), ParseError::none};
@@ -200,11 +212,12 @@ constexpr ParseResult parse_fixed(std::string_view text) {
   Decimal b;
   if (!read_decimal(text, pos, ratio_digits, b) || pos != text.size()) return {Fixed{}, ParseError::syntax};
   if (a.truncated || b.truncated || a.digits > ratio_digits) return {Fixed{}, ParseError::too_many_digits};
+  if (a.exponent_saturated || b.exponent_saturated) return {Fixed{}, ParseError::exponent_too_large};
   if (b.mantissa.is_zero()) return {Fixed{}, ParseError::division_by_zero};
   if (a.mantissa.is_zero()) return {Fixed{}, ParseError::none};
   // a in [10^(da-1+ea), 10^(da+ea)), b likewise: the ratio lies in
   // (10^(da+ea-db-eb-1), 10^(da+ea-db-eb+1)).
-  const int order = (a.digits + a.exponent) - (b.digits + b.exponent);
+  const int64_t order = (a.digits + a.exponent) - (b.digits + b.exponent);
   return round_scaled(a.negative != b.negative, a.mantissa, b.mantissa, a.exponent - b.exponent, order + 1,
                       order - 1);
 }

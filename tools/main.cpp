@@ -47,7 +47,7 @@ int selftest(int argc, char** argv) {
   for (const bitstep::AccuracyRow& row : bitstep::measure_accuracy(samples)) {
     const bool ok = row.worst_ulps <= row.bound_ulps;
     within = within && ok;
-    fmt::print("| {} | {} | {} | {:.4f}{} | {} | {} |\n", row.function, row.reference, row.bound_ulps,
+    fmt::print("| {} | {} | {} | {:.10f}{} | {} | {} |\n", row.function, row.reference, row.bound_ulps,
                row.worst_ulps, ok ? "" : " FAIL", row.samples, row.worst_input);
   }
   return hash_ok && within ? 0 : 1;
