@@ -20,6 +20,7 @@
 #include "fixed/fixed.h"
 #include "fixed/u128.h"
 #include "tools/splitmix64.h"
+#include "tests/test_support.h"
 
 namespace {
 
@@ -48,7 +49,7 @@ std::string show(Fixed f) { return bitstep::to_raw_string(f) + " (" + bitstep::t
 
 uint64_t mag(int64_t v) { return bitstep::magnitude(v); }
 // v sign-extended to 128 bits.
-U wide(int64_t v) { return U{v < 0 ? UINT64_MAX : 0, static_cast<uint64_t>(v)}; }
+using bitstep::test::wide;
 // a * b exactly (both signed).
 U product(int64_t a, int64_t b) {
   const U p = U::mul(mag(a), mag(b));
@@ -82,16 +83,6 @@ bool mul_add_correct(int64_t a, int64_t b, int64_t c, int64_t r) {
 
 }  // namespace
 
-// In the random loops a passing check costs nothing: the message is built and
-// the assertion recorded only when `condition` fails (Catch2's per-assertion
-// bookkeeping would otherwise dominate the run time).
-#define REQUIRE_QUIETLY(condition, message) \
-  do {                                      \
-    if (!(condition)) {                     \
-      INFO(message);                        \
-      REQUIRE(condition);                   \
-    }                                       \
-  } while (false)
 
 // ---------------------------------------------------------------------------
 // Compile-time evaluation.

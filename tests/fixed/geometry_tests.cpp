@@ -23,6 +23,7 @@
 #include "fixed/u128.h"
 #include "fixed/vec3.h"
 #include "tools/splitmix64.h"
+#include "tests/test_support.h"
 
 namespace {
 
@@ -136,18 +137,9 @@ void report(const char* what, uint64_t worst, uint64_t bound) {
   std::printf("[geometry] %-58s worst %6" PRIu64 " ulp, bound %6" PRIu64 " ulp\n", what, worst, bound);
 }
 
-// Only failing checks reach Catch2 (whose per-assertion cost would dominate
-// the random loops).
-#define REQUIRE_QUIETLY(condition, message) \
-  do {                                      \
-    if (!(condition)) {                     \
-      INFO(message);                        \
-      REQUIRE(condition);                   \
-    }                                       \
-  } while (false)
 
 // Signed 128-bit helpers for exact references.
-U wide(int64_t v) { return U{v < 0 ? UINT64_MAX : 0, static_cast<uint64_t>(v)}; }
+using bitstep::test::wide;
 U product(int64_t a, int64_t b) {
   const U p = U::mul(mag(a), mag(b));
   return (a < 0) != (b < 0) ? -p : p;
