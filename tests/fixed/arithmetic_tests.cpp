@@ -83,7 +83,6 @@ bool mul_add_correct(int64_t a, int64_t b, int64_t c, int64_t r) {
 
 }  // namespace
 
-
 // ---------------------------------------------------------------------------
 // Compile-time evaluation.
 

@@ -137,7 +137,6 @@ void report(const char* what, uint64_t worst, uint64_t bound) {
   std::printf("[geometry] %-58s worst %6" PRIu64 " ulp, bound %6" PRIu64 " ulp\n", what, worst, bound);
 }
 
-
 // Signed 128-bit helpers for exact references.
 using bitstep::test::wide;
 U product(int64_t a, int64_t b) {
