@@ -1,0 +1,71 @@
+// Bodies: handles, definitions with defaults, and materials.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/settings.h"
+#include "core/shape.h"
+#include "fixed/mat33.h"
+
+namespace bitstep {
+
+// A handle into the world's dense body arrays; the generation tells a
+// removed body's handle from its slot's next occupant.
+struct BodyId {
+  uint32_t index = UINT32_MAX;
+  uint32_t generation = 0;
+  friend bool operator==(BodyId, BodyId) = default;
+  bool valid() const { return index != UINT32_MAX; }
+};
+
+enum class BodyType : uint8_t {
+  static_body,  // never moves, infinite mass
+  kinematic,    // moved by its velocity (set by inputs), infinite mass
+  dynamic,      // moved by forces and contacts
+};
+
+// Friction and restitution. A pair combines by the geometric mean of the
+// frictions and the maximum of the restitutions (Box2D's mixing rules).
+struct Material {
+  Fixed static_friction = 0.5_fx;   // 1, stick while |friction impulse| <= mu_s * normal impulse
+  Fixed dynamic_friction = 0.5_fx;  // 1, sliding friction impulse = mu_d * normal impulse
+  Fixed restitution = 0.0_fx;       // 1, bounce factor above Settings::restitution_threshold
+};
+
+struct BodyDef {
+  BodyType type = BodyType::dynamic;
+  Pose pose;  // of the body frame, in which the shapes' local poses are given
+  Vec3 linear_velocity;   // m/s
+  Vec3 angular_velocity;  // rad/s, world frame
+  std::vector<Shape> shapes;
+  // Mass from density (kg/m^3) unless mass (kg) is set (> 0): then the
+  // density is scaled to give that mass.
+  Fixed density = 1000.0_fx;
+  Fixed mass;
+  Material material;
+  Fixed linear_damping;   // 1/s
+  Fixed angular_damping;  // 1/s
+};
+
+// What a body is made of, in dense per-slot arrays (structure of records).
+struct Body {
+  BodyType type = BodyType::dynamic;
+  bool alive = false;
+  uint32_t generation = 0;
+  Pose pose;  // of the centre of mass: shapes were re-based onto it at creation
+  Vec3 linear_velocity;
+  Vec3 angular_velocity;
+  Vec3 force;   // N, accumulated until the next step
+  Vec3 torque;  // N m
+  Fixed inverse_mass;             // 1/kg, 0 for static and kinematic bodies
+  Mat33 inertia_local;            // kg m^2, body frame (for reports)
+  Mat33 inverse_inertia_local;    // 1/(kg m^2), body frame
+  Mat33 inverse_inertia_world;    // R I^-1 R^T, refreshed each step
+  Material material;
+  Fixed linear_damping;
+  Fixed angular_damping;
+  std::vector<Shape> shapes;      // local poses relative to the centre of mass
+};
+
+}  // namespace bitstep

@@ -1,0 +1,29 @@
+// The broadphase: which bodies may touch, in canonical order.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/aabb.h"
+
+namespace bitstep {
+
+struct BodyPair {
+  uint32_t a, b;  // body slot indices, a < b
+  friend auto operator<=>(const BodyPair&, const BodyPair&) = default;
+};
+
+// One entry per live body: its bounds and whether it moves.
+struct BroadphaseProxy {
+  uint32_t body;
+  Aabb bounds;
+  bool movable;  // dynamic (later: and awake); pairs of two unmovable bodies are skipped
+};
+
+// All pairs whose bounds overlap and of which at least one is movable,
+// sorted by (a, b). A uniform grid over the small proxies (cell = the largest
+// small proxy, a power of two) finds neighbours in n log n; the few large
+// ones (ground, planes) are tested against everything.
+void find_pairs(const std::vector<BroadphaseProxy>& proxies, std::vector<BodyPair>& pairs);
+
+}  // namespace bitstep

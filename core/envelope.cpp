@@ -1,0 +1,67 @@
+#include "core/envelope.h"
+
+namespace bitstep {
+
+namespace {
+
+bool position_inside(Vec3 p) {
+  const Fixed limit = envelope::max_position;
+  return abs(p.x) <= limit && abs(p.y) <= limit && abs(p.z) <= limit;
+}
+
+bool size_inside(Fixed s) { return s >= envelope::min_size && s <= envelope::max_size; }
+
+EnvelopeError check_shape(const Shape& shape, int index) {
+  auto error = [index](const char* field, const char* reason) { return EnvelopeError{field, index, reason}; };
+  // Parts of a compound stay within 50 m of the body origin, so that the
+  // parallel-axis terms m d^2 of the inertia stay inside the range.
+  const Fixed reach = envelope::max_size;
+  const Vec3 p = shape.local.position;
+  if (abs(p.x) > reach || abs(p.y) > reach || abs(p.z) > reach) return error("position", "more than 50 m from the body origin");
+  switch (shape.type) {
+    case ShapeType::box:
+      if (!size_inside(shape.half_extents.x) || !size_inside(shape.half_extents.y) ||
+          !size_inside(shape.half_extents.z)) {
+        return error("half_extents", "outside 0.01..50 m");
+      }
+      break;
+    case ShapeType::sphere:
+      if (!size_inside(shape.radius)) return error("radius", "outside 0.01..50 m");
+      break;
+    case ShapeType::capsule:
+      if (!size_inside(shape.radius)) return error("radius", "outside 0.01..50 m");
+      if (shape.half_height < Fixed{} || shape.half_height > envelope::max_size) {
+        return error("half_height", "outside 0..50 m");
+      }
+      break;
+    case ShapeType::plane: break;
+  }
+  return {};
+}
+
+}  // namespace
+
+EnvelopeError check_envelope(const BodyDef& def) {
+  if (!position_inside(def.pose.position)) return {"position", -1, "outside +-16000 m"};
+  if (def.shapes.empty()) return {"shapes", -1, "a body needs at least one shape"};
+  for (size_t i = 0; i < def.shapes.size(); ++i) {
+    const Shape& shape = def.shapes[i];
+    if (shape.type == ShapeType::plane && def.type != BodyType::static_body) {
+      return {"type", static_cast<int>(i), "a plane belongs to a static body"};
+    }
+    const EnvelopeError e = check_shape(shape, static_cast<int>(i));
+    if (!e.ok()) return e;
+  }
+  if (def.type == BodyType::dynamic) {
+    if (def.mass != Fixed{} && (def.mass < envelope::min_mass || def.mass > envelope::max_mass)) {
+      return {"mass", -1, "outside 0.01..100000 kg"};
+    }
+    if (def.density <= Fixed{}) return {"density", -1, "must be positive"};
+  }
+  const Fixed max_speed = 500.0_fx, max_spin = 100.0_fx;
+  if (length(def.linear_velocity) > max_speed) return {"velocity", -1, "faster than 500 m/s"};
+  if (length(def.angular_velocity) > max_spin) return {"angular_velocity", -1, "faster than 100 rad/s"};
+  return {};
+}
+
+}  // namespace bitstep

@@ -1,0 +1,52 @@
+#include "core/integrate.h"
+
+namespace bitstep {
+
+namespace {
+
+// Scales v down to length `limit` when it is longer (the world envelope).
+Vec3 clamp_length(Vec3 v, Fixed limit) {
+  const Fixed l = length(v);
+  if (l <= limit) return v;
+  return {mul_div(v.x, limit, l), mul_div(v.y, limit, l), mul_div(v.z, limit, l)};
+}
+
+// Box2D's damping: v /= 1 + dt c, stable for any c >= 0.
+Fixed damping_factor(Fixed dt, Fixed damping) { return Fixed::one() / (Fixed::one() + dt * damping); }
+
+}  // namespace
+
+void integrate_velocities(const Settings& settings, std::vector<Body>& bodies) {
+  const Fixed dt = settings.dt;
+  for (Body& body : bodies) {
+    if (!body.alive || body.type != BodyType::dynamic) continue;
+    const Mat33 r = rotation(body.pose.orientation);
+    body.inverse_inertia_world = r * body.inverse_inertia_local * transpose(r);
+    body.linear_velocity += (settings.gravity + body.force * body.inverse_mass) * dt;
+    body.angular_velocity += body.inverse_inertia_world * body.torque * dt;
+    if (body.linear_damping > Fixed{}) body.linear_velocity *= damping_factor(dt, body.linear_damping);
+    if (body.angular_damping > Fixed{}) body.angular_velocity *= damping_factor(dt, body.angular_damping);
+    body.linear_velocity = clamp_length(body.linear_velocity, settings.max_linear_speed);
+    body.angular_velocity = clamp_length(body.angular_velocity, settings.max_angular_speed);
+    body.force = body.torque = Vec3{};
+  }
+}
+
+void integrate_positions(const Settings& settings, std::vector<Body>& bodies, const PushVelocities& push) {
+  const Fixed dt = settings.dt;
+  for (size_t i = 0; i < bodies.size(); ++i) {
+    Body& body = bodies[i];
+    if (!body.alive || body.type == BodyType::static_body) continue;
+    const bool pushed = i < push.linear.size();
+    const Vec3 v = clamp_length(body.linear_velocity, settings.max_linear_speed);
+    const Vec3 w = clamp_length(body.angular_velocity, settings.max_angular_speed);
+    const Vec3 linear = pushed ? v + push.linear[i] : v;
+    const Vec3 angular = pushed ? w + push.angular[i] : w;
+    body.linear_velocity = v;
+    body.angular_velocity = w;
+    body.pose.position = mul_add(linear, dt, body.pose.position);
+    if (angular != Vec3{}) body.pose.orientation = integrate(body.pose.orientation, angular, dt);
+  }
+}
+
+}  // namespace bitstep

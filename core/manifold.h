@@ -1,0 +1,35 @@
+// Contact manifolds: what the narrowphase finds between two shapes, and the
+// solver state that persists with it from step to step.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "fixed/vec3.h"
+
+namespace bitstep {
+
+// A feature id names the pair of features (faces, edges, vertices) that made
+// a contact point, so next step's point with the same id inherits the
+// accumulated impulses (warm starting, qu3e's q3FeaturePair).
+using FeatureId = uint32_t;
+
+struct ContactPoint {
+  Vec3 position;       // world, m: midway between the two surfaces
+  Fixed depth;         // m, > 0 when the shapes overlap
+  FeatureId feature = 0;
+  // Accumulated impulses (N s), kept across steps for warm starting.
+  Fixed normal_impulse;
+  Fixed tangent_impulse[2];
+  Fixed split_impulse;  // the penetration-recovery (pseudo-velocity) impulse, not warm started
+};
+
+inline constexpr int max_manifold_points = 4;
+
+struct Manifold {
+  Vec3 normal;  // unit, world, from shape A to shape B
+  int point_count = 0;
+  std::array<ContactPoint, max_manifold_points> points{};
+};
+
+}  // namespace bitstep

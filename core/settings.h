@@ -1,0 +1,38 @@
+// Every tunable of the simulation, with its unit and default. Scenes
+// override any of them (replay/ maps the JSON keys of "settings" here).
+#pragma once
+
+#include "fixed/decimal.h"
+#include "fixed/vec3.h"
+
+namespace bitstep {
+
+using namespace bitstep::literals;
+
+struct Settings {
+  Fixed dt = "1/60"_fx;                              // s, the fixed time step
+  Vec3 gravity{Fixed{}, -9.81_fx, Fixed{}};          // m/s^2
+  int velocity_iterations = 10;                      // sequential-impulse passes per step
+  int position_iterations = 4;                       // split-impulse (pseudo-velocity) passes per step
+  Fixed penetration_slop = 0.005_fx;                 // m, overlap left alone (no push-out below it)
+  Fixed split_impulse_factor = 0.2_fx;               // 1, fraction of the overlap beyond the slop removed per step
+  Fixed max_push_out_speed = 3.0_fx;                 // m/s, cap of the penetration-recovery speed
+  bool baumgarte = false;                            // first seed: bias the real velocity instead of split impulse
+  Fixed baumgarte_factor = 0.2_fx;                   // 1, used when baumgarte is on
+  Fixed restitution_threshold = 1.0_fx;              // m/s, approach speeds below it do not bounce
+  Fixed speculative_distance = 0.02_fx;              // m, contacts are kept this far before touching
+  Fixed max_linear_speed = 500.0_fx;                 // m/s, world envelope: velocities are clamped to it
+  Fixed max_angular_speed = 100.0_fx;                // rad/s, world envelope
+  bool warm_starting = true;                         // start each step from last step's impulses
+};
+
+// The world envelope (DESIGN.md): checked when a body is created.
+namespace envelope {
+inline constexpr Fixed max_position = 16000.0_fx;  // m, |coordinate|
+inline constexpr Fixed min_size = 0.01_fx;         // m, box half-extent, radius, capsule half-height may be 0
+inline constexpr Fixed max_size = 50.0_fx;         // m
+inline constexpr Fixed min_mass = 0.01_fx;         // kg
+inline constexpr Fixed max_mass = 100000.0_fx;     // kg
+}  // namespace envelope
+
+}  // namespace bitstep

@@ -1,0 +1,33 @@
+// Shapes, each with a local pose in its body's frame. A body has one or more
+// shapes; more than one makes a compound (tables, chairs, ragdoll parts).
+#pragma once
+
+#include <cstdint>
+
+#include "core/pose.h"
+
+namespace bitstep {
+
+enum class ShapeType : uint8_t {
+  plane,    // static half-space: the local +y axis is the outward normal, the surface passes through the local origin
+  box,      // half_extents along the local axes
+  capsule,  // a segment from -half_height to +half_height along local y, swept by radius
+  sphere,   // radius
+};
+
+struct Shape {
+  ShapeType type = ShapeType::box;
+  Vec3 half_extents;   // m, box
+  Fixed radius;        // m, sphere and capsule
+  Fixed half_height;   // m, capsule: half the length of its inner segment
+  Pose local;          // in the body frame (whose origin is the centre of mass)
+};
+
+// A shape placed in the world for collision: the body's pose composed with
+// the shape's local pose.
+struct WorldShape {
+  const Shape* shape;
+  Pose pose;
+};
+
+}  // namespace bitstep

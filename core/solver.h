@@ -1,0 +1,25 @@
+// The contact solver: sequential impulses with accumulated, warm-started
+// impulses (Catto), friction clamped by the normal impulse with static and
+// dynamic coefficients, restitution, and penetration recovery either by split
+// impulse (pseudo-velocities that never enter momentum, the second seed's way)
+// or by a Baumgarte bias on the real velocity (the first seed's way).
+#pragma once
+
+#include <vector>
+
+#include "core/body.h"
+#include "core/contact.h"
+
+namespace bitstep {
+
+// Pseudo-velocities from the split-impulse passes, per body slot: positions
+// integrate v + push, then push is dropped, so no energy enters.
+struct PushVelocities {
+  std::vector<Vec3> linear;
+  std::vector<Vec3> angular;
+};
+
+void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::vector<Contact>& contacts,
+                    PushVelocities& push);
+
+}  // namespace bitstep

@@ -1,0 +1,148 @@
+#include "core/world.h"
+
+#include "core/broadphase.h"
+#include "core/contact_update.h"
+#include "core/integrate.h"
+#include "core/mass.h"
+#include "core/solver.h"
+
+namespace bitstep {
+
+World::World(const Settings& settings) : settings_(settings) {}
+
+CreateResult World::create_body(const BodyDef& def) {
+  CreateResult result;
+  result.error = check_envelope(def);
+  if (!result.error.ok()) return result;
+
+  Body body;
+  body.type = def.type;
+  body.alive = true;
+  body.pose = def.pose;
+  body.linear_velocity = def.linear_velocity;
+  body.angular_velocity = def.angular_velocity;
+  body.material = def.material;
+  body.linear_damping = def.linear_damping;
+  body.angular_damping = def.angular_damping;
+  body.shapes = def.shapes;
+  if (def.type == BodyType::dynamic) {
+    // A given mass scales the density: rho = m / V.
+    Fixed density = def.density;
+    if (def.mass > Fixed{}) {
+      Fixed total_volume;
+      for (const Shape& s : def.shapes) total_volume += volume(s);
+      density = def.mass / total_volume;
+    }
+    const MassProperties mass = mass_properties(def.shapes, density);
+    if (!mass.ok) {
+      result.error = {"density", -1, "gives a mass outside 0.01..100000 kg"};
+      return result;
+    }
+    // Re-base the body frame onto the centre of mass: the pose moves to it
+    // and the shapes' local positions shift the other way.
+    body.pose.position = def.pose.apply(mass.center);
+    for (Shape& s : body.shapes) s.local.position -= mass.center;
+    body.inverse_mass = Fixed::one() / mass.mass;
+    body.inertia_local = mass.inertia;
+    body.inverse_inertia_local = inverse(mass.inertia);
+    const Mat33 r = rotation(body.pose.orientation);
+    body.inverse_inertia_world = r * body.inverse_inertia_local * transpose(r);
+  }
+
+  uint32_t index;
+  if (!free_slots_.empty()) {
+    index = free_slots_.back();
+    free_slots_.pop_back();
+    body.generation = bodies_[index].generation + 1;
+    bodies_[index] = std::move(body);
+  } else {
+    index = static_cast<uint32_t>(bodies_.size());
+    bodies_.push_back(std::move(body));
+  }
+  result.id = {index, bodies_[index].generation};
+  return result;
+}
+
+bool World::is_alive(BodyId id) const {
+  return id.index < bodies_.size() && bodies_[id.index].alive && bodies_[id.index].generation == id.generation;
+}
+
+bool World::remove_body(BodyId id) {
+  if (!is_alive(id)) return false;
+  Body& body = bodies_[id.index];
+  body.alive = false;
+  body.shapes.clear();
+  free_slots_.push_back(id.index);
+  // Contacts of the removed body go now, so a new body in this slot does not inherit them.
+  std::erase_if(contacts_, [&](const Contact& c) { return c.key.body_a == id.index || c.key.body_b == id.index; });
+  return true;
+}
+
+void World::apply_impulse(BodyId id, Vec3 impulse, Vec3 world_point) {
+  if (!is_alive(id)) return;
+  Body& body = bodies_[id.index];
+  if (body.type != BodyType::dynamic) return;
+  body.linear_velocity += impulse * body.inverse_mass;
+  body.angular_velocity += body.inverse_inertia_world * cross(world_point - body.pose.position, impulse);
+}
+
+void World::apply_force(BodyId id, Vec3 force, Vec3 world_point) {
+  if (!is_alive(id)) return;
+  Body& body = bodies_[id.index];
+  body.force += force;
+  body.torque += cross(world_point - body.pose.position, force);
+}
+
+void World::set_velocity(BodyId id, Vec3 linear, Vec3 angular) {
+  if (!is_alive(id)) return;
+  Body& body = bodies_[id.index];
+  if (body.type == BodyType::static_body) return;
+  body.linear_velocity = linear;
+  body.angular_velocity = angular;
+}
+
+void World::step() {
+  bitstep::integrate_velocities(settings_, bodies_);
+  find_contacts();
+  solve_contacts();
+  bitstep::integrate_positions(settings_, bodies_, push_);
+  ++step_count_;
+}
+
+void World::find_contacts() {
+  proxies_.clear();
+  for (uint32_t i = 0; i < bodies_.size(); ++i) {
+    const Body& body = bodies_[i];
+    if (!body.alive) continue;
+    Aabb bounds = shape_aabb({&body.shapes[0], compose(body.pose, body.shapes[0].local)});
+    for (size_t s = 1; s < body.shapes.size(); ++s) {
+      bounds = bounds.merged(shape_aabb({&body.shapes[s], compose(body.pose, body.shapes[s].local)}));
+    }
+    proxies_.push_back({i, bounds.expanded(settings_.speculative_distance), body.type == BodyType::dynamic});
+  }
+  find_pairs(proxies_, pairs_);
+  update_contacts(bodies_, pairs_, settings_, contacts_);
+}
+
+void World::solve_contacts() { bitstep::solve_contacts(settings_, bodies_, contacts_, push_); }
+
+StepStats World::stats() const {
+  StepStats s;
+  for (const Body& body : bodies_) {
+    if (!body.alive || body.type != BodyType::dynamic) continue;
+    ++s.awake_bodies;
+    // 1/2 m v^2 + 1/2 w . I w, the rotational part in body axes.
+    const Fixed mass = Fixed::one() / body.inverse_mass;
+    const Vec3 w = rotate_inverse(body.pose.orientation, body.angular_velocity);
+    s.kinetic_energy += (mass * length_sq(body.linear_velocity) + dot(w, body.inertia_local * w)) / 2.0_fx;
+  }
+  for (const Contact& c : contacts_) {
+    s.contact_points += c.manifold.point_count;
+    for (int i = 0; i < c.manifold.point_count; ++i) {
+      s.max_penetration = max(s.max_penetration, c.manifold.points[static_cast<size_t>(i)].depth);
+    }
+  }
+  return s;
+}
+
+}  // namespace bitstep

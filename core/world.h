@@ -1,0 +1,70 @@
+// The world: bodies in dense arrays, their contacts, and the step.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/body.h"
+#include "core/broadphase.h"
+#include "core/contact.h"
+#include "core/envelope.h"
+#include "core/settings.h"
+#include "core/solver.h"
+
+namespace bitstep {
+
+// Per-step figures for reports (bitstep run).
+struct StepStats {
+  int awake_bodies = 0;
+  int contact_points = 0;
+  Fixed max_penetration;  // m
+  Fixed kinetic_energy;   // J (saturates beyond 2^31 J)
+};
+
+struct CreateResult {
+  BodyId id;
+  EnvelopeError error;  // set when the definition is outside the world envelope
+  bool ok() const { return error.ok(); }
+};
+
+class World {
+ public:
+  explicit World(const Settings& settings = {});
+
+  // Validates the definition against the world envelope first; on error the
+  // world is unchanged.
+  CreateResult create_body(const BodyDef& def);
+  bool remove_body(BodyId id);
+
+  void step();
+
+  // Inputs, applied by the next step.
+  void apply_impulse(BodyId id, Vec3 impulse, Vec3 world_point);
+  void apply_force(BodyId id, Vec3 force, Vec3 world_point);
+  void set_velocity(BodyId id, Vec3 linear, Vec3 angular);
+
+  const Settings& settings() const { return settings_; }
+  uint64_t step_count() const { return step_count_; }
+  bool is_alive(BodyId id) const;
+  const Body& body(BodyId id) const { return bodies_[id.index]; }
+  // Slots in creation order; dead slots have alive == false.
+  const std::vector<Body>& bodies() const { return bodies_; }
+  const std::vector<Contact>& contacts() const { return contacts_; }
+  StepStats stats() const;
+
+ private:
+  void find_contacts();
+  void solve_contacts();
+
+  Settings settings_;
+  uint64_t step_count_ = 0;
+  std::vector<Body> bodies_;
+  std::vector<uint32_t> free_slots_;  // removed slots, reused last-in first-out
+  std::vector<Contact> contacts_;     // sorted by (body a, body b, shape a, shape b)
+  // Per-step scratch, kept to reuse its memory (not state: rebuilt every step).
+  std::vector<BroadphaseProxy> proxies_;
+  std::vector<BodyPair> pairs_;
+  PushVelocities push_;
+};
+
+}  // namespace bitstep

@@ -1,0 +1,48 @@
+// TestWorld: a world with helpers that read like the physics (STYLE rule 10).
+#pragma once
+
+#include "core/world.h"
+
+namespace bitstep::test {
+
+struct TestWorld {
+  World world;
+
+  explicit TestWorld(const Settings& settings = {}) : world(settings) {}
+
+  // A static ground box whose top face is at y = 0.
+  BodyId add_ground(Material material = {}) {
+    BodyDef def;
+    def.type = BodyType::static_body;
+    def.pose.position = {Fixed{}, -1.0_fx, Fixed{}};
+    def.shapes.push_back({ShapeType::box, {50.0_fx, 1.0_fx, 50.0_fx}, {}, {}, {}});
+    def.material = material;
+    return world.create_body(def).id;
+  }
+
+  BodyId add_box(Vec3 position, Vec3 half_extents, Material material = {}) {
+    BodyDef def;
+    def.pose.position = position;
+    def.shapes.push_back({ShapeType::box, half_extents, {}, {}, {}});
+    def.material = material;
+    return world.create_body(def).id;
+  }
+
+  BodyId add_sphere(Vec3 position, Fixed radius, Material material = {}) {
+    BodyDef def;
+    def.pose.position = position;
+    def.shapes.push_back({ShapeType::sphere, {}, radius, {}, {}});
+    def.material = material;
+    return world.create_body(def).id;
+  }
+
+  void simulate_steps(int steps) {
+    for (int i = 0; i < steps; ++i) world.step();
+  }
+  // Whole steps covering `seconds` (rounded down).
+  void simulate(Fixed seconds) { simulate_steps(static_cast<int>((seconds / world.settings().dt).raw() >> 32)); }
+
+  const Body& body(BodyId id) const { return world.body(id); }
+};
+
+}  // namespace bitstep::test
