@@ -58,9 +58,13 @@ EnvelopeError check_envelope(const BodyDef& def) {
     }
     if (def.density <= Fixed{}) return {"density", -1, "must be positive"};
   }
-  const Fixed max_speed = 500.0_fx, max_spin = 100.0_fx;
-  if (length(def.linear_velocity) > max_speed) return {"velocity", -1, "faster than 500 m/s"};
-  if (length(def.angular_velocity) > max_spin) return {"angular_velocity", -1, "faster than 100 rad/s"};
+  // Components first, so that the length cannot overflow.
+  auto faster_than = [](Vec3 v, Fixed limit) {
+    if (abs(v.x) > limit || abs(v.y) > limit || abs(v.z) > limit) return true;
+    return length(v) > limit;
+  };
+  if (faster_than(def.linear_velocity, 500.0_fx)) return {"velocity", -1, "faster than 500 m/s"};
+  if (faster_than(def.angular_velocity, 100.0_fx)) return {"angular_velocity", -1, "faster than 100 rad/s"};
   return {};
 }
 

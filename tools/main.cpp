@@ -9,6 +9,7 @@
 #include "tools/bench_fixed.h"
 #include "tools/fixed_accuracy.h"
 #include "tools/known_answer.h"
+#include "tools/run_command.h"
 
 namespace {
 
@@ -16,6 +17,8 @@ constexpr const char* usage =
     "usage: bitstep <command> [options]\n"
     "\n"
     "commands:\n"
+    "  run SCENE [--steps N] [--seconds S] [--hash-every K] [--json]\n"
+    "                           run a scene: per-second summary and the final state hash\n"
     "  selftest [--samples N]   fixed-point known-answer hash and accuracy table\n"
     "  bench fixed [--quick]    ns/op of fixed-point operations next to float and double\n"
     "  version                  engine version and build options\n"
@@ -61,6 +64,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string_view command = argv[1];
+  if (command == "run") return bitstep::run_scene_command(argc - 2, argv + 2);
   if (command == "selftest") return selftest(argc - 2, argv + 2);
   if (command == "bench" && argc >= 3 && std::string_view(argv[2]) == "fixed") {
     return bitstep::run_bench_fixed(argc - 3, argv + 3);

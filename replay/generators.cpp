@@ -1,0 +1,227 @@
+#include "replay/generators.h"
+
+#include "tools/splitmix64.h"
+
+namespace bitstep {
+
+namespace {
+
+std::string body_name(const std::string& prefix, size_t index) { return prefix + "." + std::to_string(index); }
+
+Shape box_shape(Vec3 half_extents, Vec3 local_position = {}) {
+  Shape shape;
+  shape.type = ShapeType::box;
+  shape.half_extents = half_extents;
+  shape.local.position = local_position;
+  return shape;
+}
+
+SceneBody dynamic_body(std::string name, Vec3 position, std::vector<Shape> shapes, const Substance& substance) {
+  SceneBody body;
+  body.name = std::move(name);
+  body.def.type = BodyType::dynamic;
+  body.def.pose.position = position;
+  body.def.shapes = std::move(shapes);
+  body.def.density = substance.density;
+  body.def.material = substance.material;
+  return body;
+}
+
+void add_box(std::vector<SceneBody>& out, const std::string& prefix, Vec3 half_extents, Vec3 centre,
+             const Substance& substance) {
+  out.push_back(dynamic_body(body_name(prefix, out.size()), centre, {box_shape(half_extents)}, substance));
+}
+
+// The centre height of level `level` of boxes 2 * half_height tall standing
+// on `base_y`, every contact overlapped by `overlap`:
+// base_y + half_height - overlap + level (2 half_height - overlap). Integer
+// times Fixed and sums are exact: nothing rounds.
+Fixed level_centre_y(Fixed base_y, Fixed half_height, Fixed overlap, int level) {
+  return base_y + half_height - overlap + Fixed::from_int(level) * (half_height + half_height - overlap);
+}
+
+// Offset of slot `index` of a row of `count` slots `pitch` apart, centred
+// on 0, moved by `shift_halves` half pitches: (2 index - (count - 1) + shift) / 2 * pitch.
+Fixed row_offset(int index, int count, int shift_halves, Fixed pitch) {
+  return Fixed::from_ratio(2 * int64_t{index} - (int64_t{count} - 1) + shift_halves, 2) * pitch;
+}
+
+// One row of `count` boxes along x, centred on (centre_x, y, z).
+void add_row_along_x(std::vector<SceneBody>& out, const std::string& prefix, int count, int shift_halves,
+                     Vec3 half_extents, Fixed gap, Vec3 centre, const Substance& substance) {
+  const Fixed pitch = half_extents.x + half_extents.x + gap;
+  for (int j = 0; j < count; ++j) {
+    const Vec3 position{centre.x + row_offset(j, count, shift_halves, pitch), centre.y, centre.z};
+    add_box(out, prefix, half_extents, position, substance);
+  }
+}
+
+// Uniform in [-1, 1) as a raw Q32.32 value: 33 random bits.
+Fixed signed_unit(SplitMix64& rng) {
+  const auto bits = static_cast<int64_t>(rng.next() >> 31);  // 0 .. 2^33 - 1
+  return Fixed::from_raw(bits - (int64_t{1} << 32));
+}
+
+Vec3 random_in_box(SplitMix64& rng, Vec3 centre, Vec3 half_size) {
+  const Fixed ux = signed_unit(rng), uy = signed_unit(rng), uz = signed_unit(rng);
+  return {centre.x + half_size.x * ux, centre.y + half_size.y * uy, centre.z + half_size.z * uz};
+}
+
+// A random unit quaternion: four uniform components, redrawn while the
+// vector is too short to normalise well (|q|^2 < 1/16), then normalised.
+Quat random_orientation(SplitMix64& rng) {
+  for (;;) {
+    const Quat q{signed_unit(rng), signed_unit(rng), signed_unit(rng), signed_unit(rng)};
+    const Fixed norm_sq = dot(q.vector(), q.vector()) + q.w * q.w;
+    if (norm_sq >= Fixed::from_ratio(1, 16)) return normalize(q);
+  }
+}
+
+Shape thrown_shape(const ThrowParams& params, ShapeType type) {
+  Shape shape;
+  shape.type = type;
+  if (type == ShapeType::box) shape.half_extents = params.half_extents;
+  if (type == ShapeType::sphere || type == ShapeType::capsule) shape.radius = params.radius;
+  if (type == ShapeType::capsule) shape.half_height = params.half_height;
+  return shape;
+}
+
+Fixed bounding_radius(const Shape& shape) {
+  switch (shape.type) {
+    case ShapeType::box: return length(shape.half_extents);
+    case ShapeType::sphere: return shape.radius;
+    case ShapeType::capsule: return shape.radius + shape.half_height;
+    case ShapeType::plane: break;
+  }
+  return Fixed{};
+}
+
+}  // namespace
+
+std::vector<SceneBody> generate_stack(const StackParams& params) {
+  std::vector<SceneBody> bodies;
+  const Vec3 he = params.half_extents;
+  for (int i = 0; i < params.count; ++i) {
+    const Vec3 centre{params.position.x, level_centre_y(params.position.y, he.y, params.overlap, i), params.position.z};
+    add_box(bodies, params.name, he, centre, params.substance);
+  }
+  return bodies;
+}
+
+std::vector<SceneBody> generate_pyramid(const PyramidParams& params) {
+  std::vector<SceneBody> bodies;
+  const Vec3 he = params.half_extents;
+  for (int row = 0; row < params.base; ++row) {
+    const Vec3 centre{params.position.x, level_centre_y(params.position.y, he.y, params.overlap, row), params.position.z};
+    add_row_along_x(bodies, params.name, params.base - row, 0, he, params.gap, centre, params.substance);
+  }
+  return bodies;
+}
+
+std::vector<SceneBody> generate_wall(const WallParams& params) {
+  std::vector<SceneBody> bodies;
+  const Vec3 he = params.half_extents;
+  const int rows = params.rows > 0 ? params.rows : params.base;
+  for (int row = 0; row < rows; ++row) {
+    const Vec3 centre{params.position.x, level_centre_y(params.position.y, he.y, params.overlap, row), params.position.z};
+    const bool triangle = params.shape == WallShape::triangle;
+    const int count = triangle ? params.base - row : params.base;
+    const int shift_halves = triangle ? 0 : row % 2;
+    add_row_along_x(bodies, params.name, count, shift_halves, he, params.gap, centre, params.substance);
+  }
+  return bodies;
+}
+
+std::vector<SceneBody> generate_jenga(const JengaParams& params) {
+  std::vector<SceneBody> bodies;
+  for (int level = 0; level < params.levels; ++level) {
+    const bool along_x = level % 2 == 0;
+    const Vec3 he = along_x ? params.half_extents : Vec3{params.half_extents.z, params.half_extents.y, params.half_extents.x};
+    const Fixed y = level_centre_y(params.position.y, he.y, params.overlap, level);
+    for (int k = -1; k <= 1; ++k) {
+      // Side by side across the block: along z on x levels, along x on z levels.
+      const Vec3 across = along_x ? Vec3{Fixed{}, Fixed{}, Fixed::from_int(2 * k) * he.z}
+                                  : Vec3{Fixed::from_int(2 * k) * he.x, Fixed{}, Fixed{}};
+      add_box(bodies, params.name, he, Vec3{params.position.x, y, params.position.z} + across, params.substance);
+    }
+  }
+  return bodies;
+}
+
+std::vector<SceneBody> generate_dominoes(const DominoParams& params) {
+  std::vector<SceneBody> bodies;
+  const bool along_x = params.direction == RowDirection::plus_x || params.direction == RowDirection::minus_x;
+  const bool forward = params.direction == RowDirection::plus_x || params.direction == RowDirection::plus_z;
+  const Fixed sign = forward ? Fixed::one() : -Fixed::one();
+  const Vec3 direction = along_x ? Vec3{sign, Fixed{}, Fixed{}} : Vec3{Fixed{}, Fixed{}, sign};
+  const Vec3 he = along_x ? params.half_extents : Vec3{params.half_extents.z, params.half_extents.y, params.half_extents.x};
+  const Fixed half_thickness = along_x ? he.x : he.z;
+  const Vec3 up{Fixed{}, Fixed::one(), Fixed{}};
+  for (int i = 0; i < params.count; ++i) {
+    const Vec3 centre = params.position + direction * (Fixed::from_int(i) * params.spacing) + up * he.y;
+    add_box(bodies, params.name, he, centre, params.substance);
+  }
+  if (!bodies.empty() && params.push != Fixed{}) {
+    // Rotation about the first domino's front bottom edge: omega = push (up x
+    // direction) tips the top forward; the centre moves as omega x r, with
+    // r from the edge to the centre.
+    const Vec3 omega = cross(up, direction) * params.push;
+    const Vec3 edge_to_centre = up * he.y - direction * half_thickness;
+    bodies.front().def.angular_velocity = omega;
+    bodies.front().def.linear_velocity = cross(omega, edge_to_centre);
+  }
+  return bodies;
+}
+
+std::vector<SceneBody> generate_tables(const TableParams& params) {
+  std::vector<SceneBody> bodies;
+  const Vec3 top = params.top_half_extents, leg = params.leg_half_extents;
+  // Body frame at the middle of the table's bounding box, height 2 (top + leg).
+  const Fixed half_height = top.y + leg.y;
+  const Fixed leg_x = top.x - leg.x, leg_z = top.z - leg.z;
+  for (int i = 0; i < params.count; ++i) {
+    const Fixed y = params.position.y + half_height + Fixed::from_int(2 * i) * half_height;
+    std::vector<Shape> shapes{box_shape(top, {Fixed{}, leg.y, Fixed{}})};
+    for (const Fixed x : {-leg_x, leg_x}) {
+      for (const Fixed z : {-leg_z, leg_z}) shapes.push_back(box_shape(leg, {x, -top.y, z}));
+    }
+    bodies.push_back(dynamic_body(body_name(params.name, bodies.size()), {params.position.x, y, params.position.z},
+                                  std::move(shapes), params.substance));
+  }
+  return bodies;
+}
+
+ThrowResult generate_throw(const ThrowParams& params) {
+  constexpr int max_draws = 1000;
+  ThrowResult result;
+  SplitMix64 rng{params.seed};
+  for (int i = 0; i < params.count; ++i) {
+    const Shape shape = thrown_shape(params, params.shapes[static_cast<size_t>(i) % params.shapes.size()]);
+    const Fixed radius = bounding_radius(shape);
+    Vec3 position;
+    bool free = false;
+    for (int draw = 0; draw < max_draws && !free; ++draw) {
+      position = random_in_box(rng, params.position, params.spread);
+      free = true;
+      for (const SceneBody& other : result.bodies) {
+        const Fixed reach = radius + bounding_radius(other.def.shapes.front());
+        if (length_sq(position - other.def.pose.position) < reach * reach) {
+          free = false;
+          break;
+        }
+      }
+    }
+    if (!free) {
+      result.placed_all = false;
+      return result;
+    }
+    SceneBody body = dynamic_body(body_name(params.name, result.bodies.size()), position, {shape}, params.substance);
+    body.def.pose.orientation = random_orientation(rng);
+    const Vec3 to_target = params.target - position;
+    body.def.linear_velocity = normalize(to_target) * params.speed;
+    result.bodies.push_back(std::move(body));
+  }
+  return result;
+}
+
+}  // namespace bitstep

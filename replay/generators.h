@@ -1,0 +1,142 @@
+// Generators for big structures (stack, pyramid, wall, jenga, dominoes,
+// tables, thrown cubes). Each is a pure function of its parameters, using
+// integer and Fixed arithmetic only, so a scene file that says "wall of 128"
+// means the same bodies, bit for bit, everywhere. Bodies are named
+// "<name>.<index>" with index 0, 1, ... in creation order. The parameters'
+// JSON keys are the field names (replay/README.md); defaults are below.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "replay/scene.h"
+
+namespace bitstep {
+
+// What generated bodies are made of.
+struct Substance {
+  Material material;
+  Fixed density = 1000.0_fx;  // kg/m^3
+};
+
+// Boxes one on another, centred over `position` (the middle of the bottom
+// face of the lowest box). Each contact, the ground's included, starts
+// overlapped by `overlap` (0: exactly touching; the second seed used the
+// allowed penetration, i.e. Settings::penetration_slop).
+struct StackParams {
+  std::string name = "stack";
+  int count = 10;
+  Vec3 half_extents{0.5_fx, 0.5_fx, 0.5_fx};
+  Vec3 position;
+  Fixed overlap;
+  Substance substance;
+};
+std::vector<SceneBody> generate_stack(const StackParams& params);
+
+// A 2D pyramid in the x-y plane: rows of base, base - 1, ..., 1 boxes, each
+// row centred over `position` (the middle of the bottom row's bottom face),
+// neighbours `gap` apart along x. base(base + 1)/2 boxes.
+struct PyramidParams {
+  std::string name = "pyramid";
+  int base = 10;
+  Vec3 half_extents{0.5_fx, 0.5_fx, 0.5_fx};
+  Vec3 position;
+  Fixed gap;
+  Fixed overlap;
+  Substance substance;
+};
+std::vector<SceneBody> generate_pyramid(const PyramidParams& params);
+
+// A brick wall in the x-y plane in running bond. A triangle wall drops one
+// brick per row (rows of base, base - 1, ...: each row sits half a brick
+// in from the one below, which is the running bond); `rows` defaults to
+// base, base 128 gives 8,256 bricks. A rectangle wall keeps `base` bricks in
+// every row and shifts odd rows by half a brick (+x).
+enum class WallShape : uint8_t { triangle, rectangle };
+struct WallParams {
+  std::string name = "wall";
+  int base = 16;
+  int rows = 0;  // 0: base rows
+  WallShape shape = WallShape::triangle;
+  Vec3 half_extents{0.25_fx, 0.125_fx, 0.125_fx};
+  Vec3 position;
+  Fixed gap;
+  Fixed overlap;
+  Substance substance;
+};
+std::vector<SceneBody> generate_wall(const WallParams& params);
+
+// A jenga tower: `levels` levels of 3 blocks side by side, alternate levels
+// turned 90 degrees about y (done by swapping the x and z half-extents,
+// which is exact). `half_extents` is an even level's block: long along x;
+// a 3w x w x h block has half-extents [1.5w, h/2, w/2]. The default is a
+// real block scaled by 10: 0.75 x 0.15 x 0.25 m.
+struct JengaParams {
+  std::string name = "jenga";
+  int levels = 18;
+  Vec3 half_extents{0.375_fx, 0.075_fx, 0.125_fx};
+  Vec3 position;
+  Fixed overlap;
+  Substance substance;
+};
+std::vector<SceneBody> generate_jenga(const JengaParams& params);
+
+// A row of dominoes standing on the ground. `half_extents` is given for a
+// row along x (thin along x); for a row along z the x and z half-extents are
+// swapped. `position` is the middle of the first domino's bottom face;
+// `spacing` the distance between neighbours' centres. The first domino is
+// tipped over its front bottom edge at `push` rad/s (0: not pushed): its
+// angular and linear velocities are those of that rotation.
+enum class RowDirection : uint8_t { plus_x, minus_x, plus_z, minus_z };
+struct DominoParams {
+  std::string name = "dominoes";
+  int count = 32;
+  Vec3 half_extents{0.1_fx, 1.0_fx, 0.5_fx};
+  Fixed spacing = 1.0_fx;
+  Vec3 position;
+  RowDirection direction = RowDirection::plus_x;
+  Fixed push;
+  Substance substance;
+};
+std::vector<SceneBody> generate_dominoes(const DominoParams& params);
+
+// Tables stacked on one another, each ONE compound body: a top box and four
+// leg boxes at the corners under it, as shapes with local poses. `position`
+// is the middle of the lowest table's footprint on the ground.
+struct TableParams {
+  std::string name = "tables";
+  int count = 5;
+  Vec3 top_half_extents{0.6_fx, 0.05_fx, 0.4_fx};
+  Vec3 leg_half_extents{0.05_fx, 0.35_fx, 0.05_fx};
+  Vec3 position;
+  Substance substance;
+};
+std::vector<SceneBody> generate_tables(const TableParams& params);
+
+// Bodies at seeded random positions in the box position +- spread, with
+// random orientations, flying toward `target` at `speed`. SplitMix64
+// (tools/splitmix64.h) draws raw Q32.32 fractions; a draw that would
+// overlap an earlier body (bounding spheres) is redrawn, up to 1000 times.
+// `shapes` cycles through the given kinds (box, sphere, capsule).
+struct ThrowParams {
+  std::string name = "throw";
+  int count = 50;
+  uint64_t seed = 1;
+  Vec3 position{Fixed{}, 5.0_fx, Fixed{}};
+  Vec3 spread{2.0_fx, 2.0_fx, 2.0_fx};
+  Vec3 target;
+  Fixed speed = 10.0_fx;
+  std::vector<ShapeType> shapes{ShapeType::box};
+  Vec3 half_extents{0.25_fx, 0.25_fx, 0.25_fx};  // boxes
+  Fixed radius = 0.25_fx;                         // spheres and capsules
+  Fixed half_height = 0.25_fx;                    // capsules
+  Substance substance;
+};
+struct ThrowResult {
+  std::vector<SceneBody> bodies;
+  bool placed_all = true;  // false when a body found no free spot in the region
+};
+ThrowResult generate_throw(const ThrowParams& params);
+
+}  // namespace bitstep

@@ -1,0 +1,208 @@
+#include "replay/json_tree.h"
+
+#include <nlohmann/json.hpp>
+
+namespace bitstep::json {
+
+const char* describe(Kind kind) {
+  switch (kind) {
+    case Kind::null: return "null";
+    case Kind::boolean: return "a boolean";
+    case Kind::number: return "a number";
+    case Kind::string: return "a string";
+    case Kind::array: return "an array";
+    case Kind::object: return "an object";
+  }
+  return "an unknown value";
+}
+
+const Node* Node::member(std::string_view member_key) const {
+  if (kind != Kind::object) return nullptr;
+  for (const Node& child : children) {
+    if (child.key == member_key) return &child;
+  }
+  return nullptr;
+}
+
+namespace {
+
+bool is_identifier(std::string_view key) {
+  if (key.empty()) return false;
+  for (size_t i = 0; i < key.size(); ++i) {
+    const char c = key[i];
+    const bool letter = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_';
+    const bool digit = c >= '0' && c <= '9';
+    if (!letter && !(digit && i > 0)) return false;
+  }
+  return true;
+}
+
+// Builds the tree from nlohmann's SAX events. Open arrays and objects wait on
+// a stack and move into their parent when they close, so no pointer into a
+// growing vector is ever kept.
+class TreeBuilder {
+ public:
+  using number_integer_t = nlohmann::json::number_integer_t;
+  using number_unsigned_t = nlohmann::json::number_unsigned_t;
+  using number_float_t = nlohmann::json::number_float_t;
+  using string_t = nlohmann::json::string_t;
+  using binary_t = nlohmann::json::binary_t;
+
+  bool null() { return add_scalar(Node{}); }
+  bool boolean(bool value) {
+    Node node;
+    node.kind = Kind::boolean;
+    node.boolean = value;
+    return add_scalar(std::move(node));
+  }
+  // Integers arrive as exact integers; their decimal text is their lexeme.
+  bool number_integer(number_integer_t value) { return add_number(std::to_string(value)); }
+  bool number_unsigned(number_unsigned_t value) { return add_number(std::to_string(value)); }
+  // The double nlohmann computed is ignored: only the lexeme is kept.
+  bool number_float(number_float_t /*unused*/, const string_t& lexeme) { return add_number(lexeme); }
+  bool string(string_t& value) {
+    Node node;
+    node.kind = Kind::string;
+    node.text = std::move(value);
+    return add_scalar(std::move(node));
+  }
+  bool binary(binary_t& /*unused*/) { return fail("$", "binary values are not JSON"); }
+
+  bool start_object(std::size_t /*unused*/) { return open(Kind::object); }
+  bool end_object() { return close(); }
+  bool start_array(std::size_t /*unused*/) { return open(Kind::array); }
+  bool end_array() { return close(); }
+  bool key(string_t& value) {
+    const Node& object = open_.back();
+    if (object.member(value) != nullptr) return fail(member_path(object.path, value), "duplicate key");
+    pending_key_ = std::move(value);
+    return true;
+  }
+
+  bool parse_error(std::size_t position, const std::string& /*last_token*/, const nlohmann::json::exception& ex) {
+    return fail("byte " + std::to_string(position), "malformed JSON: " + clean_message(ex.what()));
+  }
+
+  bool failed() const { return failed_; }
+  SyntaxError error() const { return error_; }
+  Node take_root() { return std::move(root_); }
+
+ private:
+  // "[json.exception.parse_error.101] parse error at line 1, column 5: syntax
+  // error ..." -> "line 1, column 5: syntax error ...".
+  static std::string clean_message(std::string_view what) {
+    const std::string_view marker = "parse error at ";
+    if (const size_t at = what.find(marker); at != std::string_view::npos) what.remove_prefix(at + marker.size());
+    return std::string(what);
+  }
+
+  bool fail(std::string where, std::string reason) {
+    if (!failed_) error_ = {std::move(where), std::move(reason)};
+    failed_ = true;
+    return false;
+  }
+
+  // The path of the next value: a member of the open object, the next
+  // element of the open array, or the root.
+  std::string next_path() const {
+    if (open_.empty()) return "$";
+    const Node& parent = open_.back();
+    if (parent.kind == Kind::object) return member_path(parent.path, pending_key_);
+    return parent.path + "[" + std::to_string(parent.children.size()) + "]";
+  }
+
+  void place(Node node) {
+    node.path = next_path();
+    if (open_.empty()) {
+      root_ = std::move(node);
+      return;
+    }
+    Node& parent = open_.back();
+    if (parent.kind == Kind::object) node.key = std::move(pending_key_);
+    parent.children.push_back(std::move(node));
+  }
+
+  bool add_scalar(Node node) {
+    place(std::move(node));
+    return true;
+  }
+  bool add_number(std::string lexeme) {
+    Node node;
+    node.kind = Kind::number;
+    node.text = std::move(lexeme);
+    return add_scalar(std::move(node));
+  }
+
+  bool open(Kind kind) {
+    Node node;
+    node.kind = kind;
+    node.path = next_path();
+    if (static_cast<int>(open_.size()) >= max_depth) {
+      return fail(node.path, "nesting deeper than " + std::to_string(max_depth) + " levels");
+    }
+    if (!open_.empty() && open_.back().kind == Kind::object) node.key = std::move(pending_key_);
+    open_.push_back(std::move(node));
+    return true;
+  }
+
+  bool close() {
+    Node node = std::move(open_.back());
+    open_.pop_back();
+    if (open_.empty()) {
+      root_ = std::move(node);
+    } else {
+      open_.back().children.push_back(std::move(node));
+    }
+    return true;
+  }
+
+  Node root_;
+  std::vector<Node> open_;
+  std::string pending_key_;
+  bool failed_ = false;
+  SyntaxError error_;
+};
+
+}  // namespace
+
+std::string quote(std::string_view text) {
+  constexpr size_t max_bytes = 60;
+  std::string out = "\"";
+  for (size_t i = 0; i < text.size() && i < max_bytes; ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += static_cast<char>(c);
+    } else if (c < 0x20 || c == 0x7f) {
+      const char* hex = "0123456789abcdef";
+      out += "\\u00";
+      out += hex[c >> 4];
+      out += hex[c & 15];
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  if (text.size() > max_bytes) out += "...";
+  return out + "\"";
+}
+
+std::string member_path(const std::string& parent_path, std::string_view key) {
+  if (is_identifier(key)) return parent_path + "." + std::string(key);
+  return parent_path + "[" + quote(key) + "]";
+}
+
+std::variant<Node, SyntaxError> parse(std::string_view text) {
+  TreeBuilder builder;
+  try {
+    const bool ok = nlohmann::json::sax_parse(text.begin(), text.end(), &builder);
+    if (!ok || builder.failed()) {
+      if (builder.failed()) return builder.error();
+      return SyntaxError{"$", "malformed JSON"};
+    }
+  } catch (const std::exception& e) {  // only allocation failure can get here
+    return SyntaxError{"$", std::string("cannot parse: ") + e.what()};
+  }
+  return builder.take_root();
+}
+
+}  // namespace bitstep::json

@@ -1,0 +1,53 @@
+// A small JSON tree that keeps what exactness needs: objects keep their keys
+// in document order, numbers keep their text (the lexeme, never a double:
+// DESIGN rule 3), and every node knows its JSON path ("$.bodies[2].shapes[0]")
+// so that errors can name the value they are about.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+namespace bitstep::json {
+
+enum class Kind : uint8_t { null, boolean, number, string, array, object };
+
+// "null", "a boolean", "a number", "a string", "an array", "an object".
+const char* describe(Kind kind);
+
+struct Node {
+  Kind kind = Kind::null;
+  bool boolean = false;
+  std::string text;            // number: its lexeme ("5e-1"); string: its (unescaped) value
+  std::string key;             // a member of an object: its key
+  std::string path;            // "$", "$.bodies[2]", "$.materials[\"oak wood\"]"
+  std::vector<Node> children;  // array elements or object members, in document order
+
+  // The member with this key, or nullptr (objects only; keys are unique).
+  const Node* member(std::string_view member_key) const;
+};
+
+// Where the text stopped being a well-formed tree: a byte position
+// ("byte 17") for syntax errors, a JSON path for duplicate keys and nesting.
+struct SyntaxError {
+  std::string where;
+  std::string reason;
+};
+
+// Nesting deeper than this is refused (it would only mean a hostile file).
+inline constexpr int max_depth = 64;
+
+// Parses strict JSON (RFC 8259, UTF-8). Never throws.
+std::variant<Node, SyntaxError> parse(std::string_view text);
+
+// `text` in double quotes for a one-line message: quotes, backslashes and
+// control characters escaped as in JSON, cut to 60 bytes with "...".
+std::string quote(std::string_view text);
+
+// The path of `key` inside the object at `parent_path`.
+std::string member_path(const std::string& parent_path, std::string_view key);
+
+}  // namespace bitstep::json

@@ -1,0 +1,20 @@
+// state_hash: XXH3-64 of a canonical little-endian serialisation of the
+// world's state, in slot order, no padding. Hashing does not change the world.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/world.h"
+
+namespace bitstep {
+
+// Appends the canonical bytes of everything that influences the future: the
+// step counter, every body slot (alive, generation, type, pose, velocities,
+// pending forces), and every contact (key, feature ids and accumulated
+// impulses, which warm-start the next step).
+void serialize_state(const World& world, std::vector<uint8_t>& out);
+
+uint64_t state_hash(const World& world);
+
+}  // namespace bitstep

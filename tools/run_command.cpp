@@ -1,0 +1,156 @@
+#include "tools/run_command.h"
+
+#include <fmt/core.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "replay/scene.h"
+#include "replay/state_hash.h"
+
+namespace bitstep {
+
+namespace {
+
+struct RunOptions {
+  std::string scene_path;
+  long long steps = -1;  // -1: from seconds
+  std::string seconds = "10";
+  long long hash_every = 0;
+  bool json = false;
+};
+
+double to_double(Fixed f) { return static_cast<double>(f.raw()) * 0x1p-32; }
+
+bool parse_count(const char* text, long long& out) {
+  char* end = nullptr;
+  out = std::strtoll(text, &end, 10);
+  return end != text && *end == '\0' && out >= 0;
+}
+
+// Returns an error message, empty on success.
+std::string parse_options(int argc, char** argv, RunOptions& o) {
+  for (int i = 0; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (arg == "--json") {
+      o.json = true;
+    } else if (arg == "--steps" && has_value) {
+      if (!parse_count(argv[++i], o.steps)) return fmt::format("--steps needs a non-negative integer, got '{}'", argv[i]);
+    } else if (arg == "--seconds" && has_value) {
+      o.seconds = argv[++i];
+    } else if (arg == "--hash-every" && has_value) {
+      if (!parse_count(argv[++i], o.hash_every)) {
+        return fmt::format("--hash-every needs a non-negative integer, got '{}'", argv[i]);
+      }
+    } else if (!arg.empty() && arg[0] != '-' && o.scene_path.empty()) {
+      o.scene_path = arg;
+    } else {
+      return fmt::format("unknown or incomplete option '{}'", arg);
+    }
+  }
+  if (o.scene_path.empty()) return "missing SCENE (a bitstep-scene JSON file)";
+  return {};
+}
+
+struct SecondSummary {
+  long long second;
+  StepStats stats;
+  double ms_per_step;
+};
+
+}  // namespace
+
+int run_scene_command(int argc, char** argv) {
+  RunOptions options;
+  if (const std::string error = parse_options(argc, argv, options); !error.empty()) {
+    fmt::print(stderr, "bitstep run: {}\n", error);
+    return 2;
+  }
+  auto loaded = load_scene_file(options.scene_path);
+  if (const SceneError* error = std::get_if<SceneError>(&loaded)) {
+    fmt::print(stderr, "bitstep run: {}\n", error->message());
+    return 1;
+  }
+  const Scene& scene = std::get<Scene>(loaded);
+  World world(scene.settings);
+  for (size_t i = 0; i < scene.bodies.size(); ++i) {
+    const CreateResult created = world.create_body(scene.bodies[i].def);
+    if (!created.ok()) {
+      fmt::print(stderr, "bitstep run: {}: body {}: {}: {}\n", options.scene_path, i, created.error.field,
+                 created.error.reason);
+      return 1;
+    }
+  }
+  long long steps = options.steps;
+  if (steps < 0) {
+    const ParseResult seconds = parse_fixed(options.seconds);
+    if (!seconds.ok() || seconds.value < Fixed{}) {
+      fmt::print(stderr, "bitstep run: --seconds '{}': {}\n", options.seconds, describe(seconds.error));
+      return 2;
+    }
+    steps = (seconds.value / scene.settings.dt).raw() >> 32;
+  }
+  const long long steps_per_second = std::max<long long>(1, (Fixed::one() / scene.settings.dt).raw() >> 32);
+
+  if (!options.json) {
+    fmt::print("scene {}: {} bodies, dt {} s, {} velocity iterations, {} steps\n", options.scene_path,
+               scene.bodies.size(), to_string(scene.settings.dt), scene.settings.velocity_iterations, steps);
+    fmt::print("{:>6} {:>7} {:>9} {:>14} {:>14} {:>9}\n", "t (s)", "awake", "contacts", "max pen (mm)", "KE (J)",
+               "ms/step");
+  }
+  std::vector<SecondSummary> seconds;
+  std::vector<std::pair<long long, uint64_t>> hashes;
+  using Clock = std::chrono::steady_clock;
+  Clock::duration busy{};
+  long long steps_in_second = 0;
+  for (long long step = 1; step <= steps; ++step) {
+    const auto start = Clock::now();
+    world.step();
+    busy += Clock::now() - start;
+    ++steps_in_second;
+    if (options.hash_every > 0 && step % options.hash_every == 0) {
+      hashes.emplace_back(step, state_hash(world));
+      if (!options.json) fmt::print("step {} hash {:016x}\n", step, hashes.back().second);
+    }
+    if (step % steps_per_second == 0 || step == steps) {
+      const double ms = std::chrono::duration<double, std::milli>(busy).count() / static_cast<double>(steps_in_second);
+      seconds.push_back({(step + steps_per_second - 1) / steps_per_second, world.stats(), ms});
+      busy = {};
+      steps_in_second = 0;
+      const SecondSummary& s = seconds.back();
+      if (!options.json) {
+        fmt::print("{:>6} {:>7} {:>9} {:>14.3f} {:>14.4f} {:>9.3f}\n", s.second, s.stats.awake_bodies,
+                   s.stats.contact_points, to_double(s.stats.max_penetration) * 1000.0,
+                   to_double(s.stats.kinetic_energy), s.ms_per_step);
+      }
+    }
+  }
+  const uint64_t final_hash = state_hash(world);
+  if (!options.json) {
+    fmt::print("final step {} hash {:016x}\n", world.step_count(), final_hash);
+    return 0;
+  }
+  // Machine-readable: Fixed values as exact decimal text.
+  fmt::print("{{\"scene\": \"{}\", \"bodies\": {}, \"dt\": \"{}\", \"steps\": {}, \"seconds\": [", options.scene_path,
+             scene.bodies.size(), to_string(scene.settings.dt), world.step_count());
+  for (size_t i = 0; i < seconds.size(); ++i) {
+    const SecondSummary& s = seconds[i];
+    fmt::print("{}{{\"t\": {}, \"awake\": {}, \"contacts\": {}, \"max_penetration\": \"{}\", \"kinetic_energy\": \"{}\", "
+               "\"ms_per_step\": {:.4f}}}",
+               i == 0 ? "" : ", ", s.second, s.stats.awake_bodies, s.stats.contact_points,
+               to_string(s.stats.max_penetration), to_string(s.stats.kinetic_energy), s.ms_per_step);
+  }
+  fmt::print("], \"hashes\": [");
+  for (size_t i = 0; i < hashes.size(); ++i) {
+    fmt::print("{}{{\"step\": {}, \"hash\": \"{:016x}\"}}", i == 0 ? "" : ", ", hashes[i].first, hashes[i].second);
+  }
+  fmt::print("], \"final_hash\": \"{:016x}\"}}\n", final_hash);
+  return 0;
+}
+
+}  // namespace bitstep
