@@ -1,1 +1,265 @@
-// placeholder: written with the narrowphase
+// Box-box: the separating axis test over 15 axes (Gottschalk's OBB test, as in
+// qu3e's q3BoxtoBox and Box2D's polygon collider), then either the incident
+// face clipped against the reference face's side planes (up to 4 points) or
+// one point between two crossing edges.
+#include "core/collide_internal.h"
+
+namespace bitstep::collide_detail {
+
+namespace {
+
+struct Axis {
+  Fixed separation;  // m, > 0: apart along this axis
+  int index = -1;
+};
+
+// How much better a later-preferred axis must be (see collide_internal.h).
+Fixed margin(Fixed separation) { return mul_add(axis_relative_tolerance, abs(separation), axis_absolute_tolerance); }
+
+// A vertex of the polygon being clipped, in the reference box's frame, with
+// the tag of the polygon edge that leaves it (0..3: incident face edges,
+// 4..7: reference side planes). Its feature is (previous vertex's tag, tag).
+struct ClipVertex {
+  Vec3 p;
+  uint32_t out_edge = 0;
+};
+
+inline constexpr int clip_capacity = 16;  // a quad clipped by 4 planes has at most 8
+
+// Sutherland-Hodgman: keeps the part of the convex polygon `in` with
+// side * x[axis] <= limit (side = +-1). A vertex on the plane is inside.
+int clip(const ClipVertex* in, int count, int axis, bool negative_side, Fixed limit, uint32_t plane_tag,
+         ClipVertex* out) {
+  auto distance = [&](Vec3 p) { return (negative_side ? -get(p, axis) : get(p, axis)) - limit; };
+  int kept = 0;
+  for (int i = 0; i < count && kept < clip_capacity - 1; ++i) {
+    const ClipVertex& from = in[i];
+    const ClipVertex& to = in[i + 1 < count ? i + 1 : 0];
+    const Fixed d_from = distance(from.p), d_to = distance(to.p);
+    const bool from_inside = d_from <= Fixed{}, to_inside = d_to <= Fixed{};
+    if (from_inside) out[kept++] = from;  // its outgoing edge continues on the same line
+    if (from_inside != to_inside) {
+      // x = from + (to - from) d_from / (d_from - d_to); the divisor is non-zero
+      // because the signs differ, and the ratio is in [0, 1].
+      const Fixed denominator = d_from - d_to;
+      const Vec3 delta = to.p - from.p;
+      Vec3 x{from.p.x + mul_div(delta.x, d_from, denominator), from.p.y + mul_div(delta.y, d_from, denominator),
+             from.p.z + mul_div(delta.z, d_from, denominator)};
+      set(x, axis, negative_side ? -limit : limit);  // exactly on the plane
+      // Leaving the kept region the new edge runs along the plane; entering
+      // it, along the original edge.
+      out[kept++] = {x, from_inside ? plane_tag : from.out_edge};
+    }
+  }
+  return kept;
+}
+
+struct Candidate {
+  Vec3 p;       // reference frame, on the incident face
+  Fixed depth;  // m, below the reference face
+  FeatureId feature;
+};
+
+// Reduces `count` > 4 candidates to 4, deterministically (ties go to the
+// lower index): the deepest point; the one farthest from it in the
+// reference plane; then the one making the largest triangle with those two on
+// each side of the line through them. This keeps the deepest point (the one
+// that most needs pushing out) and spans the largest area (the most stable
+// support), as Jolt's PruneContactPoints and Box2D v3's reduction do.
+// Returns the chosen indices in increasing order.
+int reduce_to_four(const Candidate* c, int count, int tangent_1, int tangent_2, int* chosen) {
+  auto plane_delta = [&](int from, int to) {
+    return std::array<Fixed, 2>{get(c[to].p, tangent_1) - get(c[from].p, tangent_1),
+                                get(c[to].p, tangent_2) - get(c[from].p, tangent_2)};
+  };
+  int deepest = 0;
+  for (int i = 1; i < count; ++i) {
+    if (c[i].depth > c[deepest].depth) deepest = i;
+  }
+  int farthest = -1;
+  Fixed farthest_sq{};
+  for (int i = 0; i < count; ++i) {
+    const auto e = plane_delta(deepest, i);
+    const Fixed d_sq = det2(e[0], e[0], -e[1], e[1]);
+    if (d_sq > farthest_sq) {
+      farthest_sq = d_sq;
+      farthest = i;
+    }
+  }
+  int n = 0;
+  chosen[n++] = deepest;
+  if (farthest < 0) return n;  // all points coincide
+  chosen[n++] = farthest;
+  const auto base = plane_delta(deepest, farthest);
+  int left = -1, right = -1;
+  Fixed left_area{}, right_area{};
+  for (int i = 0; i < count; ++i) {
+    const auto e = plane_delta(deepest, i);
+    const Fixed area = det2(base[0], e[1], base[1], e[0]);  // twice the signed triangle area
+    if (area > left_area) {
+      left_area = area;
+      left = i;
+    }
+    if (area < right_area) {
+      right_area = area;
+      right = i;
+    }
+  }
+  if (left >= 0) chosen[n++] = left;
+  if (right >= 0) chosen[n++] = right;
+  for (int i = 1; i < n; ++i) {  // insertion sort: output in polygon order
+    for (int j = i; j > 0 && chosen[j - 1] > chosen[j]; --j) {
+      const int swap = chosen[j];
+      chosen[j] = chosen[j - 1];
+      chosen[j - 1] = swap;
+    }
+  }
+  return n;
+}
+
+// Edge index for feature ids: 4 * axis + (bit 0: + on axis+1, bit 1: + on axis+2).
+uint32_t edge_index(int axis, Vec3 corner) {
+  const uint32_t bit0 = get(corner, (axis + 1) % 3) > Fixed{} ? 1u : 0u;
+  const uint32_t bit1 = get(corner, (axis + 2) % 3) > Fixed{} ? 2u : 0u;
+  return static_cast<uint32_t>(4 * axis) + bit0 + bit1;
+}
+
+// One point between A's edge along axis i and B's edge along axis j, the
+// edges being the ones most in the direction of the normal (A's) and against
+// it (B's). d: B's centre minus A's.
+int edge_contact(const Mat33& rot_a, const Mat33& rot_b, Vec3 ea, Vec3 eb, Vec3 d, Vec3 origin, int i, int j,
+                 Fixed speculative_distance, Manifold& out) {
+  const Vec3 axis_a = rot_a.column(i), axis_b = rot_b.column(j);
+  Vec3 n = normalize(cross(axis_a, axis_b));  // |a x b|^2 >= parallel_cross_sq_tolerance here
+  if (dot(n, d) < Fixed{}) n = -n;
+  const Vec3 n_a = transpose(rot_a) * n, n_b = transpose(rot_b) * n;
+  Vec3 corner_a, corner_b;
+  for (int m = 0; m < 3; ++m) {
+    set(corner_a, m, get(n_a, m) < Fixed{} ? -get(ea, m) : get(ea, m));
+    set(corner_b, m, get(n_b, m) > Fixed{} ? -get(eb, m) : get(eb, m));
+  }
+  set(corner_a, i, -get(ea, i));  // the edges run from -e to +e along their axis
+  set(corner_b, j, -get(eb, j));
+  const Vec3 start_a = rot_a * corner_a, start_b = d + rot_b * corner_b;  // relative to A's centre
+  const Vec3 dir_a = axis_a * (get(ea, i) + get(ea, i)), dir_b = axis_b * (get(eb, j) + get(eb, j));
+  const SegmentParams params = closest_segment_params(start_a, dir_a, start_b, dir_b);
+  const Vec3 point_a = mul_add(dir_a, params.s, start_a), point_b = mul_add(dir_b, params.t, start_b);
+  const Fixed depth = -dot(point_b - point_a, n);
+  if (depth <= -speculative_distance) return 0;
+  out.normal = n;
+  add_point(out, origin + (point_a + point_b) * half, depth,
+            box_feature(3, edge_index(i, corner_a), edge_index(j, corner_b), 0, 0));
+  return 1;
+}
+
+}  // namespace
+
+int collide_box_box(const WorldShape& a, const WorldShape& b, Fixed speculative_distance, Manifold& out) {
+  const Mat33 rot_a = rotation(a.pose.orientation), rot_b = rotation(b.pose.orientation);
+  const Vec3 ea = a.shape->half_extents, eb = b.shape->half_extents;
+  const Vec3 d = b.pose.position - a.pose.position;
+  const Vec3 t_a = transpose(rot_a) * d;     // B's centre in A's frame
+  const Vec3 t_b = transpose(rot_b) * -d;    // A's centre in B's frame
+  const Mat33 c = transpose(rot_a) * rot_b;  // c_ij = a_i . b_j: column j is B's axis j in A's frame
+  const Mat33 ct = transpose(c);
+  const Mat33 abs_c{{abs(c.rows[0]), abs(c.rows[1]), abs(c.rows[2])}};
+
+  // Face axes. Separation along a_i: |t_i| - (ea_i + sum_j |c_ij| eb_j).
+  Axis face_a{Fixed::lowest()}, face_b{Fixed::lowest()};
+  for (int i = 0; i < 3; ++i) {
+    const Fixed s = abs(get(t_a, i)) - get(ea, i) - dot(row(abs_c, i), eb);
+    if (s > speculative_distance) return 0;
+    if (s > face_a.separation) face_a = {s, i};
+  }
+  for (int j = 0; j < 3; ++j) {
+    const Fixed s = abs(get(t_b, j)) - get(eb, j) - dot(abs_c.column(j), ea);
+    if (s > speculative_distance) return 0;
+    if (s > face_b.separation) face_b = {s, j};
+  }
+  const bool reference_b = face_b.separation > face_a.separation + margin(face_a.separation);
+  const Fixed face_separation = reference_b ? face_b.separation : face_a.separation;
+
+  // Edge axes l = a_i x b_j (in A's frame), not normalised: the separation
+  // times |l| is |t.l| - ea.|l| - eb.|c^T l|. Since |l| <= 1, a negative
+  // scaled separation only grows more negative when divided by |l|, so an
+  // axis is normalised only when it could beat the best one (or is positive,
+  // where it could prove the boxes apart).
+  Axis edge{face_separation + margin(face_separation)};
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      const Vec3 l = cross(unit_axis(i), c.column(j));
+      if (length_sq(l) < parallel_cross_sq_tolerance) continue;
+      const Fixed scaled = abs(dot(t_a, l)) - dot(ea, abs(l)) - dot(eb, abs(ct * l));
+      if (scaled <= min(edge.separation, Fixed{})) continue;
+      const Fixed s = scaled / length(l);
+      if (s > speculative_distance) return 0;
+      if (s > edge.separation) edge = {s, 3 * i + j};
+    }
+  }
+  if (edge.index >= 0) {
+    return edge_contact(rot_a, rot_b, ea, eb, d, a.pose.position, edge.index / 3, edge.index % 3, speculative_distance,
+                        out);
+  }
+
+  // Face contact, in the reference box's frame.
+  const int k = reference_b ? face_b.index : face_a.index;
+  const Mat33& rot_r = reference_b ? rot_b : rot_a;
+  const Vec3 er = reference_b ? eb : ea, ei = reference_b ? ea : eb;
+  const Vec3 t = reference_b ? t_b : t_a;      // incident centre
+  const Mat33& axes_i = reference_b ? ct : c;  // incident axes as columns
+  const Vec3 center_r = reference_b ? b.pose.position : a.pose.position;
+  const bool ref_negative = get(t, k) < Fixed{};  // the reference face faces the incident box
+  const Vec3 ref_normal = normalize(ref_negative ? -rot_r.column(k) : rot_r.column(k));
+  out.normal = reference_b ? -ref_normal : ref_normal;
+
+  // Incident face: the one most anti-parallel to the reference normal.
+  const Vec3 row_k = row(axes_i, k);  // the incident axes' components along the reference normal axis
+  int j = 0;
+  for (int m = 1; m < 3; ++m) {
+    if (abs(get(row_k, m)) > abs(get(row_k, j))) j = m;
+  }
+  const bool inc_negative = (get(row_k, j) < Fixed{}) == ref_negative;
+  const int u = (j + 1) % 3, v = (j + 2) % 3;
+
+  ClipVertex polygon[2][clip_capacity];
+  int count = 4;
+  for (int m = 0; m < 4; ++m) {  // (+,+), (-,+), (-,-), (+,-) in (u, v): a loop around the face
+    Vec3 corner;
+    set(corner, j, inc_negative ? -get(ei, j) : get(ei, j));
+    set(corner, u, (m == 1 || m == 2) ? -get(ei, u) : get(ei, u));
+    set(corner, v, m >= 2 ? -get(ei, v) : get(ei, v));
+    polygon[0][m] = {axes_i * corner + t, static_cast<uint32_t>(m)};
+  }
+  const int tangent_1 = (k + 1) % 3, tangent_2 = (k + 2) % 3;
+  const int plane_axis[4] = {tangent_1, tangent_2, tangent_1, tangent_2};
+  for (int p = 0; p < 4 && count > 0; ++p) {
+    count = clip(polygon[p % 2], count, plane_axis[p], p >= 2, get(er, plane_axis[p]), static_cast<uint32_t>(4 + p),
+                 polygon[(p + 1) % 2]);
+  }
+  const ClipVertex* clipped = polygon[0];  // after 4 planes
+
+  const uint32_t kind = reference_b ? 2u : 1u;
+  const uint32_t ref_face = static_cast<uint32_t>(2 * k) + (ref_negative ? 1u : 0u);
+  const uint32_t inc_face = static_cast<uint32_t>(2 * j) + (inc_negative ? 1u : 0u);
+  Candidate candidates[clip_capacity];
+  int kept = 0;
+  for (int q = 0; q < count; ++q) {
+    const Fixed height = get(clipped[q].p, k);
+    const Fixed depth = get(er, k) - (ref_negative ? -height : height);
+    if (depth <= -speculative_distance) continue;
+    const uint32_t in_edge = clipped[q > 0 ? q - 1 : count - 1].out_edge;
+    candidates[kept++] = {clipped[q].p, depth, box_feature(kind, ref_face, inc_face, in_edge, clipped[q].out_edge)};
+  }
+  int chosen[max_manifold_points] = {0, 1, 2, 3};
+  const int n = kept > max_manifold_points ? reduce_to_four(candidates, kept, tangent_1, tangent_2, chosen) : kept;
+  for (int q = 0; q < n; ++q) {
+    const Candidate& c_q = candidates[chosen[q]];
+    Vec3 mid = c_q.p;  // halfway up to the reference face
+    const Fixed half_depth = c_q.depth * half;
+    set(mid, k, get(mid, k) + (ref_negative ? -half_depth : half_depth));
+    add_point(out, center_r + rot_r * mid, c_q.depth, c_q.feature);
+  }
+  return n;
+}
+
+}  // namespace bitstep::collide_detail

@@ -6,18 +6,42 @@ namespace bitstep {
 
 namespace {
 
-// Copies the accumulated impulses of the old points whose feature ids match.
+// Points closer than this (m) to an old point of the same contact are the
+// same point, whatever their feature ids say: clipping an incident face whose
+// vertices lie exactly on the reference face's side planes (equal boxes
+// stacked square) tags the same corner differently from step to step.
+constexpr Fixed same_point_distance = 0.01_fx;
+
+void copy_impulses(const ContactPoint& from, ContactPoint& to) {
+  to.normal_impulse = from.normal_impulse;
+  to.tangent_impulse[0] = from.tangent_impulse[0];
+  to.tangent_impulse[1] = from.tangent_impulse[1];
+}
+
+// Copies the accumulated impulses of the old point with the same feature id,
+// else of the nearest old point within same_point_distance.
 void inherit_impulses(const Manifold& old, Manifold& fresh) {
+  constexpr Fixed limit_sq = same_point_distance * same_point_distance;
   for (int i = 0; i < fresh.point_count; ++i) {
     ContactPoint& p = fresh.points[static_cast<size_t>(i)];
+    int nearest = -1;
+    Fixed nearest_sq = limit_sq;
     for (int j = 0; j < old.point_count; ++j) {
       const ContactPoint& q = old.points[static_cast<size_t>(j)];
-      if (q.feature != p.feature) continue;
-      p.normal_impulse = q.normal_impulse;
-      p.tangent_impulse[0] = q.tangent_impulse[0];
-      p.tangent_impulse[1] = q.tangent_impulse[1];
-      break;
+      if (q.feature == p.feature) {
+        nearest = j;
+        break;
+      }
+      const Vec3 d = q.position - p.position;
+      // Per-axis rejection first keeps the squared length far from overflow.
+      if (abs(d.x) > same_point_distance || abs(d.y) > same_point_distance || abs(d.z) > same_point_distance) continue;
+      const Fixed dist_sq = length_sq(d);
+      if (dist_sq < nearest_sq) {
+        nearest_sq = dist_sq;
+        nearest = j;
+      }
     }
+    if (nearest >= 0) copy_impulses(old.points[static_cast<size_t>(nearest)], p);
   }
 }
 

@@ -15,15 +15,25 @@ struct SolverBody {
   Mat33 inverse_inertia;  // world frame
 };
 
-// One contact point as a constraint. Normal n points from a to b; the
-// relative velocity at the point is dv = (v_b + w_b x r_b) - (v_a + w_a x r_a)
-// and the normal row asks dv . n >= velocity_target with impulse >= 0.
+// One row of a contact constraint along a unit direction d, precomputed
+// once per step: the relative velocity along d is
+//   J v = d . (v_b - v_a) + (r_b x d) . w_b - (r_a x d) . w_a
+// and an impulse lambda changes v_a by -lambda d / m_a, w_a by
+// -lambda I_a^-1 (r_a x d), and b the opposite way. Keeping r x d and
+// I^-1 (r x d) turns every solver update into scalar-times-vector work.
+struct Jacobian {
+  Vec3 direction;
+  Vec3 arm_a, arm_b;          // r_a x d, r_b x d
+  Vec3 turn_a, turn_b;        // I_a^-1 (r_a x d), I_b^-1 (r_b x d)
+  Fixed mass;                 // 1 / (J M^-1 J^T), kg
+};
+
+// One contact point as a constraint: a normal row (n from a to b) asking
+// J v >= velocity_target with impulse >= 0, and two friction rows.
 struct PointRow {
   uint32_t a, b;
-  Vec3 ra, rb;  // m, from each centre of mass to the point
-  Vec3 normal, tangent[2];
-  Fixed normal_mass;      // 1 / (J M^-1 J^T) of the normal row, kg
-  Fixed tangent_mass[2];  // likewise for the two friction rows
+  Jacobian normal;
+  Jacobian tangent[2];
   Fixed velocity_target;  // m/s: restitution bounce, speculative approach or Baumgarte bias
   Fixed push_target;      // m/s: split-impulse separation speed
   Fixed static_friction, dynamic_friction;
@@ -38,28 +48,35 @@ void tangent_basis(Vec3 n, Vec3& t1, Vec3& t2) {
   t2 = cross(n, t1);
 }
 
-Vec3 velocity_at(const SolverBody& body, Vec3 r) { return body.v + cross(body.w, r); }
-Vec3 push_at(const SolverBody& body, Vec3 r) { return body.pv + cross(body.pw, r); }
-
-// 1 / (m_a^-1 + m_b^-1 + (r_a x d) . I_a^-1 (r_a x d) + (r_b x d) . I_b^-1 (r_b x d)).
-Fixed effective_mass(const SolverBody& a, const SolverBody& b, Vec3 ra, Vec3 rb, Vec3 d) {
-  const Vec3 rda = cross(ra, d), rdb = cross(rb, d);
-  const Fixed k = a.inverse_mass + b.inverse_mass + dot(rda, a.inverse_inertia * rda) + dot(rdb, b.inverse_inertia * rdb);
-  return k > Fixed{} ? Fixed::one() / k : Fixed{};
+Jacobian make_jacobian(const SolverBody& a, const SolverBody& b, Vec3 ra, Vec3 rb, Vec3 d) {
+  Jacobian j{d, cross(ra, d), cross(rb, d), {}, {}, {}};
+  j.turn_a = a.inverse_inertia * j.arm_a;
+  j.turn_b = b.inverse_inertia * j.arm_b;
+  // J M^-1 J^T = 1/m_a + 1/m_b + (r_a x d) . I_a^-1 (r_a x d) + (r_b x d) . I_b^-1 (r_b x d)
+  const Fixed k = a.inverse_mass + b.inverse_mass + dot(j.arm_a, j.turn_a) + dot(j.arm_b, j.turn_b);
+  j.mass = k > Fixed{} ? Fixed::one() / k : Fixed{};
+  return j;
 }
 
-void apply_impulse(SolverBody& a, SolverBody& b, Vec3 ra, Vec3 rb, Vec3 impulse) {
-  a.v -= impulse * a.inverse_mass;
-  a.w -= a.inverse_inertia * cross(ra, impulse);
-  b.v += impulse * b.inverse_mass;
-  b.w += b.inverse_inertia * cross(rb, impulse);
+Fixed relative_velocity(const SolverBody& a, const SolverBody& b, const Jacobian& j) {
+  return dot(b.v - a.v, j.direction) + dot(b.w, j.arm_b) - dot(a.w, j.arm_a);
+}
+Fixed relative_push(const SolverBody& a, const SolverBody& b, const Jacobian& j) {
+  return dot(b.pv - a.pv, j.direction) + dot(b.pw, j.arm_b) - dot(a.pw, j.arm_a);
 }
 
-void apply_push(SolverBody& a, SolverBody& b, Vec3 ra, Vec3 rb, Vec3 impulse) {
-  a.pv -= impulse * a.inverse_mass;
-  a.pw -= a.inverse_inertia * cross(ra, impulse);
-  b.pv += impulse * b.inverse_mass;
-  b.pw += b.inverse_inertia * cross(rb, impulse);
+void apply_impulse(SolverBody& a, SolverBody& b, const Jacobian& j, Fixed lambda) {
+  a.v -= j.direction * (lambda * a.inverse_mass);
+  a.w -= j.turn_a * lambda;
+  b.v += j.direction * (lambda * b.inverse_mass);
+  b.w += j.turn_b * lambda;
+}
+
+void apply_push(SolverBody& a, SolverBody& b, const Jacobian& j, Fixed lambda) {
+  a.pv -= j.direction * (lambda * a.inverse_mass);
+  a.pw -= j.turn_a * lambda;
+  b.pv += j.direction * (lambda * b.inverse_mass);
+  b.pw += j.turn_b * lambda;
 }
 
 std::vector<SolverBody> gather_bodies(const std::vector<Body>& bodies) {
@@ -91,12 +108,10 @@ std::vector<PointRow> prepare_rows(const Settings& settings, const std::vector<B
     const Fixed restitution = max(body_a.material.restitution, body_b.material.restitution);
     for (int i = 0; i < m.point_count; ++i) {
       ContactPoint& p = m.points[static_cast<size_t>(i)];
-      PointRow row{ia, ib, p.position - body_a.pose.position, p.position - body_b.pose.position, m.normal, {t1, t2},
-                   {}, {}, {}, {}, mu_s, mu_d, &p};
-      row.normal_mass = effective_mass(a, b, row.ra, row.rb, m.normal);
-      row.tangent_mass[0] = effective_mass(a, b, row.ra, row.rb, t1);
-      row.tangent_mass[1] = effective_mass(a, b, row.ra, row.rb, t2);
-      const Fixed approach = dot(velocity_at(b, row.rb) - velocity_at(a, row.ra), m.normal);
+      const Vec3 ra = p.position - body_a.pose.position, rb = p.position - body_b.pose.position;
+      PointRow row{ia,  ib, make_jacobian(a, b, ra, rb, m.normal), {make_jacobian(a, b, ra, rb, t1), make_jacobian(a, b, ra, rb, t2)},
+                   {}, {}, mu_s, mu_d, &p};
+      const Fixed approach = relative_velocity(a, b, row.normal);
       // A gap (depth < 0) may close by depth / dt this step: speculative contact.
       row.velocity_target = p.depth < Fixed{} ? p.depth * inverse_dt : Fixed{};
       if (approach < -settings.restitution_threshold) {
@@ -122,9 +137,11 @@ std::vector<PointRow> prepare_rows(const Settings& settings, const std::vector<B
 void warm_start(std::vector<SolverBody>& bodies, const std::vector<PointRow>& rows) {
   for (const PointRow& row : rows) {
     const ContactPoint& p = *row.point;
-    const Vec3 impulse =
-        row.normal * p.normal_impulse + row.tangent[0] * p.tangent_impulse[0] + row.tangent[1] * p.tangent_impulse[1];
-    apply_impulse(bodies[row.a], bodies[row.b], row.ra, row.rb, impulse);
+    SolverBody& a = bodies[row.a];
+    SolverBody& b = bodies[row.b];
+    apply_impulse(a, b, row.normal, p.normal_impulse);
+    apply_impulse(a, b, row.tangent[0], p.tangent_impulse[0]);
+    apply_impulse(a, b, row.tangent[1], p.tangent_impulse[1]);
   }
 }
 
@@ -132,10 +149,9 @@ void warm_start(std::vector<SolverBody>& bodies, const std::vector<PointRow>& ro
 // cone |j_t| <= mu_s j_n, else scaled onto the dynamic cone mu_d j_n.
 void solve_friction(SolverBody& a, SolverBody& b, const PointRow& row) {
   ContactPoint& p = *row.point;
-  const Vec3 dv = velocity_at(b, row.rb) - velocity_at(a, row.ra);
   const Fixed old0 = p.tangent_impulse[0], old1 = p.tangent_impulse[1];
-  Fixed new0 = old0 - row.tangent_mass[0] * dot(dv, row.tangent[0]);
-  Fixed new1 = old1 - row.tangent_mass[1] * dot(dv, row.tangent[1]);
+  Fixed new0 = old0 - row.tangent[0].mass * relative_velocity(a, b, row.tangent[0]);
+  Fixed new1 = old1 - row.tangent[1].mass * relative_velocity(a, b, row.tangent[1]);
   const Fixed magnitude = length(Vec3{new0, new1, Fixed{}});
   if (magnitude > row.static_friction * p.normal_impulse) {
     const Fixed slide = row.dynamic_friction * p.normal_impulse;
@@ -144,25 +160,26 @@ void solve_friction(SolverBody& a, SolverBody& b, const PointRow& row) {
   }
   p.tangent_impulse[0] = new0;
   p.tangent_impulse[1] = new1;
-  apply_impulse(a, b, row.ra, row.rb, row.tangent[0] * (new0 - old0) + row.tangent[1] * (new1 - old1));
+  apply_impulse(a, b, row.tangent[0], new0 - old0);
+  apply_impulse(a, b, row.tangent[1], new1 - old1);
 }
 
 void solve_normal(SolverBody& a, SolverBody& b, const PointRow& row) {
   ContactPoint& p = *row.point;
-  const Fixed vn = dot(velocity_at(b, row.rb) - velocity_at(a, row.ra), row.normal);
-  const Fixed total = max(p.normal_impulse + row.normal_mass * (row.velocity_target - vn), Fixed{});
+  const Fixed vn = relative_velocity(a, b, row.normal);
+  const Fixed total = max(p.normal_impulse + row.normal.mass * (row.velocity_target - vn), Fixed{});
   const Fixed delta = total - p.normal_impulse;
   p.normal_impulse = total;
-  apply_impulse(a, b, row.ra, row.rb, row.normal * delta);
+  apply_impulse(a, b, row.normal, delta);
 }
 
 void solve_push(SolverBody& a, SolverBody& b, const PointRow& row) {
   ContactPoint& p = *row.point;
-  const Fixed vn = dot(push_at(b, row.rb) - push_at(a, row.ra), row.normal);
-  const Fixed total = max(p.split_impulse + row.normal_mass * (row.push_target - vn), Fixed{});
+  const Fixed vn = relative_push(a, b, row.normal);
+  const Fixed total = max(p.split_impulse + row.normal.mass * (row.push_target - vn), Fixed{});
   const Fixed delta = total - p.split_impulse;
   p.split_impulse = total;
-  apply_push(a, b, row.ra, row.rb, row.normal * delta);
+  apply_push(a, b, row.normal, delta);
 }
 
 // Sweeps alternate direction every pass, so no point of a symmetric stack
@@ -191,10 +208,8 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
     }
   }
   for (int pass = 0; pass < settings.velocity_iterations; ++pass) {
-    sweep(solver_bodies, rows, pass, [](SolverBody& a, SolverBody& b, const PointRow& row) {
-      solve_friction(a, b, row);
-      solve_normal(a, b, row);
-    });
+    sweep(solver_bodies, rows, pass, solve_friction);
+    sweep(solver_bodies, rows, pass, solve_normal);
   }
   if (!settings.baumgarte) {
     for (int pass = 0; pass < settings.position_iterations; ++pass) sweep(solver_bodies, rows, pass, solve_push);
