@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <type_traits>
 
 #include "fixed/checked.h"
 #include "fixed/u128.h"
@@ -88,11 +89,53 @@ struct Accumulator {
   }
 };
 
+#if defined(BITSTEP_HAS_NATIVE_128)
+// The native backend's fast path: signed 128-bit sums of products, rounded
+// straight from two's complement. floor((s + 2^31 - 1 + lsb) / 2^32), where
+// lsb is bit 32 of s (the parity of floor(s / 2^32)), is s / 2^32 rounded to
+// nearest with ties to even; >> on a signed value is a floor in C++20.
+// Bit-identical to the generic path (tests/fixed/u128_tests.cpp compares them).
+__extension__ typedef __int128 native_i128;
+
+constexpr int64_t round_q64_native(native_i128 s, bool& saturated) {
+  const native_i128 q = (s + ((native_i128{1} << 31) - 1) + ((s >> 32) & 1)) >> 32;
+  const int64_t low = static_cast<int64_t>(static_cast<uint64_t>(q));  // modular, no UB
+  if (low == q) [[likely]] return low;
+  saturated = true;
+  return q < 0 ? min_raw : max_raw;
+}
+
+// a0 b0 + a1 b1 + a2 b2 (terms with zero factors allowed), false when the
+// 128-bit sum overflows (only near |operands| = 2^63; the caller falls back).
+constexpr bool sum_products_native(int64_t a0, int64_t b0, int64_t a1, int64_t b1, int64_t a2, int64_t b2,
+                                   native_i128& sum) {
+  const native_i128 p0 = native_i128{a0} * b0, p1 = native_i128{a1} * b1, p2 = native_i128{a2} * b2;
+  native_i128 partial = 0;
+  const bool o1 = __builtin_add_overflow(p0, p1, &partial);
+  const bool o2 = __builtin_add_overflow(partial, p2, &sum);
+  return !(o1 || o2);
+}
+
+template <class U>
+inline constexpr bool use_native_fast_path = std::is_same_v<U, NativeU128>;
+#else
+template <class U>
+inline constexpr bool use_native_fast_path = false;
+#endif
+
 template <class U>
 constexpr int64_t mul(int64_t a, int64_t b) {
   bool saturated = false;
-  const U product = U::mul(magnitude(a), magnitude(b));
-  const int64_t r = signed_saturate((a < 0) != (b < 0), round_shift(product, fraction_bits), saturated);
+  int64_t r = 0;
+#if defined(BITSTEP_HAS_NATIVE_128)
+  if constexpr (use_native_fast_path<U>) {
+    r = round_q64_native(native_i128{a} * b, saturated);  // |a b| <= 2^126: exact
+  } else
+#endif
+  {
+    const U product = U::mul(magnitude(a), magnitude(b));
+    r = signed_saturate((a < 0) != (b < 0), round_shift(product, fraction_bits), saturated);
+  }
   BITSTEP_FAULT_IF(saturated, "mul", "result out of range, saturated", a, b);
   return r;
 }
@@ -160,6 +203,17 @@ constexpr int64_t mul_add(int64_t a, int64_t b, int64_t c) {
 // a0 b0 + a1 b1 + a2 b2 rounded once.
 template <class U>
 constexpr int64_t dot3(int64_t a0, int64_t b0, int64_t a1, int64_t b1, int64_t a2, int64_t b2) {
+#if defined(BITSTEP_HAS_NATIVE_128)
+  if constexpr (use_native_fast_path<U>) {
+    native_i128 s = 0;
+    if (sum_products_native(a0, b0, a1, b1, a2, b2, s)) {
+      bool saturated = false;
+      const int64_t r = round_q64_native(s, saturated);
+      BITSTEP_FAULT_IF(saturated, "dot", "result out of range, saturated", a0, b0);
+      return r;
+    }
+  }
+#endif
   Accumulator<U> sum;
   sum.add_product(a0, b0);
   sum.add_product(a1, b1);
@@ -173,6 +227,18 @@ constexpr int64_t dot3(int64_t a0, int64_t b0, int64_t a1, int64_t b1, int64_t a
 // a b - c d rounded once (one component of a cross product).
 template <class U>
 constexpr int64_t mul_sub_mul(int64_t a, int64_t b, int64_t c, int64_t d) {
+#if defined(BITSTEP_HAS_NATIVE_128)
+  if constexpr (use_native_fast_path<U>) {
+    // a b - c d = a b + (-c) d, but -INT64_MIN wraps: that case takes the generic path.
+    native_i128 s = 0;
+    if (c != INT64_MIN && sum_products_native(a, b, -c, d, 0, 0, s)) {
+      bool saturated = false;
+      const int64_t r = round_q64_native(s, saturated);
+      BITSTEP_FAULT_IF(saturated, "cross", "result out of range, saturated", a, b);
+      return r;
+    }
+  }
+#endif
   Accumulator<U> sum;
   sum.add_product(a, b);
   sum.sub_product(c, d);
