@@ -40,6 +40,18 @@ struct PointRow {
   ContactPoint* point;    // where the accumulated impulses live
 };
 
+// A manifold's points taken together: one normal row at their centroid.
+// An impulse there, shared equally by the points, is a pure force through the
+// centroid (no torque about it), so the load a stack carries is solved
+// symmetrically before the per-point rows correct the torques (after the
+// second seed's averaged extra point).
+struct ManifoldRow {
+  uint32_t a, b;
+  size_t first, count;  // its points in the row list
+  Jacobian normal;      // at the centroid of the points
+  Fixed velocity_target;
+};
+
 // An orthonormal pair perpendicular to the unit vector n (fixed choice, so
 // warm-started friction impulses keep their meaning between steps).
 void tangent_basis(Vec3 n, Vec3& t1, Vec3& t2) {
@@ -90,7 +102,8 @@ std::vector<SolverBody> gather_bodies(const std::vector<Body>& bodies) {
 }
 
 std::vector<PointRow> prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
-                                   const std::vector<SolverBody>& solver_bodies, std::vector<Contact>& contacts) {
+                                   const std::vector<SolverBody>& solver_bodies, std::vector<Contact>& contacts,
+                                   std::vector<ManifoldRow>& manifold_rows) {
   std::vector<PointRow> rows;
   const Fixed inverse_dt = Fixed::one() / settings.dt;
   for (Contact& contact : contacts) {
@@ -129,6 +142,21 @@ std::vector<PointRow> prepare_rows(const Settings& settings, const std::vector<B
       }
       p.split_impulse = Fixed{};
       rows.push_back(row);
+    }
+    if (m.point_count > 1) {
+      const size_t first = rows.size() - static_cast<size_t>(m.point_count);
+      Vec3 centroid;
+      Fixed target;
+      for (size_t i = first; i < rows.size(); ++i) {
+        centroid += rows[i].point->position;
+        target += rows[i].velocity_target;
+      }
+      const Fixed n = Fixed::from_int(m.point_count);
+      centroid = centroid / n;
+      manifold_rows.push_back({ia, ib, first, static_cast<size_t>(m.point_count),
+                               make_jacobian(a, b, centroid - body_a.pose.position, centroid - body_b.pose.position,
+                                             m.normal),
+                               target / n});
     }
   }
   return rows;
@@ -173,6 +201,17 @@ void solve_normal(SolverBody& a, SolverBody& b, const PointRow& row) {
   apply_impulse(a, b, row.normal, delta);
 }
 
+void solve_manifold(std::vector<SolverBody>& bodies, std::vector<PointRow>& rows, const ManifoldRow& m) {
+  SolverBody& a = bodies[m.a];
+  SolverBody& b = bodies[m.b];
+  const Fixed vn = relative_velocity(a, b, m.normal);
+  Fixed share = m.normal.mass * (m.velocity_target - vn) / Fixed::from_int(static_cast<int32_t>(m.count));
+  // Each point's accumulated impulse stays >= 0.
+  for (size_t i = m.first; i < m.first + m.count; ++i) share = max(share, -rows[i].point->normal_impulse);
+  for (size_t i = m.first; i < m.first + m.count; ++i) rows[i].point->normal_impulse += share;
+  apply_impulse(a, b, m.normal, share * Fixed::from_int(static_cast<int32_t>(m.count)));
+}
+
 void solve_push(SolverBody& a, SolverBody& b, const PointRow& row) {
   ContactPoint& p = *row.point;
   const Fixed vn = relative_push(a, b, row.normal);
@@ -198,7 +237,8 @@ void sweep(std::vector<SolverBody>& bodies, const std::vector<PointRow>& rows, i
 void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::vector<Contact>& contacts,
                     PushVelocities& push) {
   std::vector<SolverBody> solver_bodies = gather_bodies(bodies);
-  const std::vector<PointRow> rows = prepare_rows(settings, bodies, solver_bodies, contacts);
+  std::vector<ManifoldRow> manifold_rows;
+  std::vector<PointRow> rows = prepare_rows(settings, bodies, solver_bodies, contacts, manifold_rows);
   if (settings.warm_starting) {
     warm_start(solver_bodies, rows);
   } else {
@@ -209,6 +249,7 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
   }
   for (int pass = 0; pass < settings.velocity_iterations; ++pass) {
     sweep(solver_bodies, rows, pass, solve_friction);
+    for (const ManifoldRow& m : manifold_rows) solve_manifold(solver_bodies, rows, m);
     sweep(solver_bodies, rows, pass, solve_normal);
   }
   if (!settings.baumgarte) {

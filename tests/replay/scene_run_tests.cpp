@@ -1,0 +1,58 @@
+// Shipped scenes run in the world, with their stability asserted in numbers.
+// Long runs: tagged [slow], Release only. pyramid20 (1.2 cm drift in 20 s)
+// and stack20 do not meet issue 3's bars yet and are not asserted here.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <string>
+#include <variant>
+
+#include "core/world.h"
+#include "replay/scene.h"
+
+using namespace bitstep;
+
+namespace {
+
+double to_double(Fixed f) { return static_cast<double>(f.raw()) * 0x1p-32; }
+
+World load_world(const std::string& name) {
+  auto loaded = load_scene_file(std::string(BITSTEP_SOURCE_DIR) + "/scenes/" + name);
+  REQUIRE(std::holds_alternative<Scene>(loaded));
+  const Scene& scene = std::get<Scene>(loaded);
+  World world(scene.settings);
+  for (const SceneBody& body : scene.bodies) REQUIRE(world.create_body(body.def).ok());
+  return world;
+}
+
+struct Motion {
+  double largest_move = 0;  // m, of any dynamic body from its start
+  double largest_drift = 0; // m, the horizontal part
+  double deepest = 0;       // m, deepest contact over the run
+};
+
+Motion run(World& world, int steps) {
+  std::vector<Vec3> start;
+  for (const Body& b : world.bodies()) start.push_back(b.pose.position);
+  Motion m;
+  for (int i = 0; i < steps; ++i) {
+    world.step();
+    m.deepest = std::max(m.deepest, to_double(world.stats().max_penetration));
+  }
+  for (size_t i = 0; i < start.size(); ++i) {
+    if (world.bodies()[i].type != BodyType::dynamic) continue;
+    const Vec3 d = world.bodies()[i].pose.position - start[i];
+    m.largest_move = std::max(m.largest_move, std::sqrt(to_double(length_sq(d))));
+    m.largest_drift = std::max(m.largest_drift, std::hypot(to_double(d.x), to_double(d.z)));
+  }
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("tables: five stacked compound tables stand 20 s with drift under 1 cm", "[scene-run][slow]") {
+  World world = load_world("tables.json");
+  const Motion m = run(world, 1200);
+  INFO("largest drift " << m.largest_drift << " m, largest move " << m.largest_move << " m");
+  CHECK(m.largest_drift < 0.01);
+}
