@@ -12,15 +12,13 @@ namespace {
 // stacked square) tags the same corner differently from step to step.
 constexpr Fixed same_point_distance = 0.01_fx;
 
-void copy_impulses(const ContactPoint& from, ContactPoint& to) {
-  to.normal_impulse = from.normal_impulse;
-  to.tangent_impulse[0] = from.tangent_impulse[0];
-  to.tangent_impulse[1] = from.tangent_impulse[1];
-}
-
-// Copies the accumulated impulses of the old point with the same feature id,
-// else of the nearest old point within same_point_distance.
+// Copies the manifold's friction impulses, and each point's normal impulse
+// from the old point with the same feature id, else from the nearest old
+// point within same_point_distance.
 void inherit_impulses(const Manifold& old, Manifold& fresh) {
+  fresh.friction_impulse[0] = old.friction_impulse[0];
+  fresh.friction_impulse[1] = old.friction_impulse[1];
+  fresh.twist_impulse = old.twist_impulse;
   constexpr Fixed limit_sq = same_point_distance * same_point_distance;
   for (int i = 0; i < fresh.point_count; ++i) {
     ContactPoint& p = fresh.points[static_cast<size_t>(i)];
@@ -41,7 +39,7 @@ void inherit_impulses(const Manifold& old, Manifold& fresh) {
         nearest = j;
       }
     }
-    if (nearest >= 0) copy_impulses(old.points[static_cast<size_t>(nearest)], p);
+    if (nearest >= 0) p.normal_impulse = old.points[static_cast<size_t>(nearest)].normal_impulse;
   }
 }
 

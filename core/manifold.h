@@ -20,7 +20,6 @@ struct ContactPoint {
   FeatureId feature = 0;
   // Accumulated impulses (N s), kept across steps for warm starting.
   Fixed normal_impulse;
-  Fixed tangent_impulse[2];
   Fixed split_impulse;  // the penetration-recovery (pseudo-velocity) impulse, not warm started
 };
 
@@ -30,6 +29,11 @@ struct Manifold {
   Vec3 normal;  // unit, world, from shape A to shape B
   int point_count = 0;
   std::array<ContactPoint, max_manifold_points> points{};
+  // Friction acts at the centroid of the points (N s, along the solver's
+  // tangent basis of the normal) with a twist about the normal (N m s),
+  // accumulated and warm-started like the normal impulses.
+  Fixed friction_impulse[2];
+  Fixed twist_impulse;
 };
 
 }  // namespace bitstep

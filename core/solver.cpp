@@ -29,27 +29,33 @@ struct Jacobian {
 };
 
 // One contact point as a constraint: a normal row (n from a to b) asking
-// J v >= velocity_target with impulse >= 0, and two friction rows.
+// J v >= velocity_target with impulse >= 0.
 struct PointRow {
   uint32_t a, b;
   Jacobian normal;
-  Jacobian tangent[2];
   Fixed velocity_target;  // m/s: restitution bounce, speculative approach or Baumgarte bias
   Fixed push_target;      // m/s: split-impulse separation speed
-  Fixed static_friction, dynamic_friction;
-  ContactPoint* point;    // where the accumulated impulses live
+  ContactPoint* point;    // where the accumulated impulse lives
 };
 
-// A manifold's points taken together: one normal row at their centroid.
-// An impulse there, shared equally by the points, is a pure force through the
-// centroid (no torque about it), so the load a stack carries is solved
-// symmetrically before the per-point rows correct the torques (after the
-// second seed's averaged extra point).
+// A manifold's points taken together, at their centroid:
+// - a normal row whose impulse is shared equally by the points: a pure force
+//   through the centroid (no torque about it), so a stack's load is solved
+//   symmetrically before the point rows correct the torques (after the second
+//   seed's averaged extra point);
+// - friction: two tangent rows and a twist row about the normal, anchored at
+//   the centroid and bounded by the manifold's total normal impulse (friction
+//   anchored at the manifold centre, one of the seeds' remedies for stacks).
 struct ManifoldRow {
   uint32_t a, b;
-  size_t first, count;  // its points in the row list
-  Jacobian normal;      // at the centroid of the points
+  size_t first, count;  // its points in the point-row list
+  Jacobian normal;      // at the centroid
+  Jacobian tangent[2];  // at the centroid
+  Jacobian twist;       // angular only: (w_b - w_a) . n
   Fixed velocity_target;
+  Fixed twist_radius;   // m: mean distance of the points from the centroid
+  Fixed static_friction, dynamic_friction;
+  Manifold* manifold;
 };
 
 // An orthonormal pair perpendicular to the unit vector n (fixed choice, so
@@ -66,6 +72,14 @@ Jacobian make_jacobian(const SolverBody& a, const SolverBody& b, Vec3 ra, Vec3 r
   j.turn_b = b.inverse_inertia * j.arm_b;
   // J M^-1 J^T = 1/m_a + 1/m_b + (r_a x d) . I_a^-1 (r_a x d) + (r_b x d) . I_b^-1 (r_b x d)
   const Fixed k = a.inverse_mass + b.inverse_mass + dot(j.arm_a, j.turn_a) + dot(j.arm_b, j.turn_b);
+  j.mass = k > Fixed{} ? Fixed::one() / k : Fixed{};
+  return j;
+}
+
+// The angular row (w_b - w_a) . n: no linear part, arms n.
+Jacobian make_twist(const SolverBody& a, const SolverBody& b, Vec3 n) {
+  Jacobian j{Vec3{}, n, n, a.inverse_inertia * n, b.inverse_inertia * n, {}};
+  const Fixed k = dot(n, j.turn_a) + dot(n, j.turn_b);
   j.mass = k > Fixed{} ? Fixed::one() / k : Fixed{};
   return j;
 }
@@ -119,11 +133,13 @@ std::vector<PointRow> prepare_rows(const Settings& settings, const std::vector<B
     const Fixed mu_s = sqrt(body_a.material.static_friction * body_b.material.static_friction);
     const Fixed mu_d = sqrt(body_a.material.dynamic_friction * body_b.material.dynamic_friction);
     const Fixed restitution = max(body_a.material.restitution, body_b.material.restitution);
+    const size_t first = rows.size();
+    Vec3 centroid;
+    Fixed target;
     for (int i = 0; i < m.point_count; ++i) {
       ContactPoint& p = m.points[static_cast<size_t>(i)];
       const Vec3 ra = p.position - body_a.pose.position, rb = p.position - body_b.pose.position;
-      PointRow row{ia,  ib, make_jacobian(a, b, ra, rb, m.normal), {make_jacobian(a, b, ra, rb, t1), make_jacobian(a, b, ra, rb, t2)},
-                   {}, {}, mu_s, mu_d, &p};
+      PointRow row{ia, ib, make_jacobian(a, b, ra, rb, m.normal), {}, {}, &p};
       const Fixed approach = relative_velocity(a, b, row.normal);
       // A gap (depth < 0) may close by depth / dt this step: speculative contact.
       row.velocity_target = p.depth < Fixed{} ? p.depth * inverse_dt : Fixed{};
@@ -141,55 +157,73 @@ std::vector<PointRow> prepare_rows(const Settings& settings, const std::vector<B
         }
       }
       p.split_impulse = Fixed{};
+      centroid += p.position;
+      target += row.velocity_target;
       rows.push_back(row);
     }
-    if (m.point_count > 1) {
-      const size_t first = rows.size() - static_cast<size_t>(m.point_count);
-      Vec3 centroid;
-      Fixed target;
-      for (size_t i = first; i < rows.size(); ++i) {
-        centroid += rows[i].point->position;
-        target += rows[i].velocity_target;
-      }
-      const Fixed n = Fixed::from_int(m.point_count);
-      centroid = centroid / n;
-      manifold_rows.push_back({ia, ib, first, static_cast<size_t>(m.point_count),
-                               make_jacobian(a, b, centroid - body_a.pose.position, centroid - body_b.pose.position,
-                                             m.normal),
-                               target / n});
-    }
+    const Fixed count = Fixed::from_int(m.point_count);
+    centroid = centroid / count;
+    Fixed radius;
+    for (int i = 0; i < m.point_count; ++i) radius += length(m.points[static_cast<size_t>(i)].position - centroid);
+    const Vec3 ra = centroid - body_a.pose.position, rb = centroid - body_b.pose.position;
+    manifold_rows.push_back({ia, ib, first, static_cast<size_t>(m.point_count), make_jacobian(a, b, ra, rb, m.normal),
+                             {make_jacobian(a, b, ra, rb, t1), make_jacobian(a, b, ra, rb, t2)},
+                             make_twist(a, b, m.normal), target / count, radius / count, mu_s, mu_d, &m});
   }
   return rows;
 }
 
-void warm_start(std::vector<SolverBody>& bodies, const std::vector<PointRow>& rows) {
-  for (const PointRow& row : rows) {
-    const ContactPoint& p = *row.point;
-    SolverBody& a = bodies[row.a];
-    SolverBody& b = bodies[row.b];
-    apply_impulse(a, b, row.normal, p.normal_impulse);
-    apply_impulse(a, b, row.tangent[0], p.tangent_impulse[0]);
-    apply_impulse(a, b, row.tangent[1], p.tangent_impulse[1]);
+void warm_start(std::vector<SolverBody>& bodies, const std::vector<PointRow>& rows,
+                const std::vector<ManifoldRow>& manifold_rows) {
+  for (const PointRow& row : rows) apply_impulse(bodies[row.a], bodies[row.b], row.normal, row.point->normal_impulse);
+  for (const ManifoldRow& m : manifold_rows) {
+    SolverBody& a = bodies[m.a];
+    SolverBody& b = bodies[m.b];
+    apply_impulse(a, b, m.tangent[0], m.manifold->friction_impulse[0]);
+    apply_impulse(a, b, m.tangent[1], m.manifold->friction_impulse[1]);
+    apply_impulse(a, b, m.twist, m.manifold->twist_impulse);
   }
 }
 
-// Friction: the impulse that stops sliding, kept while within the static
-// cone |j_t| <= mu_s j_n, else scaled onto the dynamic cone mu_d j_n.
-void solve_friction(SolverBody& a, SolverBody& b, const PointRow& row) {
-  ContactPoint& p = *row.point;
-  const Fixed old0 = p.tangent_impulse[0], old1 = p.tangent_impulse[1];
-  Fixed new0 = old0 - row.tangent[0].mass * relative_velocity(a, b, row.tangent[0]);
-  Fixed new1 = old1 - row.tangent[1].mass * relative_velocity(a, b, row.tangent[1]);
+Fixed total_normal_impulse(const std::vector<PointRow>& rows, const ManifoldRow& m) {
+  Fixed total;
+  for (size_t i = m.first; i < m.first + m.count; ++i) total += rows[i].point->normal_impulse;
+  return total;
+}
+
+// Friction at the centroid: the impulse that stops sliding is kept while
+// within the static cone |j_t| <= mu_s j_n (j_n the manifold's total normal
+// impulse), else scaled onto the dynamic cone mu_d j_n; the twist likewise
+// with the cone scaled by the points' mean radius.
+void solve_friction(std::vector<SolverBody>& bodies, const std::vector<PointRow>& rows, const ManifoldRow& m) {
+  SolverBody& a = bodies[m.a];
+  SolverBody& b = bodies[m.b];
+  Manifold& manifold = *m.manifold;
+  const Fixed normal = total_normal_impulse(rows, m);
+
+  const Fixed old0 = manifold.friction_impulse[0], old1 = manifold.friction_impulse[1];
+  Fixed new0 = old0 - m.tangent[0].mass * relative_velocity(a, b, m.tangent[0]);
+  Fixed new1 = old1 - m.tangent[1].mass * relative_velocity(a, b, m.tangent[1]);
   const Fixed magnitude = length(Vec3{new0, new1, Fixed{}});
-  if (magnitude > row.static_friction * p.normal_impulse) {
-    const Fixed slide = row.dynamic_friction * p.normal_impulse;
+  if (magnitude > m.static_friction * normal) {
+    const Fixed slide = m.dynamic_friction * normal;
     new0 = mul_div(new0, slide, magnitude);
     new1 = mul_div(new1, slide, magnitude);
   }
-  p.tangent_impulse[0] = new0;
-  p.tangent_impulse[1] = new1;
-  apply_impulse(a, b, row.tangent[0], new0 - old0);
-  apply_impulse(a, b, row.tangent[1], new1 - old1);
+  manifold.friction_impulse[0] = new0;
+  manifold.friction_impulse[1] = new1;
+  apply_impulse(a, b, m.tangent[0], new0 - old0);
+  apply_impulse(a, b, m.tangent[1], new1 - old1);
+
+  const Fixed old_twist = manifold.twist_impulse;
+  Fixed twist = old_twist - m.twist.mass * relative_velocity(a, b, m.twist);
+  const Fixed twist_limit = m.static_friction * normal * m.twist_radius;
+  if (abs(twist) > twist_limit) {
+    const Fixed slide = m.dynamic_friction * normal * m.twist_radius;
+    twist = twist < Fixed{} ? -slide : slide;
+  }
+  manifold.twist_impulse = twist;
+  apply_impulse(a, b, m.twist, twist - old_twist);
 }
 
 void solve_normal(SolverBody& a, SolverBody& b, const PointRow& row) {
@@ -201,7 +235,8 @@ void solve_normal(SolverBody& a, SolverBody& b, const PointRow& row) {
   apply_impulse(a, b, row.normal, delta);
 }
 
-void solve_manifold(std::vector<SolverBody>& bodies, std::vector<PointRow>& rows, const ManifoldRow& m) {
+void solve_manifold_normal(std::vector<SolverBody>& bodies, std::vector<PointRow>& rows, const ManifoldRow& m) {
+  if (m.count < 2) return;  // a single point is its own centroid
   SolverBody& a = bodies[m.a];
   SolverBody& b = bodies[m.b];
   const Fixed vn = relative_velocity(a, b, m.normal);
@@ -240,16 +275,16 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
   std::vector<ManifoldRow> manifold_rows;
   std::vector<PointRow> rows = prepare_rows(settings, bodies, solver_bodies, contacts, manifold_rows);
   if (settings.warm_starting) {
-    warm_start(solver_bodies, rows);
+    warm_start(solver_bodies, rows, manifold_rows);
   } else {
-    for (const PointRow& row : rows) {
-      row.point->normal_impulse = Fixed{};
-      row.point->tangent_impulse[0] = row.point->tangent_impulse[1] = Fixed{};
+    for (const PointRow& row : rows) row.point->normal_impulse = Fixed{};
+    for (const ManifoldRow& m : manifold_rows) {
+      m.manifold->friction_impulse[0] = m.manifold->friction_impulse[1] = m.manifold->twist_impulse = Fixed{};
     }
   }
   for (int pass = 0; pass < settings.velocity_iterations; ++pass) {
-    sweep(solver_bodies, rows, pass, solve_friction);
-    for (const ManifoldRow& m : manifold_rows) solve_manifold(solver_bodies, rows, m);
+    for (const ManifoldRow& m : manifold_rows) solve_friction(solver_bodies, rows, m);
+    for (const ManifoldRow& m : manifold_rows) solve_manifold_normal(solver_bodies, rows, m);
     sweep(solver_bodies, rows, pass, solve_normal);
   }
   if (!settings.baumgarte) {

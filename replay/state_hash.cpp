@@ -55,12 +55,13 @@ void serialize_state(const World& world, std::vector<uint8_t>& out) {
     w.u32(c.key.shape_a);
     w.u32(c.key.shape_b);
     w.u8(static_cast<uint8_t>(c.manifold.point_count));
+    w.fixed(c.manifold.friction_impulse[0]);
+    w.fixed(c.manifold.friction_impulse[1]);
+    w.fixed(c.manifold.twist_impulse);
     for (int i = 0; i < c.manifold.point_count; ++i) {
       const ContactPoint& p = c.manifold.points[static_cast<size_t>(i)];
       w.u32(p.feature);
       w.fixed(p.normal_impulse);
-      w.fixed(p.tangent_impulse[0]);
-      w.fixed(p.tangent_impulse[1]);
     }
   }
 }
