@@ -1,0 +1,98 @@
+// Friction against the analytic answers: a block on an incline (holds below
+// its friction angle, slides at g (sin - mu_d cos) above it) and a block
+// sliding to a stop in v0^2 / (2 mu_d g).
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "tests/core/test_world.h"
+
+using namespace bitstep;
+using bitstep::test::TestWorld;
+
+namespace {
+
+double to_double(Fixed f) { return static_cast<double>(f.raw()) * 0x1p-32; }
+
+constexpr double g = 9.81;
+constexpr double pi = 3.14159265358979323846;
+
+struct Incline {
+  TestWorld t;
+  BodyId block;
+  Vec3 down_slope;  // unit, along the surface, downhill
+
+  // A static ramp tilted by `degrees` about z and a 1 m cube resting on it.
+  Incline(int degrees, Material material) {
+    const Fixed angle = mul_div(Fixed::from_int(degrees), "raw:3243f6a89"_fx, 180.0_fx);
+    const Quat tilt = from_axis_angle({Fixed{}, Fixed{}, Fixed::one()}, angle);
+    BodyDef ramp;
+    ramp.type = BodyType::static_body;
+    ramp.pose = {{}, tilt};
+    ramp.shapes.push_back({ShapeType::box, {10.0_fx, 0.5_fx, 3.0_fx}, {}, {}, {}});
+    ramp.material = material;
+    t.world.create_body(ramp);
+    const Vec3 normal = rotate(tilt, {Fixed{}, Fixed::one(), Fixed{}});
+    down_slope = -rotate(tilt, {Fixed::one(), Fixed{}, Fixed{}});
+    BodyDef cube;
+    cube.pose = {normal * Fixed::one(), tilt};  // 0.5 m ramp half-thickness + 0.5 m cube half-size
+    cube.shapes.push_back({ShapeType::box, {0.5_fx, 0.5_fx, 0.5_fx}, {}, {}, {}});
+    cube.material = material;
+    block = t.world.create_body(cube).id;
+  }
+  double position_along_slope() const { return to_double(dot(t.body(block).pose.position, down_slope)); }
+  double speed_along_slope() const { return to_double(dot(t.body(block).linear_velocity, down_slope)); }
+};
+
+Material friction(Fixed mu_s, Fixed mu_d) {
+  Material m;
+  m.static_friction = mu_s;
+  m.dynamic_friction = mu_d;
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("a block on a 30 degree incline with mu_s 0.6 holds within 1 mm over 5 s", "[physics][friction]") {
+  Incline incline(30, friction(0.6_fx, 0.6_fx));
+  const double start = incline.position_along_slope();
+  incline.t.simulate_steps(300);
+  INFO("moved " << incline.position_along_slope() - start << " m down the slope");
+  CHECK(std::abs(incline.position_along_slope() - start) < 0.001);
+  WARN("incline mu_s 0.6: moved " << incline.position_along_slope() - start << " m in 5 s");
+}
+
+TEST_CASE("a block on a 30 degree incline with mu_s 0.5, mu_d 0.4 slides at g (sin - mu_d cos)",
+          "[physics][friction]") {
+  Incline incline(30, friction(0.5_fx, 0.4_fx));
+  incline.t.simulate_steps(60);  // 1 s: sliding is established
+  const double v1 = incline.speed_along_slope();
+  incline.t.simulate_steps(60);
+  const double v2 = incline.speed_along_slope();
+  const double measured = (v2 - v1) / 1.0;
+  const double theta = 30.0 * pi / 180.0;
+  const double expected = g * (std::sin(theta) - 0.4 * std::cos(theta));  // 1.5068 m/s^2
+  INFO("acceleration " << measured << " m/s^2, expected " << expected);
+  CHECK(std::abs(measured - expected) < 0.02 * expected);
+  WARN("incline mu_d 0.4: " << measured << " m/s^2, expected " << expected);
+}
+
+TEST_CASE("a block sliding at 5 m/s with mu_d 0.5 stops within v0^2 / (2 mu_d g)", "[physics][friction]") {
+  TestWorld t;
+  const Material material = friction(0.5_fx, 0.5_fx);
+  t.add_ground(material);
+  BodyDef def;
+  def.pose.position = {Fixed{}, 0.5_fx, Fixed{}};
+  def.linear_velocity = {5.0_fx, Fixed{}, Fixed{}};
+  def.shapes.push_back({ShapeType::box, {0.5_fx, 0.5_fx, 0.5_fx}, {}, {}, {}});
+  def.material = material;
+  const BodyId block = t.world.create_body(def).id;
+  t.simulate_steps(180);
+  const double distance = to_double(t.body(block).pose.position.x);
+  const double expected = 25.0 / (2.0 * 0.5 * g);  // 2.548 m
+  INFO("stopped after " << distance << " m, expected " << expected << " m; speed "
+                        << to_double(t.body(block).linear_velocity.x));
+  CHECK(std::abs(to_double(t.body(block).linear_velocity.x)) < 1e-3);
+  CHECK(std::abs(distance - expected) < 0.02 * expected);
+  WARN("slide stop: " << distance << " m, expected " << expected);
+}
