@@ -96,13 +96,32 @@ struct Accumulator {
 // nearest with ties to even; >> on a signed value is a floor in C++20.
 // Bit-identical to the generic path (tests/fixed/u128_tests.cpp compares them).
 __extension__ typedef __int128 native_i128;
+__extension__ typedef unsigned __int128 native_u128;
+
+constexpr int64_t round_q64_parts(uint64_t hi, uint64_t lo, bool& saturated) {
+  const uint64_t biased = lo + ((uint64_t{1} << 31) - 1) + ((lo >> 32) & 1u);
+  if (biased < lo) ++hi;  // carry
+  // floor((hi:biased) / 2^32) = hi 2^32 + (biased >> 32) fits in int64 iff hi is in [-2^31, 2^31).
+  const int64_t top = static_cast<int64_t>(hi);
+  if ((top >> 31) != 0 && (top >> 31) != -1) {
+    saturated = true;
+    return top < 0 ? min_raw : max_raw;
+  }
+  return static_cast<int64_t>((hi << 32) | (biased >> 32));
+}
 
 constexpr int64_t round_q64_native(native_i128 s, bool& saturated) {
-  const native_i128 q = (s + ((native_i128{1} << 31) - 1) + ((s >> 32) & 1)) >> 32;
-  const int64_t low = static_cast<int64_t>(static_cast<uint64_t>(q));  // modular, no UB
-  if (low == q) [[likely]] return low;
-  saturated = true;
-  return q < 0 ? min_raw : max_raw;
+  const auto u = static_cast<native_u128>(s);
+  return round_q64_parts(static_cast<uint64_t>(u >> 64), static_cast<uint64_t>(u), saturated);
+}
+
+// a b as two's complement hi:lo from one unsigned 64 x 64 multiply and the
+// usual signed correction: hi -= (a < 0 ? b : 0) + (b < 0 ? a : 0).
+constexpr int64_t mul_native(int64_t a, int64_t b, bool& saturated) {
+  const native_u128 u = static_cast<native_u128>(static_cast<uint64_t>(a)) * static_cast<uint64_t>(b);
+  uint64_t hi = static_cast<uint64_t>(u >> 64);
+  hi -= (a < 0 ? static_cast<uint64_t>(b) : 0) + (b < 0 ? static_cast<uint64_t>(a) : 0);
+  return round_q64_parts(hi, static_cast<uint64_t>(u), saturated);
 }
 
 // a0 b0 + a1 b1 + a2 b2 (terms with zero factors allowed), false when the
@@ -129,7 +148,7 @@ constexpr int64_t mul(int64_t a, int64_t b) {
   int64_t r = 0;
 #if defined(BITSTEP_HAS_NATIVE_128)
   if constexpr (use_native_fast_path<U>) {
-    r = round_q64_native(native_i128{a} * b, saturated);  // |a b| <= 2^126: exact
+    r = mul_native(a, b, saturated);
   } else
 #endif
   {
