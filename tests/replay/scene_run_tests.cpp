@@ -50,6 +50,20 @@ Motion run(World& world, int steps) {
 
 }  // namespace
 
+// "Stands": no box drifts sideways by 1 cm. Vertically the rows settle into
+// their contacts (each interface may sink up to the penetration slop).
+TEST_CASE("pyramid20 stands 20 s at 10 iterations: no box drifts 1 cm", "[scene-run][slow]") {
+  World world = load_world("pyramid20.json");
+  const Motion m = run(world, 1200);
+  INFO("largest drift " << m.largest_drift << " m, largest move " << m.largest_move << " m, deepest contact "
+                        << m.deepest << " m");
+  const double slop = to_double(world.settings().penetration_slop);
+  WARN("pyramid20: drift " << m.largest_drift << " m, move " << m.largest_move << " m, deepest " << m.deepest);
+  CHECK(m.largest_drift < 0.01);
+  CHECK(m.largest_move < 20 * slop);
+  CHECK(m.deepest < slop + 0.001);
+}
+
 TEST_CASE("tables: five stacked compound tables stand 20 s with drift under 1 cm", "[scene-run][slow]") {
   World world = load_world("tables.json");
   const Motion m = run(world, 1200);
