@@ -13,10 +13,7 @@ Aabb shape_aabb(const WorldShape& s) {
       // Half widths along the world axes: |R| h.
       const Mat33 r = rotation(s.pose.orientation);
       const Vec3 h = s.shape->half_extents;
-      for (size_t i = 0; i < 3; ++i) {
-        const Fixed e = dot(abs(r.rows[i]), h);
-        (i == 0 ? extent.x : i == 1 ? extent.y : extent.z) = e;
-      }
+      extent = {dot(abs(r.rows[0]), h), dot(abs(r.rows[1]), h), dot(abs(r.rows[2]), h)};
       break;
     }
     case ShapeType::sphere: extent = {s.shape->radius, s.shape->radius, s.shape->radius}; break;

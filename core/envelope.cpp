@@ -63,8 +63,8 @@ EnvelopeError check_envelope(const BodyDef& def) {
     if (abs(v.x) > limit || abs(v.y) > limit || abs(v.z) > limit) return true;
     return length(v) > limit;
   };
-  if (faster_than(def.linear_velocity, 500.0_fx)) return {"velocity", -1, "faster than 500 m/s"};
-  if (faster_than(def.angular_velocity, 100.0_fx)) return {"angular_velocity", -1, "faster than 100 rad/s"};
+  if (faster_than(def.linear_velocity, envelope::max_linear_speed)) return {"velocity", -1, "faster than 500 m/s"};
+  if (faster_than(def.angular_velocity, envelope::max_angular_speed)) return {"angular_velocity", -1, "faster than 100 rad/s"};
   return {};
 }
 

@@ -9,6 +9,17 @@ namespace bitstep {
 
 using namespace bitstep::literals;
 
+// The world envelope (DESIGN.md): checked when a body is created.
+namespace envelope {
+inline constexpr Fixed max_position = 16000.0_fx;  // m, |coordinate|
+inline constexpr Fixed min_size = 0.01_fx;         // m, box half-extent, radius, capsule half-height may be 0
+inline constexpr Fixed max_size = 50.0_fx;         // m
+inline constexpr Fixed min_mass = 0.01_fx;         // kg
+inline constexpr Fixed max_mass = 100000.0_fx;     // kg
+inline constexpr Fixed max_linear_speed = 500.0_fx;  // m/s
+inline constexpr Fixed max_angular_speed = 100.0_fx; // rad/s
+}  // namespace envelope
+
 struct Settings {
   Fixed dt = "1/60"_fx;                              // s, the fixed time step
   Vec3 gravity{Fixed{}, -9.81_fx, Fixed{}};          // m/s^2
@@ -21,18 +32,10 @@ struct Settings {
   Fixed baumgarte_factor = 0.2_fx;                   // 1, used when baumgarte is on
   Fixed restitution_threshold = 1.0_fx;              // m/s, approach speeds below it do not bounce
   Fixed speculative_distance = 0.02_fx;              // m, contacts are kept this far before touching
-  Fixed max_linear_speed = 500.0_fx;                 // m/s, world envelope: velocities are clamped to it
-  Fixed max_angular_speed = 100.0_fx;                // rad/s, world envelope
+  Fixed max_linear_speed = envelope::max_linear_speed;    // m/s, world envelope: velocities are clamped to it
+  Fixed max_angular_speed = envelope::max_angular_speed;  // rad/s, world envelope
   bool warm_starting = true;                         // start each step from last step's impulses
 };
 
-// The world envelope (DESIGN.md): checked when a body is created.
-namespace envelope {
-inline constexpr Fixed max_position = 16000.0_fx;  // m, |coordinate|
-inline constexpr Fixed min_size = 0.01_fx;         // m, box half-extent, radius, capsule half-height may be 0
-inline constexpr Fixed max_size = 50.0_fx;         // m
-inline constexpr Fixed min_mass = 0.01_fx;         // kg
-inline constexpr Fixed max_mass = 100000.0_fx;     // kg
-}  // namespace envelope
 
 }  // namespace bitstep

@@ -6,11 +6,17 @@ namespace bitstep {
 
 namespace {
 
+// A linear and an angular rate: a body's velocity (m/s, rad/s) or its
+// split-impulse pseudo-velocity.
+struct Motion {
+  Vec3 linear, angular;
+};
+
 // The hot state of one body during the solve (STYLE rule 5): velocities,
 // pseudo-velocities and the inverse mass properties, contiguous by slot.
 struct SolverBody {
-  Vec3 v, w;    // m/s, rad/s
-  Vec3 pv, pw;  // split-impulse pseudo-velocities
+  Motion velocity;
+  Motion push;  // split-impulse pseudo-velocity
   Fixed inverse_mass;
   Mat33 inverse_inertia;  // world frame
 };
@@ -118,25 +124,30 @@ ManifoldRow::Rocking make_rocking(const SolverBody& a, const SolverBody& b, cons
   return r;
 }
 
+// J (a, b) for either rate of the two bodies.
+Fixed relative_rate(const Motion& a, const Motion& b, const Jacobian& j) {
+  return dot(b.linear - a.linear, j.direction) + dot(b.angular, j.arm_b) - dot(a.angular, j.arm_a);
+}
+
+// Applies lambda along J to the chosen rate of the two bodies.
+void apply_along(SolverBody& a, SolverBody& b, Motion SolverBody::*rate, const Jacobian& j, Fixed lambda) {
+  (a.*rate).linear -= j.direction * (lambda * a.inverse_mass);
+  (a.*rate).angular -= j.turn_a * lambda;
+  (b.*rate).linear += j.direction * (lambda * b.inverse_mass);
+  (b.*rate).angular += j.turn_b * lambda;
+}
+
 Fixed relative_velocity(const SolverBody& a, const SolverBody& b, const Jacobian& j) {
-  return dot(b.v - a.v, j.direction) + dot(b.w, j.arm_b) - dot(a.w, j.arm_a);
+  return relative_rate(a.velocity, b.velocity, j);
 }
 Fixed relative_push(const SolverBody& a, const SolverBody& b, const Jacobian& j) {
-  return dot(b.pv - a.pv, j.direction) + dot(b.pw, j.arm_b) - dot(a.pw, j.arm_a);
+  return relative_rate(a.push, b.push, j);
 }
-
 void apply_impulse(SolverBody& a, SolverBody& b, const Jacobian& j, Fixed lambda) {
-  a.v -= j.direction * (lambda * a.inverse_mass);
-  a.w -= j.turn_a * lambda;
-  b.v += j.direction * (lambda * b.inverse_mass);
-  b.w += j.turn_b * lambda;
+  apply_along(a, b, &SolverBody::velocity, j, lambda);
 }
-
 void apply_push(SolverBody& a, SolverBody& b, const Jacobian& j, Fixed lambda) {
-  a.pv -= j.direction * (lambda * a.inverse_mass);
-  a.pw -= j.turn_a * lambda;
-  b.pv += j.direction * (lambda * b.inverse_mass);
-  b.pw += j.turn_b * lambda;
+  apply_along(a, b, &SolverBody::push, j, lambda);
 }
 
 std::vector<SolverBody> gather_bodies(const std::vector<Body>& bodies) {
@@ -144,7 +155,7 @@ std::vector<SolverBody> gather_bodies(const std::vector<Body>& bodies) {
   for (size_t i = 0; i < bodies.size(); ++i) {
     const Body& body = bodies[i];
     if (!body.alive) continue;
-    out[i] = {body.linear_velocity, body.angular_velocity, {}, {}, body.inverse_mass, body.inverse_inertia_world};
+    out[i] = {{body.linear_velocity, body.angular_velocity}, {}, body.inverse_mass, body.inverse_inertia_world};
   }
   return out;
 }
@@ -353,10 +364,10 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
   for (size_t i = 0; i < bodies.size(); ++i) {
     Body& body = bodies[i];
     if (!body.alive || body.type != BodyType::dynamic) continue;
-    body.linear_velocity = solver_bodies[i].v;
-    body.angular_velocity = solver_bodies[i].w;
-    push.linear[i] = solver_bodies[i].pv;
-    push.angular[i] = solver_bodies[i].pw;
+    body.linear_velocity = solver_bodies[i].velocity.linear;
+    body.angular_velocity = solver_bodies[i].velocity.angular;
+    push.linear[i] = solver_bodies[i].push.linear;
+    push.angular[i] = solver_bodies[i].push.angular;
   }
 }
 

@@ -6,13 +6,14 @@
 #include <cmath>
 
 #include "tests/core/test_world.h"
+#include "tests/test_support.h"
 
 using namespace bitstep;
 using bitstep::test::TestWorld;
 
 namespace {
 
-double to_double(Fixed f) { return static_cast<double>(f.raw()) * 0x1p-32; }
+using bitstep::test::to_double;
 
 constexpr double g = 9.81;
 constexpr double pi = 3.14159265358979323846;

@@ -4,13 +4,14 @@
 #include <catch2/catch.hpp>
 
 #include "tests/core/test_world.h"
+#include "tests/test_support.h"
 
 using namespace bitstep;
 using bitstep::test::TestWorld;
 
 namespace {
 
-double to_double(Fixed f) { return static_cast<double>(f.raw()) * 0x1p-32; }
+using bitstep::test::to_double;
 
 struct Drift {
   double horizontal = 0;   // m, largest horizontal displacement of any box

@@ -2,12 +2,13 @@
 
 #include "fixed/decimal.h"
 #include "tests/core/test_world.h"
+#include "tests/test_support.h"
 
 using namespace bitstep;
 using bitstep::test::TestWorld;
 
 namespace {
-double to_double(Fixed f) { return static_cast<double>(f.raw()) * 0x1p-32; }
+using bitstep::test::to_double;
 }  // namespace
 
 TEST_CASE("free fall equals the integrator's own recurrence exactly", "[world][integration]") {

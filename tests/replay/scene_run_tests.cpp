@@ -9,12 +9,13 @@
 
 #include "core/world.h"
 #include "replay/scene.h"
+#include "tests/test_support.h"
 
 using namespace bitstep;
 
 namespace {
 
-double to_double(Fixed f) { return static_cast<double>(f.raw()) * 0x1p-32; }
+using bitstep::test::to_double;
 
 World load_world(const std::string& name) {
   auto loaded = load_scene_file(std::string(BITSTEP_SOURCE_DIR) + "/scenes/" + name);
