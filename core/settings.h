@@ -35,6 +35,8 @@ struct Settings {
   Fixed max_linear_speed = envelope::max_linear_speed;    // m/s, world envelope: velocities are clamped to it
   Fixed max_angular_speed = envelope::max_angular_speed;  // rad/s, world envelope
   bool warm_starting = true;                         // start each step from last step's impulses
+  bool shock_propagation = true;                     // second seed: a last pass upward from the ground, lower bodies immovable
+  int shock_iterations = 2;                          // passes over each support level in the shock step
 };
 
 

@@ -2,75 +2,12 @@
 
 #include <algorithm>
 
+#include "core/shock.h"
+#include "core/solver_rows.h"
+
 namespace bitstep {
 
 namespace {
-
-// A linear and an angular rate: a body's velocity (m/s, rad/s) or its
-// split-impulse pseudo-velocity.
-struct Motion {
-  Vec3 linear, angular;
-};
-
-// The hot state of one body during the solve (STYLE rule 5): velocities,
-// pseudo-velocities and the inverse mass properties, contiguous by slot.
-struct SolverBody {
-  Motion velocity;
-  Motion push;  // split-impulse pseudo-velocity
-  Fixed inverse_mass;
-  Mat33 inverse_inertia;  // world frame
-};
-
-// One row of a contact constraint along a unit direction d, precomputed
-// once per step: the relative velocity along d is
-//   J v = d . (v_b - v_a) + (r_b x d) . w_b - (r_a x d) . w_a
-// and an impulse lambda changes v_a by -lambda d / m_a, w_a by
-// -lambda I_a^-1 (r_a x d), and b the opposite way. Keeping r x d and
-// I^-1 (r x d) turns every solver update into scalar-times-vector work.
-struct Jacobian {
-  Vec3 direction;
-  Vec3 arm_a, arm_b;          // r_a x d, r_b x d
-  Vec3 turn_a, turn_b;        // I_a^-1 (r_a x d), I_b^-1 (r_b x d)
-  Fixed mass;                 // 1 / (J M^-1 J^T), kg
-};
-
-// One contact point as a constraint: a normal row (n from a to b) asking
-// J v >= velocity_target with impulse >= 0.
-struct PointRow {
-  uint32_t a, b;
-  Jacobian normal;
-  Fixed velocity_target;  // m/s: restitution bounce, speculative approach or Baumgarte bias
-  Fixed push_target;      // m/s: split-impulse separation speed
-  ContactPoint* point;    // where the accumulated impulse lives
-};
-
-// A manifold's points taken together, at their centroid:
-// - a normal row whose impulse is shared equally by the points: a pure force
-//   through the centroid (no torque about it), so a stack's load is solved
-//   symmetrically before the point rows correct the torques (after the second
-//   seed's averaged extra point);
-// - friction: two tangent rows and a twist row about the normal, anchored at
-//   the centroid and bounded by the manifold's total normal impulse (friction
-//   anchored at the manifold centre, one of the seeds' remedies for stacks).
-struct ManifoldRow {
-  uint32_t a, b;
-  size_t first, count;  // its points in the point-row list
-  Jacobian normal;      // at the centroid
-  Jacobian tangent[2];  // at the centroid
-  Jacobian twist;       // angular only: (w_b - w_a) . n
-  Fixed velocity_target;
-  Fixed twist_radius;   // m: mean distance of the points from the centroid
-  Fixed static_friction, dynamic_friction;
-  Manifold* manifold;
-  // Rocking rows: the relative rotation about two in-plane axes, each a set
-  // of point impulses lambda alpha_i with sum alpha_i = 0 (no net force), so
-  // its net effect is the angular impulse lambda u (see make_rocking).
-  struct Rocking {
-    Jacobian row;  // angular only, along u
-    Fixed alpha[max_manifold_points];
-    bool active = false;
-  } rocking[2];
-};
 
 // An orthonormal pair perpendicular to the unit vector n (fixed choice, so
 // warm-started friction impulses keep their meaning between steps).
@@ -124,32 +61,6 @@ ManifoldRow::Rocking make_rocking(const SolverBody& a, const SolverBody& b, cons
   return r;
 }
 
-// J (a, b) for either rate of the two bodies.
-Fixed relative_rate(const Motion& a, const Motion& b, const Jacobian& j) {
-  return dot(b.linear - a.linear, j.direction) + dot(b.angular, j.arm_b) - dot(a.angular, j.arm_a);
-}
-
-// Applies lambda along J to the chosen rate of the two bodies.
-void apply_along(SolverBody& a, SolverBody& b, Motion SolverBody::*rate, const Jacobian& j, Fixed lambda) {
-  (a.*rate).linear -= j.direction * (lambda * a.inverse_mass);
-  (a.*rate).angular -= j.turn_a * lambda;
-  (b.*rate).linear += j.direction * (lambda * b.inverse_mass);
-  (b.*rate).angular += j.turn_b * lambda;
-}
-
-Fixed relative_velocity(const SolverBody& a, const SolverBody& b, const Jacobian& j) {
-  return relative_rate(a.velocity, b.velocity, j);
-}
-Fixed relative_push(const SolverBody& a, const SolverBody& b, const Jacobian& j) {
-  return relative_rate(a.push, b.push, j);
-}
-void apply_impulse(SolverBody& a, SolverBody& b, const Jacobian& j, Fixed lambda) {
-  apply_along(a, b, &SolverBody::velocity, j, lambda);
-}
-void apply_push(SolverBody& a, SolverBody& b, const Jacobian& j, Fixed lambda) {
-  apply_along(a, b, &SolverBody::push, j, lambda);
-}
-
 std::vector<SolverBody> gather_bodies(const std::vector<Body>& bodies) {
   std::vector<SolverBody> out(bodies.size());
   for (size_t i = 0; i < bodies.size(); ++i) {
@@ -188,7 +99,10 @@ std::vector<PointRow> prepare_rows(const Settings& settings, const std::vector<B
       const Fixed approach = relative_velocity(a, b, row.normal);
       // A gap (depth < 0) may close by depth / dt this step: speculative contact.
       row.velocity_target = p.depth < Fixed{} ? p.depth * inverse_dt : Fixed{};
-      if (approach < -settings.restitution_threshold) {
+      // Restitution only where the surfaces meet this step: a gap the
+      // approach does not close is a speculative contact, not an impact.
+      const bool meets = p.depth >= Fixed{} || -approach * settings.dt >= -p.depth;
+      if (meets && approach < -settings.restitution_threshold) {
         row.velocity_target = max(row.velocity_target, -restitution * approach);
       }
       const Fixed excess = p.depth - settings.penetration_slop;
@@ -213,7 +127,7 @@ std::vector<PointRow> prepare_rows(const Settings& settings, const std::vector<B
     const Vec3 ra = centroid - body_a.pose.position, rb = centroid - body_b.pose.position;
     manifold_rows.push_back({ia, ib, first, static_cast<size_t>(m.point_count), make_jacobian(a, b, ra, rb, m.normal),
                              {make_jacobian(a, b, ra, rb, t1), make_jacobian(a, b, ra, rb, t2)},
-                             make_twist(a, b, m.normal), target / count, radius / count, mu_s, mu_d, &m,
+                             make_twist(a, b, m.normal), ra, rb, target / count, radius / count, mu_s, mu_d, &m,
                              {make_rocking(a, b, m, centroid, t1), make_rocking(a, b, m, centroid, t2)}});
   }
   return rows;
@@ -229,99 +143,6 @@ void warm_start(std::vector<SolverBody>& bodies, const std::vector<PointRow>& ro
     apply_impulse(a, b, m.tangent[1], m.manifold->friction_impulse[1]);
     apply_impulse(a, b, m.twist, m.manifold->twist_impulse);
   }
-}
-
-Fixed total_normal_impulse(const std::vector<PointRow>& rows, const ManifoldRow& m) {
-  Fixed total;
-  for (size_t i = m.first; i < m.first + m.count; ++i) total += rows[i].point->normal_impulse;
-  return total;
-}
-
-// Friction at the centroid: the impulse that stops sliding is kept while
-// within the static cone |j_t| <= mu_s j_n (j_n the manifold's total normal
-// impulse), else scaled onto the dynamic cone mu_d j_n; the twist likewise
-// with the cone scaled by the points' mean radius.
-void solve_friction(std::vector<SolverBody>& bodies, const std::vector<PointRow>& rows, const ManifoldRow& m) {
-  SolverBody& a = bodies[m.a];
-  SolverBody& b = bodies[m.b];
-  Manifold& manifold = *m.manifold;
-  const Fixed normal = total_normal_impulse(rows, m);
-
-  const Fixed old0 = manifold.friction_impulse[0], old1 = manifold.friction_impulse[1];
-  Fixed new0 = old0 - m.tangent[0].mass * relative_velocity(a, b, m.tangent[0]);
-  Fixed new1 = old1 - m.tangent[1].mass * relative_velocity(a, b, m.tangent[1]);
-  const Fixed magnitude = length(Vec3{new0, new1, Fixed{}});
-  if (magnitude > m.static_friction * normal) {
-    const Fixed slide = m.dynamic_friction * normal;
-    new0 = mul_div(new0, slide, magnitude);
-    new1 = mul_div(new1, slide, magnitude);
-  }
-  manifold.friction_impulse[0] = new0;
-  manifold.friction_impulse[1] = new1;
-  apply_impulse(a, b, m.tangent[0], new0 - old0);
-  apply_impulse(a, b, m.tangent[1], new1 - old1);
-
-  const Fixed old_twist = manifold.twist_impulse;
-  Fixed twist = old_twist - m.twist.mass * relative_velocity(a, b, m.twist);
-  const Fixed twist_limit = m.static_friction * normal * m.twist_radius;
-  if (abs(twist) > twist_limit) {
-    const Fixed slide = m.dynamic_friction * normal * m.twist_radius;
-    twist = twist < Fixed{} ? -slide : slide;
-  }
-  manifold.twist_impulse = twist;
-  apply_impulse(a, b, m.twist, twist - old_twist);
-}
-
-void solve_normal(SolverBody& a, SolverBody& b, const PointRow& row) {
-  ContactPoint& p = *row.point;
-  const Fixed vn = relative_velocity(a, b, row.normal);
-  const Fixed total = max(p.normal_impulse + row.normal.mass * (row.velocity_target - vn), Fixed{});
-  const Fixed delta = total - p.normal_impulse;
-  p.normal_impulse = total;
-  apply_impulse(a, b, row.normal, delta);
-}
-
-void solve_manifold_normal(std::vector<SolverBody>& bodies, std::vector<PointRow>& rows, const ManifoldRow& m) {
-  if (m.count < 2) return;  // a single point is its own centroid
-  SolverBody& a = bodies[m.a];
-  SolverBody& b = bodies[m.b];
-  const Fixed vn = relative_velocity(a, b, m.normal);
-  Fixed share = m.normal.mass * (m.velocity_target - vn) / Fixed::from_int(static_cast<int32_t>(m.count));
-  // Each point's accumulated impulse stays >= 0.
-  for (size_t i = m.first; i < m.first + m.count; ++i) share = max(share, -rows[i].point->normal_impulse);
-  for (size_t i = m.first; i < m.first + m.count; ++i) rows[i].point->normal_impulse += share;
-  apply_impulse(a, b, m.normal, share * Fixed::from_int(static_cast<int32_t>(m.count)));
-}
-
-// Drives the relative rocking rate to zero, keeping every point's
-// accumulated normal impulse >= 0 (contacts push, never pull).
-void solve_rocking(std::vector<SolverBody>& bodies, std::vector<PointRow>& rows, const ManifoldRow& m) {
-  SolverBody& a = bodies[m.a];
-  SolverBody& b = bodies[m.b];
-  for (const ManifoldRow::Rocking& r : m.rocking) {
-    if (!r.active) continue;
-    Fixed lambda = -r.row.mass * relative_velocity(a, b, r.row);
-    for (size_t i = 0; i < m.count; ++i) {
-      const Fixed alpha = r.alpha[i];
-      const Fixed jn = rows[m.first + i].point->normal_impulse;
-      if (alpha > Fixed{}) lambda = max(lambda, -jn / alpha);
-      if (alpha < Fixed{}) lambda = min(lambda, jn / -alpha);
-    }
-    for (size_t i = 0; i < m.count; ++i) {
-      ContactPoint& p = *rows[m.first + i].point;
-      p.normal_impulse = max(p.normal_impulse + lambda * r.alpha[i], Fixed{});
-    }
-    apply_impulse(a, b, r.row, lambda);
-  }
-}
-
-void solve_push(SolverBody& a, SolverBody& b, const PointRow& row) {
-  ContactPoint& p = *row.point;
-  const Fixed vn = relative_push(a, b, row.normal);
-  const Fixed total = max(p.split_impulse + row.normal.mass * (row.push_target - vn), Fixed{});
-  const Fixed delta = total - p.split_impulse;
-  p.split_impulse = total;
-  apply_push(a, b, row.normal, delta);
 }
 
 // Sweeps alternate direction every pass, so no point of a symmetric stack
@@ -356,6 +177,7 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
     for (const ManifoldRow& m : manifold_rows) solve_rocking(solver_bodies, rows, m);
     sweep(solver_bodies, rows, pass, solve_normal);
   }
+  if (settings.shock_propagation) propagate_shock(settings, bodies, contacts, solver_bodies, rows, manifold_rows);
   if (!settings.baumgarte) {
     for (int pass = 0; pass < settings.position_iterations; ++pass) sweep(solver_bodies, rows, pass, solve_push);
   }

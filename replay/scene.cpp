@@ -41,6 +41,8 @@ Settings read_settings(const Node& node) {
   read_optional(reader, "max_linear_speed", s.max_linear_speed, Bound::positive);
   read_optional(reader, "max_angular_speed", s.max_angular_speed, Bound::positive);
   read_optional(reader, "warm_starting", s.warm_starting);
+  read_optional(reader, "shock_propagation", s.shock_propagation);
+  read_optional(reader, "shock_iterations", s.shock_iterations, 1, 1000);
   reader.finish();
   return s;
 }

@@ -2,7 +2,9 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <string>
@@ -60,8 +62,23 @@ std::string parse_options(int argc, char** argv, RunOptions& o) {
 struct SecondSummary {
   long long second;
   StepStats stats;
+  double max_drift;  // m
   double ms_per_step;
 };
+
+// The largest distance of any dynamic body from where it started: for a
+// scene that should stand, its stability number.
+double max_drift(const World& world, const std::vector<Vec3>& start) {
+  double drift = 0;
+  for (size_t i = 0; i < start.size(); ++i) {
+    const Body& body = world.bodies()[i];
+    if (!body.alive || body.type != BodyType::dynamic) continue;
+    const Vec3 d = body.pose.position - start[i];
+    const double x = to_double(d.x), y = to_double(d.y), z = to_double(d.z);
+    drift = std::max(drift, std::sqrt(x * x + y * y + z * z));
+  }
+  return drift;
+}
 
 }  // namespace
 
@@ -100,18 +117,20 @@ int run_scene_command(int argc, char** argv) {
   if (!options.json) {
     fmt::print("scene {}: {} bodies, dt {} s, {} velocity iterations, {} steps\n", options.scene_path,
                scene.bodies.size(), to_string(scene.settings.dt), scene.settings.velocity_iterations, steps);
-    fmt::print("{:>6} {:>7} {:>9} {:>14} {:>14} {:>9}\n", "t (s)", "awake", "contacts", "max pen (mm)", "KE (J)",
-               "ms/step");
+    fmt::print("{:>6} {:>7} {:>9} {:>13} {:>12} {:>14} {:>9}\n", "t (s)", "awake", "contacts", "max pen (mm)",
+               "drift (mm)", "KE (J)", "ms/step");
   }
+  std::vector<Vec3> start;
+  for (const Body& body : world.bodies()) start.push_back(body.pose.position);
   std::vector<SecondSummary> seconds;
   std::vector<std::pair<long long, uint64_t>> hashes;
   using Clock = std::chrono::steady_clock;
   Clock::duration busy{};
   long long steps_in_second = 0;
   for (long long step = 1; step <= steps; ++step) {
-    const auto start = Clock::now();
+    const auto began = Clock::now();
     world.step();
-    busy += Clock::now() - start;
+    busy += Clock::now() - began;
     ++steps_in_second;
     if (options.hash_every > 0 && step % options.hash_every == 0) {
       hashes.emplace_back(step, state_hash(world));
@@ -119,13 +138,13 @@ int run_scene_command(int argc, char** argv) {
     }
     if (step % steps_per_second == 0 || step == steps) {
       const double ms = std::chrono::duration<double, std::milli>(busy).count() / static_cast<double>(steps_in_second);
-      seconds.push_back({(step + steps_per_second - 1) / steps_per_second, world.stats(), ms});
+      seconds.push_back({(step + steps_per_second - 1) / steps_per_second, world.stats(), max_drift(world, start), ms});
       busy = {};
       steps_in_second = 0;
       const SecondSummary& s = seconds.back();
       if (!options.json) {
-        fmt::print("{:>6} {:>7} {:>9} {:>14.3f} {:>14.4f} {:>9.3f}\n", s.second, s.stats.awake_bodies,
-                   s.stats.contact_points, to_double(s.stats.max_penetration) * 1000.0,
+        fmt::print("{:>6} {:>7} {:>9} {:>13.3f} {:>12.3f} {:>14.4f} {:>9.3f}\n", s.second, s.stats.awake_bodies,
+                   s.stats.contact_points, to_double(s.stats.max_penetration) * 1000.0, s.max_drift * 1000.0,
                    to_double(s.stats.kinetic_energy), s.ms_per_step);
       }
     }
@@ -140,10 +159,10 @@ int run_scene_command(int argc, char** argv) {
              scene.bodies.size(), to_string(scene.settings.dt), world.step_count());
   for (size_t i = 0; i < seconds.size(); ++i) {
     const SecondSummary& s = seconds[i];
-    fmt::print("{}{{\"t\": {}, \"awake\": {}, \"contacts\": {}, \"max_penetration\": \"{}\", \"kinetic_energy\": \"{}\", "
-               "\"ms_per_step\": {:.4f}}}",
+    fmt::print("{}{{\"t\": {}, \"awake\": {}, \"contacts\": {}, \"max_penetration\": \"{}\", \"max_drift\": {:.6f}, "
+               "\"kinetic_energy\": \"{}\", \"ms_per_step\": {:.4f}}}",
                i == 0 ? "" : ", ", s.second, s.stats.awake_bodies, s.stats.contact_points,
-               to_string(s.stats.max_penetration), to_string(s.stats.kinetic_energy), s.ms_per_step);
+               to_string(s.stats.max_penetration), s.max_drift, to_string(s.stats.kinetic_energy), s.ms_per_step);
   }
   fmt::print("], \"hashes\": [");
   for (size_t i = 0; i < hashes.size(); ++i) {

@@ -1,0 +1,179 @@
+#include "core/shock.h"
+
+#include <algorithm>
+
+#include "core/support_levels.h"
+
+namespace bitstep {
+
+namespace {
+
+// A copy of j with body a (or b) immovable: its turn is dropped and the
+// effective mass is the other body's alone.
+Jacobian frozen(Jacobian j, const SolverBody& a, const SolverBody& b, bool freeze_a) {
+  const bool linear = j.direction != Vec3{};
+  Fixed k;
+  if (freeze_a) {
+    j.turn_a = Vec3{};
+    k = (linear ? b.inverse_mass : Fixed{}) + dot(j.arm_b, j.turn_b);
+  } else {
+    j.turn_b = Vec3{};
+    k = (linear ? a.inverse_mass : Fixed{}) + dot(j.arm_a, j.turn_a);
+  }
+  j.mass = k > Fixed{} ? Fixed::one() / k : Fixed{};
+  return j;
+}
+
+// In the shock step a face contact (3 or 4 points) of body `mover` against an
+// immovable support is solved as one block: the impulse that glues the body
+// to the support (relative velocity zero in all six directions: w = w_s and
+// the centroids moving together) is taken whole when the contact can deliver
+// it: every point still pushes and friction and twist stay inside the static
+// cone, and no row asks for a relative speed. Otherwise (false) the rows are left to the one-by-one pass. Solving
+// the block removes the coupling between friction at the face and the
+// body's rocking that row-by-row passes leave as a slow sideways creep.
+bool glue(SolverBody& mover, const SolverBody& support, const Body& body, bool mover_is_b, const ManifoldRow& m,
+          std::vector<PointRow>& rows) {
+  if (m.count < 3 || !m.rocking[0].active || !m.rocking[1].active) return false;
+  // Only a resting contact: no bounce, gap or bias asks for a relative speed.
+  for (size_t i = 0; i < m.count; ++i) {
+    if (rows[m.first + i].velocity_target != Fixed{}) return false;
+  }
+  const Vec3 r_mover = mover_is_b ? m.offset_b : m.offset_a;
+  const Vec3 r_support = mover_is_b ? m.offset_a : m.offset_b;
+  // Target rates: the support's rigid motion continued to the mover.
+  const Vec3 w = support.velocity.angular;
+  const Vec3 v = support.velocity.linear + cross(w, r_support) - cross(w, r_mover);
+  const Vec3 dv = v - mover.velocity.linear, dw = w - mover.velocity.angular;
+  // Impulse P through the centroid and angular impulse L about it:
+  // m dv = P, I dw = r x P + L (I in world axes, applied through the body frame).
+  const Vec3 impulse = dv / mover.inverse_mass;
+  const Quat q = body.pose.orientation;
+  const Vec3 angular = rotate(q, body.inertia_local * rotate_inverse(q, dw)) - cross(r_mover, impulse);
+  // In the rows' terms (an impulse lambda acts +d on b, -d on a).
+  const Manifold& manifold = *m.manifold;
+  const Vec3 n = manifold.normal;
+  const Vec3 p = mover_is_b ? impulse : -impulse;
+  const Vec3 l = mover_is_b ? angular : -angular;
+  const Fixed normal = dot(p, n);
+  const Fixed friction0 = manifold.friction_impulse[0] + dot(p, m.tangent[0].direction);
+  const Fixed friction1 = manifold.friction_impulse[1] + dot(p, m.tangent[1].direction);
+  const Fixed twist = manifold.twist_impulse + dot(l, n);
+  // In-plane angular impulse = lambda0 u0 + lambda1 u1 (the rocking rows'
+  // axes, arms of their Jacobians): a 2 x 2 solve by Cramer's rule.
+  const Vec3 in_plane = l - n * dot(l, n);
+  const Vec3 u0 = m.rocking[0].row.arm_b, u1 = m.rocking[1].row.arm_b;
+  const Fixed g00 = dot(u0, u0), g01 = dot(u0, u1), g11 = dot(u1, u1);
+  const Fixed det = g00 * g11 - g01 * g01;
+  if (det < 0.000001_fx) return false;
+  const Fixed b0 = dot(u0, in_plane), b1 = dot(u1, in_plane);
+  const Fixed lambda0 = (b0 * g11 - b1 * g01) / det, lambda1 = (b1 * g00 - b0 * g01) / det;
+  const Fixed share = normal / Fixed::from_int(static_cast<int32_t>(m.count));
+  Fixed point_impulse[max_manifold_points];
+  Fixed total;
+  for (size_t i = 0; i < m.count; ++i) {
+    point_impulse[i] = rows[m.first + i].point->normal_impulse + share + lambda0 * m.rocking[0].alpha[i] +
+                       lambda1 * m.rocking[1].alpha[i];
+    if (point_impulse[i] < Fixed{}) return false;
+    total += point_impulse[i];
+  }
+  if (length(Vec3{friction0, friction1, Fixed{}}) > m.static_friction * total) return false;
+  if (abs(twist) > m.static_friction * total * m.twist_radius) return false;
+  for (size_t i = 0; i < m.count; ++i) rows[m.first + i].point->normal_impulse = point_impulse[i];
+  m.manifold->friction_impulse[0] = friction0;
+  m.manifold->friction_impulse[1] = friction1;
+  m.manifold->twist_impulse = twist;
+  mover.velocity = {v, w};
+  return true;
+}
+
+}  // namespace
+
+void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, const std::vector<Contact>& contacts,
+                     std::vector<SolverBody>& solver_bodies, const std::vector<PointRow>& rows,
+                     const std::vector<ManifoldRow>& manifold_rows) {
+  const std::vector<uint32_t> level = support_levels(bodies, contacts, settings.gravity);
+  // Manifolds between supported bodies, by (level of the higher body, order).
+  struct Entry {
+    uint32_t level;
+    uint32_t index;
+  };
+  std::vector<Entry> order;
+  for (uint32_t i = 0; i < manifold_rows.size(); ++i) {
+    const ManifoldRow& m = manifold_rows[i];
+    if (level[m.a] == not_supported || level[m.b] == not_supported) continue;
+    order.push_back({std::max(level[m.a], level[m.b]), i});
+  }
+  std::sort(order.begin(), order.end(),
+            [](Entry x, Entry y) { return x.level != y.level ? x.level < y.level : x.index < y.index; });
+
+  // Copies of the rows with the lower body's side frozen, accumulating into
+  // copies of the manifolds: the shock step corrects this step's velocities
+  // only, and next step warm-starts from what the iterations found (the
+  // shock's one-sided impulses would push the supports down when applied to
+  // both bodies).
+  std::vector<PointRow> shock_rows;
+  std::vector<ManifoldRow> shock_manifolds;
+  std::vector<Manifold> accumulated(order.size());
+  for (size_t i = 0; i < order.size(); ++i) {
+    ManifoldRow m = manifold_rows[order[i].index];
+    const SolverBody& a = solver_bodies[m.a];
+    const SolverBody& b = solver_bodies[m.b];
+    accumulated[i] = *m.manifold;
+    m.manifold = &accumulated[i];
+    const size_t first = shock_rows.size();
+    for (size_t k = 0; k < m.count; ++k) {
+      shock_rows.push_back(rows[m.first + k]);
+      shock_rows.back().point = &accumulated[i].points[k];
+    }
+    m.first = first;
+    if (level[m.a] != level[m.b]) {
+      const bool freeze_a = level[m.a] < level[m.b];
+      for (size_t k = 0; k < m.count; ++k) {
+        shock_rows[first + k].normal = frozen(shock_rows[first + k].normal, a, b, freeze_a);
+      }
+      m.normal = frozen(m.normal, a, b, freeze_a);
+      m.tangent[0] = frozen(m.tangent[0], a, b, freeze_a);
+      m.tangent[1] = frozen(m.tangent[1], a, b, freeze_a);
+      m.twist = frozen(m.twist, a, b, freeze_a);
+      for (ManifoldRow::Rocking& r : m.rocking) r.row = frozen(r.row, a, b, freeze_a);
+    }
+    shock_manifolds.push_back(m);
+  }
+
+  // Level by level; once a level is done its bodies become immovable
+  // (inverse mass 0; the frozen rows already carry no turn for them).
+  std::vector<Fixed> saved_inverse_mass;
+  std::vector<uint32_t> frozen_bodies;
+  size_t begin = 0;
+  while (begin < order.size()) {
+    size_t end = begin;
+    while (end < order.size() && order[end].level == order[begin].level) ++end;
+    for (int pass = 0; pass < settings.shock_iterations; ++pass) {
+      for (size_t i = begin; i < end; ++i) {
+        const ManifoldRow& m = shock_manifolds[i];
+        if (level[m.a] != level[m.b]) {
+          const bool mover_is_b = level[m.a] < level[m.b];
+          const uint32_t mover = mover_is_b ? m.b : m.a;
+          if (glue(solver_bodies[mover], solver_bodies[mover_is_b ? m.a : m.b], bodies[mover], mover_is_b, m,
+                   shock_rows)) {
+            continue;
+          }
+        }
+        solve_manifold(solver_bodies, shock_rows, m, pass);
+      }
+    }
+    for (size_t i = begin; i < end; ++i) {
+      for (uint32_t body : {shock_manifolds[i].a, shock_manifolds[i].b}) {
+        if (level[body] != order[begin].level || solver_bodies[body].inverse_mass == Fixed{}) continue;
+        frozen_bodies.push_back(body);
+        saved_inverse_mass.push_back(solver_bodies[body].inverse_mass);
+        solver_bodies[body].inverse_mass = Fixed{};
+      }
+    }
+    begin = end;
+  }
+  for (size_t i = 0; i < frozen_bodies.size(); ++i) solver_bodies[frozen_bodies[i]].inverse_mass = saved_inverse_mass[i];
+}
+
+}  // namespace bitstep

@@ -1,0 +1,21 @@
+// Shock propagation (Guendelman, Bridson and Fedkiw), the last pass of the
+// velocity solve: level by level upward from the ground (support_levels.h),
+// every body below the level being solved is immovable (infinite mass), so
+// each body is stopped against its supports exactly instead of sharing the
+// correction with them, and a stack's column of contacts converges in one
+// pass however tall it is. Bodies without support are left as the
+// iterations left them. Internal to core/.
+#pragma once
+
+#include <vector>
+
+#include "core/contact.h"
+#include "core/solver_rows.h"
+
+namespace bitstep {
+
+void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, const std::vector<Contact>& contacts,
+                     std::vector<SolverBody>& solver_bodies, const std::vector<PointRow>& rows,
+                     const std::vector<ManifoldRow>& manifold_rows);
+
+}  // namespace bitstep

@@ -1,0 +1,97 @@
+#include "core/solver_rows.h"
+
+namespace bitstep {
+
+namespace {
+
+Fixed total_normal_impulse(const std::vector<PointRow>& rows, const ManifoldRow& m) {
+  Fixed total;
+  for (size_t i = m.first; i < m.first + m.count; ++i) total += rows[i].point->normal_impulse;
+  return total;
+}
+
+}  // namespace
+
+// Friction at the centroid: the impulse that stops sliding is kept while
+// within the static cone |j_t| <= mu_s j_n (j_n the manifold's total normal
+// impulse), else scaled onto the dynamic cone mu_d j_n; the twist likewise
+// with the cone scaled by the points' mean radius.
+void solve_friction(std::vector<SolverBody>& bodies, const std::vector<PointRow>& rows, const ManifoldRow& m) {
+  SolverBody& a = bodies[m.a];
+  SolverBody& b = bodies[m.b];
+  Manifold& manifold = *m.manifold;
+  const Fixed normal = total_normal_impulse(rows, m);
+
+  const Fixed old0 = manifold.friction_impulse[0], old1 = manifold.friction_impulse[1];
+  Fixed new0 = old0 - m.tangent[0].mass * relative_velocity(a, b, m.tangent[0]);
+  Fixed new1 = old1 - m.tangent[1].mass * relative_velocity(a, b, m.tangent[1]);
+  const Fixed magnitude = length(Vec3{new0, new1, Fixed{}});
+  if (magnitude > m.static_friction * normal) {
+    const Fixed slide = m.dynamic_friction * normal;
+    new0 = mul_div(new0, slide, magnitude);
+    new1 = mul_div(new1, slide, magnitude);
+  }
+  manifold.friction_impulse[0] = new0;
+  manifold.friction_impulse[1] = new1;
+  apply_impulse(a, b, m.tangent[0], new0 - old0);
+  apply_impulse(a, b, m.tangent[1], new1 - old1);
+
+  const Fixed old_twist = manifold.twist_impulse;
+  Fixed twist = old_twist - m.twist.mass * relative_velocity(a, b, m.twist);
+  const Fixed twist_limit = m.static_friction * normal * m.twist_radius;
+  if (abs(twist) > twist_limit) {
+    const Fixed slide = m.dynamic_friction * normal * m.twist_radius;
+    twist = twist < Fixed{} ? -slide : slide;
+  }
+  manifold.twist_impulse = twist;
+  apply_impulse(a, b, m.twist, twist - old_twist);
+}
+
+
+void solve_manifold_normal(std::vector<SolverBody>& bodies, std::vector<PointRow>& rows, const ManifoldRow& m) {
+  if (m.count < 2) return;  // a single point is its own centroid
+  SolverBody& a = bodies[m.a];
+  SolverBody& b = bodies[m.b];
+  const Fixed vn = relative_velocity(a, b, m.normal);
+  Fixed share = m.normal.mass * (m.velocity_target - vn) / Fixed::from_int(static_cast<int32_t>(m.count));
+  // Each point's accumulated impulse stays >= 0.
+  for (size_t i = m.first; i < m.first + m.count; ++i) share = max(share, -rows[i].point->normal_impulse);
+  for (size_t i = m.first; i < m.first + m.count; ++i) rows[i].point->normal_impulse += share;
+  apply_impulse(a, b, m.normal, share * Fixed::from_int(static_cast<int32_t>(m.count)));
+}
+
+// Drives the relative rocking rate to zero, keeping every point's
+// accumulated normal impulse >= 0 (contacts push, never pull).
+void solve_rocking(std::vector<SolverBody>& bodies, std::vector<PointRow>& rows, const ManifoldRow& m) {
+  SolverBody& a = bodies[m.a];
+  SolverBody& b = bodies[m.b];
+  for (const ManifoldRow::Rocking& r : m.rocking) {
+    if (!r.active) continue;
+    Fixed lambda = -r.row.mass * relative_velocity(a, b, r.row);
+    for (size_t i = 0; i < m.count; ++i) {
+      const Fixed alpha = r.alpha[i];
+      const Fixed jn = rows[m.first + i].point->normal_impulse;
+      if (alpha > Fixed{}) lambda = max(lambda, -jn / alpha);
+      if (alpha < Fixed{}) lambda = min(lambda, jn / -alpha);
+    }
+    for (size_t i = 0; i < m.count; ++i) {
+      ContactPoint& p = *rows[m.first + i].point;
+      p.normal_impulse = max(p.normal_impulse + lambda * r.alpha[i], Fixed{});
+    }
+    apply_impulse(a, b, r.row, lambda);
+  }
+}
+
+// One pass over a manifold: friction, the centroid row, rocking, then its
+// points (in alternating direction).
+void solve_manifold(std::vector<SolverBody>& bodies, std::vector<PointRow>& rows, const ManifoldRow& m, int pass) {
+  solve_friction(bodies, rows, m);
+  solve_manifold_normal(bodies, rows, m);
+  solve_rocking(bodies, rows, m);
+  for (size_t k = 0; k < m.count; ++k) {
+    const PointRow& row = rows[m.first + (pass % 2 == 0 ? k : m.count - 1 - k)];
+    solve_normal(bodies[row.a], bodies[row.b], row);
+  }
+}
+
+}  // namespace bitstep

@@ -1,0 +1,134 @@
+// The solver's rows: the per-body state of a solve and the constraint rows
+// of contact points and manifolds, with the one-row updates shared by the
+// iterations (solver.cpp) and the shock step (shock.cpp). Internal to core/.
+#pragma once
+
+#include <vector>
+
+#include "core/body.h"
+#include "core/manifold.h"
+
+namespace bitstep {
+
+// A linear and an angular rate: a body's velocity (m/s, rad/s) or its
+// split-impulse pseudo-velocity.
+struct Motion {
+  Vec3 linear, angular;
+};
+
+// The hot state of one body during the solve (STYLE rule 5): velocities,
+// pseudo-velocities and the inverse mass properties, contiguous by slot.
+struct SolverBody {
+  Motion velocity;
+  Motion push;  // split-impulse pseudo-velocity
+  Fixed inverse_mass;
+  Mat33 inverse_inertia;  // world frame
+};
+
+// One row of a contact constraint along a unit direction d, precomputed
+// once per step: the relative velocity along d is
+//   J v = d . (v_b - v_a) + (r_b x d) . w_b - (r_a x d) . w_a
+// and an impulse lambda changes v_a by -lambda d / m_a, w_a by
+// -lambda I_a^-1 (r_a x d), and b the opposite way. Keeping r x d and
+// I^-1 (r x d) turns every solver update into scalar-times-vector work.
+struct Jacobian {
+  Vec3 direction;
+  Vec3 arm_a, arm_b;          // r_a x d, r_b x d
+  Vec3 turn_a, turn_b;        // I_a^-1 (r_a x d), I_b^-1 (r_b x d)
+  Fixed mass;                 // 1 / (J M^-1 J^T), kg
+};
+
+// One contact point as a constraint: a normal row (n from a to b) asking
+// J v >= velocity_target with impulse >= 0.
+struct PointRow {
+  uint32_t a, b;
+  Jacobian normal;
+  Fixed velocity_target;  // m/s: restitution bounce, speculative approach or Baumgarte bias
+  Fixed push_target;      // m/s: split-impulse separation speed
+  ContactPoint* point;    // where the accumulated impulse lives
+};
+
+// A manifold's points taken together, at their centroid:
+// - a normal row whose impulse is shared equally by the points: a pure force
+//   through the centroid (no torque about it), so a stack's load is solved
+//   symmetrically before the point rows correct the torques (after the second
+//   seed's averaged extra point);
+// - friction: two tangent rows and a twist row about the normal, anchored at
+//   the centroid and bounded by the manifold's total normal impulse (friction
+//   anchored at the manifold centre, one of the seeds' remedies for stacks).
+struct ManifoldRow {
+  uint32_t a, b;
+  size_t first, count;  // its points in the point-row list
+  Jacobian normal;      // at the centroid
+  Jacobian tangent[2];  // at the centroid
+  Jacobian twist;       // angular only: (w_b - w_a) . n
+  Vec3 offset_a, offset_b;  // m: the centroid from each body's centre of mass
+  Fixed velocity_target;
+  Fixed twist_radius;   // m: mean distance of the points from the centroid
+  Fixed static_friction, dynamic_friction;
+  Manifold* manifold;
+  // Rocking rows: the relative rotation about two in-plane axes, each a set
+  // of point impulses lambda alpha_i with sum alpha_i = 0 (no net force), so
+  // its net effect is the angular impulse lambda u (see make_rocking).
+  struct Rocking {
+    Jacobian row;  // angular only, along u
+    Fixed alpha[max_manifold_points];
+    bool active = false;
+  } rocking[2];
+};
+
+// J (a, b) for either rate of the two bodies.
+inline Fixed relative_rate(const Motion& a, const Motion& b, const Jacobian& j) {
+  return dot(b.linear - a.linear, j.direction) + dot(b.angular, j.arm_b) - dot(a.angular, j.arm_a);
+}
+
+// Applies lambda along J to the chosen rate of the two bodies.
+inline void apply_along(SolverBody& a, SolverBody& b, Motion SolverBody::*rate, const Jacobian& j, Fixed lambda) {
+  (a.*rate).linear -= j.direction * (lambda * a.inverse_mass);
+  (a.*rate).angular -= j.turn_a * lambda;
+  (b.*rate).linear += j.direction * (lambda * b.inverse_mass);
+  (b.*rate).angular += j.turn_b * lambda;
+}
+
+inline Fixed relative_velocity(const SolverBody& a, const SolverBody& b, const Jacobian& j) {
+  return relative_rate(a.velocity, b.velocity, j);
+}
+inline Fixed relative_push(const SolverBody& a, const SolverBody& b, const Jacobian& j) {
+  return relative_rate(a.push, b.push, j);
+}
+inline void apply_impulse(SolverBody& a, SolverBody& b, const Jacobian& j, Fixed lambda) {
+  apply_along(a, b, &SolverBody::velocity, j, lambda);
+}
+inline void apply_push(SolverBody& a, SolverBody& b, const Jacobian& j, Fixed lambda) {
+  apply_along(a, b, &SolverBody::push, j, lambda);
+}
+
+// One point row on either rate: the accumulated impulse (normal or split)
+// moves toward the target rate and stays >= 0.
+inline void solve_point(SolverBody& a, SolverBody& b, const Jacobian& j, Motion SolverBody::*rate,
+                        Fixed& accumulated, Fixed target) {
+  const Fixed rate_now = relative_rate(a.*rate, b.*rate, j);
+  const Fixed total = max(accumulated + j.mass * (target - rate_now), Fixed{});
+  const Fixed delta = total - accumulated;
+  accumulated = total;
+  apply_along(a, b, rate, j, delta);
+}
+inline void solve_normal(SolverBody& a, SolverBody& b, const PointRow& row) {
+  solve_point(a, b, row.normal, &SolverBody::velocity, row.point->normal_impulse, row.velocity_target);
+}
+inline void solve_push(SolverBody& a, SolverBody& b, const PointRow& row) {
+  solve_point(a, b, row.normal, &SolverBody::push, row.point->split_impulse, row.push_target);
+}
+
+// Friction (tangents and twist) at the centroid of a manifold, within the
+// static or dynamic cone of its total normal impulse.
+void solve_friction(std::vector<SolverBody>& bodies, const std::vector<PointRow>& rows, const ManifoldRow& m);
+// The centroid row: equal shares of a normal impulse through the centroid.
+void solve_manifold_normal(std::vector<SolverBody>& bodies, std::vector<PointRow>& rows, const ManifoldRow& m);
+// The rocking rows: relative rotation about the in-plane axes, no point pulling.
+void solve_rocking(std::vector<SolverBody>& bodies, std::vector<PointRow>& rows, const ManifoldRow& m);
+// One pass over a manifold: friction, the centroid row, rocking, then its
+// points (in alternating direction with the pass).
+void solve_manifold(std::vector<SolverBody>& bodies, std::vector<PointRow>& rows, const ManifoldRow& m, int pass);
+
+}  // namespace bitstep

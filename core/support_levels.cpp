@@ -1,0 +1,50 @@
+#include "core/support_levels.h"
+
+namespace bitstep {
+
+std::vector<uint32_t> support_levels(const std::vector<Body>& bodies, const std::vector<Contact>& contacts,
+                                     Vec3 gravity) {
+  std::vector<uint32_t> level(bodies.size(), not_supported);
+  if (gravity == Vec3{}) return level;
+  const Vec3 up = normalize(-gravity);
+  const Fixed cos_60 = 0.5_fx;
+
+  // Support edges supporter -> supported, grouped by supporter (counting
+  // sort over the contacts, which are in (a, b) order: deterministic).
+  struct Edge {
+    uint32_t from, to;
+  };
+  std::vector<Edge> edges;
+  for (const Contact& c : contacts) {
+    if (c.manifold.point_count == 0) continue;
+    const Fixed along_up = dot(c.manifold.normal, up);  // the normal points from a to b
+    if (along_up > cos_60) edges.push_back({c.key.body_a, c.key.body_b});
+    if (along_up < -cos_60) edges.push_back({c.key.body_b, c.key.body_a});
+  }
+  std::vector<uint32_t> first(bodies.size() + 1, 0);
+  for (const Edge& e : edges) ++first[e.from + 1];
+  for (size_t i = 1; i < first.size(); ++i) first[i] += first[i - 1];
+  std::vector<uint32_t> supported(edges.size());
+  std::vector<uint32_t> fill(first.begin(), first.end() - 1);
+  for (const Edge& e : edges) supported[fill[e.from]++] = e.to;
+
+  std::vector<uint32_t> queue;
+  for (uint32_t i = 0; i < bodies.size(); ++i) {
+    if (bodies[i].alive && bodies[i].type != BodyType::dynamic) {
+      level[i] = 0;
+      queue.push_back(i);
+    }
+  }
+  for (size_t head = 0; head < queue.size(); ++head) {
+    const uint32_t from = queue[head];
+    for (uint32_t k = first[from]; k < first[from + 1]; ++k) {
+      const uint32_t to = supported[k];
+      if (level[to] != not_supported || bodies[to].type != BodyType::dynamic) continue;
+      level[to] = level[from] + 1;
+      queue.push_back(to);
+    }
+  }
+  return level;
+}
+
+}  // namespace bitstep
