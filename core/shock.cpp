@@ -90,31 +90,34 @@ bool glue(SolverBody& mover, const SolverBody& support, const Body& body, bool m
 }  // namespace
 
 void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, const std::vector<Contact>& contacts,
-                     std::vector<SolverBody>& solver_bodies, const std::vector<PointRow>& rows,
-                     const std::vector<ManifoldRow>& manifold_rows) {
-  const std::vector<uint32_t> level = support_levels(bodies, contacts, settings.gravity);
+                     SolverScratch& scratch) {
+  std::vector<SolverBody>& solver_bodies = scratch.bodies;
+  const std::vector<PointRow>& rows = scratch.rows;
+  const std::vector<ManifoldRow>& manifold_rows = scratch.manifolds;
+  std::vector<uint32_t>& level = scratch.levels;
+  support_levels(bodies, contacts, settings.gravity, level);
   // Manifolds between supported bodies, by (level of the higher body, order).
-  struct Entry {
-    uint32_t level;
-    uint32_t index;
-  };
-  std::vector<Entry> order;
+  std::vector<ShockEntry>& order = scratch.order;
+  order.clear();
   for (uint32_t i = 0; i < manifold_rows.size(); ++i) {
     const ManifoldRow& m = manifold_rows[i];
     if (level[m.a] == not_supported || level[m.b] == not_supported) continue;
     order.push_back({std::max(level[m.a], level[m.b]), i});
   }
   std::sort(order.begin(), order.end(),
-            [](Entry x, Entry y) { return x.level != y.level ? x.level < y.level : x.index < y.index; });
+            [](ShockEntry x, ShockEntry y) { return x.level != y.level ? x.level < y.level : x.index < y.index; });
 
   // Copies of the rows with the lower body's side frozen, accumulating into
   // copies of the manifolds: the shock step corrects this step's velocities
   // only, and next step warm-starts from what the iterations found (the
   // shock's one-sided impulses would push the supports down when applied to
   // both bodies).
-  std::vector<PointRow> shock_rows;
-  std::vector<ManifoldRow> shock_manifolds;
-  std::vector<Manifold> accumulated(order.size());
+  std::vector<PointRow>& shock_rows = scratch.shock_rows;
+  std::vector<ManifoldRow>& shock_manifolds = scratch.shock_manifolds;
+  std::vector<Manifold>& accumulated = scratch.accumulated;
+  shock_rows.clear();
+  shock_manifolds.clear();
+  accumulated.resize(order.size());
   for (size_t i = 0; i < order.size(); ++i) {
     ManifoldRow m = manifold_rows[order[i].index];
     const SolverBody& a = solver_bodies[m.a];
@@ -143,8 +146,10 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
 
   // Level by level; once a level is done its bodies become immovable
   // (inverse mass 0; the frozen rows already carry no turn for them).
-  std::vector<Fixed> saved_inverse_mass;
-  std::vector<uint32_t> frozen_bodies;
+  std::vector<Fixed>& saved_inverse_mass = scratch.saved_inverse_mass;
+  std::vector<uint32_t>& frozen_bodies = scratch.frozen_bodies;
+  saved_inverse_mass.clear();
+  frozen_bodies.clear();
   size_t begin = 0;
   while (begin < order.size()) {
     size_t end = begin;

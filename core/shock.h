@@ -14,8 +14,9 @@
 
 namespace bitstep {
 
+// Reads scratch.rows and scratch.manifolds, updates scratch.bodies'
+// velocities, uses the scratch's shock vectors.
 void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, const std::vector<Contact>& contacts,
-                     std::vector<SolverBody>& solver_bodies, const std::vector<PointRow>& rows,
-                     const std::vector<ManifoldRow>& manifold_rows);
+                     SolverScratch& scratch);
 
 }  // namespace bitstep

@@ -61,20 +61,20 @@ ManifoldRow::Rocking make_rocking(const SolverBody& a, const SolverBody& b, cons
   return r;
 }
 
-std::vector<SolverBody> gather_bodies(const std::vector<Body>& bodies) {
-  std::vector<SolverBody> out(bodies.size());
+void gather_bodies(const std::vector<Body>& bodies, std::vector<SolverBody>& out) {
+  out.assign(bodies.size(), SolverBody{});
   for (size_t i = 0; i < bodies.size(); ++i) {
     const Body& body = bodies[i];
     if (!body.alive) continue;
     out[i] = {{body.linear_velocity, body.angular_velocity}, {}, body.inverse_mass, body.inverse_inertia_world};
   }
-  return out;
 }
 
-std::vector<PointRow> prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
-                                   const std::vector<SolverBody>& solver_bodies, std::vector<Contact>& contacts,
-                                   std::vector<ManifoldRow>& manifold_rows) {
-  std::vector<PointRow> rows;
+void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
+                  const std::vector<SolverBody>& solver_bodies, std::vector<Contact>& contacts,
+                  std::vector<PointRow>& rows, std::vector<ManifoldRow>& manifold_rows) {
+  rows.clear();
+  manifold_rows.clear();
   const Fixed inverse_dt = Fixed::one() / settings.dt;
   for (Contact& contact : contacts) {
     const uint32_t ia = contact.key.body_a, ib = contact.key.body_b;
@@ -129,8 +129,17 @@ std::vector<PointRow> prepare_rows(const Settings& settings, const std::vector<B
                              {make_jacobian(a, b, ra, rb, t1), make_jacobian(a, b, ra, rb, t2)},
                              make_twist(a, b, m.normal), ra, rb, target / count, radius / count, mu_s, mu_d, &m,
                              {make_rocking(a, b, m, centroid, t1), make_rocking(a, b, m, centroid, t2)}});
+    // A resting face (3 or more touching points asking for no relative
+    // speed) has three normal degrees of freedom, its centroid row and two
+    // rocking rows, which keep every point pushing: its point rows would only
+    // redistribute impulse between the points, so the iterations skip them.
+    const ManifoldRow& face = manifold_rows.back();
+    bool resting = m.point_count >= 3 && face.rocking[0].active && face.rocking[1].active;
+    for (size_t k = first; k < rows.size(); ++k) {
+      resting = resting && rows[k].velocity_target == Fixed{} && rows[k].point->depth >= Fixed{};
+    }
+    for (size_t k = first; k < rows.size(); ++k) rows[k].in_resting_face = resting;
   }
-  return rows;
 }
 
 void warm_start(std::vector<SolverBody>& bodies, const std::vector<PointRow>& rows,
@@ -159,10 +168,12 @@ void sweep(std::vector<SolverBody>& bodies, const std::vector<PointRow>& rows, i
 }  // namespace
 
 void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::vector<Contact>& contacts,
-                    PushVelocities& push) {
-  std::vector<SolverBody> solver_bodies = gather_bodies(bodies);
-  std::vector<ManifoldRow> manifold_rows;
-  std::vector<PointRow> rows = prepare_rows(settings, bodies, solver_bodies, contacts, manifold_rows);
+                    PushVelocities& push, SolverScratch& scratch) {
+  std::vector<SolverBody>& solver_bodies = scratch.bodies;
+  std::vector<PointRow>& rows = scratch.rows;
+  std::vector<ManifoldRow>& manifold_rows = scratch.manifolds;
+  gather_bodies(bodies, solver_bodies);
+  prepare_rows(settings, bodies, solver_bodies, contacts, rows, manifold_rows);
   if (settings.warm_starting) {
     warm_start(solver_bodies, rows, manifold_rows);
   } else {
@@ -175,9 +186,11 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
     for (const ManifoldRow& m : manifold_rows) solve_friction(solver_bodies, rows, m);
     for (const ManifoldRow& m : manifold_rows) solve_manifold_normal(solver_bodies, rows, m);
     for (const ManifoldRow& m : manifold_rows) solve_rocking(solver_bodies, rows, m);
-    sweep(solver_bodies, rows, pass, solve_normal);
+    sweep(solver_bodies, rows, pass, [](SolverBody& a, SolverBody& b, const PointRow& row) {
+      if (!row.in_resting_face) solve_normal(a, b, row);
+    });
   }
-  if (settings.shock_propagation) propagate_shock(settings, bodies, contacts, solver_bodies, rows, manifold_rows);
+  if (settings.shock_propagation) propagate_shock(settings, bodies, contacts, scratch);
   if (!settings.baumgarte) {
     for (int pass = 0; pass < settings.position_iterations; ++pass) sweep(solver_bodies, rows, pass, solve_push);
   }

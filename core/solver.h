@@ -9,6 +9,7 @@
 
 #include "core/body.h"
 #include "core/contact.h"
+#include "core/solver_rows.h"
 
 namespace bitstep {
 
@@ -20,6 +21,6 @@ struct PushVelocities {
 };
 
 void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::vector<Contact>& contacts,
-                    PushVelocities& push);
+                    PushVelocities& push, SolverScratch& scratch);
 
 }  // namespace bitstep

@@ -12,15 +12,15 @@ namespace bitstep {
 
 // A linear and an angular rate: a body's velocity (m/s, rad/s) or its
 // split-impulse pseudo-velocity.
-struct Motion {
+struct BodyRates {
   Vec3 linear, angular;
 };
 
 // The hot state of one body during the solve (STYLE rule 5): velocities,
 // pseudo-velocities and the inverse mass properties, contiguous by slot.
 struct SolverBody {
-  Motion velocity;
-  Motion push;  // split-impulse pseudo-velocity
+  BodyRates velocity;
+  BodyRates push;  // split-impulse pseudo-velocity
   Fixed inverse_mass;
   Mat33 inverse_inertia;  // world frame
 };
@@ -46,6 +46,7 @@ struct PointRow {
   Fixed velocity_target;  // m/s: restitution bounce, speculative approach or Baumgarte bias
   Fixed push_target;      // m/s: split-impulse separation speed
   ContactPoint* point;    // where the accumulated impulse lives
+  bool in_resting_face = false;  // its manifold's centroid and rocking rows stand for it
 };
 
 // A manifold's points taken together, at their centroid:
@@ -78,47 +79,67 @@ struct ManifoldRow {
 };
 
 // J (a, b) for either rate of the two bodies.
-inline Fixed relative_rate(const Motion& a, const Motion& b, const Jacobian& j) {
+inline Fixed relative_rate(const BodyRates& a, const BodyRates& b, const Jacobian& j) {
   return dot(b.linear - a.linear, j.direction) + dot(b.angular, j.arm_b) - dot(a.angular, j.arm_a);
 }
 
-// Applies lambda along J to the chosen rate of the two bodies.
-inline void apply_along(SolverBody& a, SolverBody& b, Motion SolverBody::*rate, const Jacobian& j, Fixed lambda) {
-  (a.*rate).linear -= j.direction * (lambda * a.inverse_mass);
-  (a.*rate).angular -= j.turn_a * lambda;
-  (b.*rate).linear += j.direction * (lambda * b.inverse_mass);
-  (b.*rate).angular += j.turn_b * lambda;
+// Applies lambda along J to one rate of the two bodies (inverse masses
+// inverse_mass_a, inverse_mass_b).
+inline void apply_rate(BodyRates& a, BodyRates& b, Fixed inverse_mass_a, Fixed inverse_mass_b, const Jacobian& j,
+                       Fixed lambda) {
+  a.linear -= j.direction * (lambda * inverse_mass_a);
+  a.angular -= j.turn_a * lambda;
+  b.linear += j.direction * (lambda * inverse_mass_b);
+  b.angular += j.turn_b * lambda;
 }
 
 inline Fixed relative_velocity(const SolverBody& a, const SolverBody& b, const Jacobian& j) {
   return relative_rate(a.velocity, b.velocity, j);
 }
-inline Fixed relative_push(const SolverBody& a, const SolverBody& b, const Jacobian& j) {
-  return relative_rate(a.push, b.push, j);
-}
 inline void apply_impulse(SolverBody& a, SolverBody& b, const Jacobian& j, Fixed lambda) {
-  apply_along(a, b, &SolverBody::velocity, j, lambda);
-}
-inline void apply_push(SolverBody& a, SolverBody& b, const Jacobian& j, Fixed lambda) {
-  apply_along(a, b, &SolverBody::push, j, lambda);
+  apply_rate(a.velocity, b.velocity, a.inverse_mass, b.inverse_mass, j, lambda);
 }
 
 // One point row on either rate: the accumulated impulse (normal or split)
 // moves toward the target rate and stays >= 0.
-inline void solve_point(SolverBody& a, SolverBody& b, const Jacobian& j, Motion SolverBody::*rate,
+inline void solve_point(BodyRates& a, BodyRates& b, Fixed inverse_mass_a, Fixed inverse_mass_b, const Jacobian& j,
                         Fixed& accumulated, Fixed target) {
-  const Fixed rate_now = relative_rate(a.*rate, b.*rate, j);
-  const Fixed total = max(accumulated + j.mass * (target - rate_now), Fixed{});
+  const Fixed total = max(accumulated + j.mass * (target - relative_rate(a, b, j)), Fixed{});
   const Fixed delta = total - accumulated;
   accumulated = total;
-  apply_along(a, b, rate, j, delta);
+  apply_rate(a, b, inverse_mass_a, inverse_mass_b, j, delta);
 }
 inline void solve_normal(SolverBody& a, SolverBody& b, const PointRow& row) {
-  solve_point(a, b, row.normal, &SolverBody::velocity, row.point->normal_impulse, row.velocity_target);
+  solve_point(a.velocity, b.velocity, a.inverse_mass, b.inverse_mass, row.normal, row.point->normal_impulse,
+              row.velocity_target);
 }
 inline void solve_push(SolverBody& a, SolverBody& b, const PointRow& row) {
-  solve_point(a, b, row.normal, &SolverBody::push, row.point->split_impulse, row.push_target);
+  solve_point(a.push, b.push, a.inverse_mass, b.inverse_mass, row.normal, row.point->split_impulse, row.push_target);
 }
+
+// A manifold in the shock step's order: by the support level of its higher
+// body, then by its index.
+struct ShockEntry {
+  uint32_t level;
+  uint32_t index;
+};
+
+// The solve's working memory, kept by the world between steps so that a
+// settled scene's step allocates nothing. Never state: every vector is
+// rebuilt from the bodies and contacts before it is read.
+struct SolverScratch {
+  std::vector<SolverBody> bodies;
+  std::vector<PointRow> rows;
+  std::vector<ManifoldRow> manifolds;
+  // The shock step (shock.cpp).
+  std::vector<uint32_t> levels;
+  std::vector<ShockEntry> order;
+  std::vector<PointRow> shock_rows;
+  std::vector<ManifoldRow> shock_manifolds;
+  std::vector<Manifold> accumulated;
+  std::vector<uint32_t> frozen_bodies;
+  std::vector<Fixed> saved_inverse_mass;
+};
 
 // Friction (tangents and twist) at the centroid of a manifold, within the
 // static or dynamic cone of its total normal impulse.

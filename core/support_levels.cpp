@@ -2,10 +2,10 @@
 
 namespace bitstep {
 
-std::vector<uint32_t> support_levels(const std::vector<Body>& bodies, const std::vector<Contact>& contacts,
-                                     Vec3 gravity) {
-  std::vector<uint32_t> level(bodies.size(), not_supported);
-  if (gravity == Vec3{}) return level;
+void support_levels(const std::vector<Body>& bodies, const std::vector<Contact>& contacts, Vec3 gravity,
+                    std::vector<uint32_t>& level) {
+  level.assign(bodies.size(), not_supported);
+  if (gravity == Vec3{}) return;
   const Vec3 up = normalize(-gravity);
   const Fixed cos_60 = 0.5_fx;
 
@@ -44,7 +44,6 @@ std::vector<uint32_t> support_levels(const std::vector<Body>& bodies, const std:
       queue.push_back(to);
     }
   }
-  return level;
 }
 
 }  // namespace bitstep

@@ -20,7 +20,7 @@ inline constexpr uint32_t not_supported = UINT32_MAX;
 // body's level is the fewest supports between it and the ground. Dynamic
 // bodies with no such path (falling, or only leaning sideways on others),
 // dead slots, and every body when gravity is zero are not_supported.
-std::vector<uint32_t> support_levels(const std::vector<Body>& bodies, const std::vector<Contact>& contacts,
-                                     Vec3 gravity);
+void support_levels(const std::vector<Body>& bodies, const std::vector<Contact>& contacts, Vec3 gravity,
+                    std::vector<uint32_t>& level);
 
 }  // namespace bitstep

@@ -124,7 +124,7 @@ void World::find_contacts() {
   update_contacts(bodies_, pairs_, settings_, contacts_);
 }
 
-void World::solve_contacts() { bitstep::solve_contacts(settings_, bodies_, contacts_, push_); }
+void World::solve_contacts() { bitstep::solve_contacts(settings_, bodies_, contacts_, push_, solver_scratch_); }
 
 StepStats World::stats() const {
   StepStats s;

@@ -65,6 +65,7 @@ class World {
   std::vector<BroadphaseProxy> proxies_;
   std::vector<BodyPair> pairs_;
   PushVelocities push_;
+  SolverScratch solver_scratch_;
 };
 
 }  // namespace bitstep
