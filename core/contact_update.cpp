@@ -53,12 +53,16 @@ void update_contacts(const std::vector<Body>& bodies, const std::vector<BodyPair
   for (const BodyPair& pair : pairs) {
     const Body& a = bodies[pair.a];
     const Body& b = bodies[pair.b];
+    // Contacts are kept this far apart: the speculative distance plus how
+    // far the two bodies close in on each other this step (linear motion),
+    // so a fast body meets its contact one step early instead of one step deep.
+    const Fixed margin = settings.speculative_distance + length(b.linear_velocity - a.linear_velocity) * settings.dt;
     for (size_t sa = 0; sa < a.shapes.size(); ++sa) {
       const WorldShape shape_a{&a.shapes[sa], compose(a.pose, a.shapes[sa].local)};
       for (size_t sb = 0; sb < b.shapes.size(); ++sb) {
         const WorldShape shape_b{&b.shapes[sb], compose(b.pose, b.shapes[sb].local)};
         Contact contact{{pair.a, pair.b, static_cast<uint16_t>(sa), static_cast<uint16_t>(sb)}, {}};
-        if (collide(shape_a, shape_b, settings.speculative_distance, contact.manifold) == 0) continue;
+        if (collide(shape_a, shape_b, margin, contact.manifold) == 0) continue;
         while (next_old < previous.size() && previous[next_old].key < contact.key) ++next_old;
         if (settings.warm_starting && next_old < previous.size() && previous[next_old].key == contact.key) {
           inherit_impulses(previous[next_old].manifold, contact.manifold);

@@ -32,8 +32,15 @@ void integrate_velocities(const Settings& settings, std::vector<Body>& bodies) {
   }
 }
 
-void integrate_positions(const Settings& settings, std::vector<Body>& bodies, const PushVelocities& push) {
+void integrate_positions(const Settings& settings, std::vector<Body>& bodies, const PushVelocities& push,
+                         const std::vector<BodyRates>& start_velocities, const std::vector<Contact>& contacts,
+                         std::vector<uint8_t>& touching) {
   const Fixed dt = settings.dt;
+  touching.assign(bodies.size(), 0);
+  for (const Contact& c : contacts) {
+    if (c.manifold.point_count == 0) continue;
+    touching[c.key.body_a] = touching[c.key.body_b] = 1;
+  }
   for (size_t i = 0; i < bodies.size(); ++i) {
     Body& body = bodies[i];
     if (!body.alive || body.type == BodyType::static_body) continue;
@@ -44,7 +51,14 @@ void integrate_positions(const Settings& settings, std::vector<Body>& bodies, co
     const Vec3 angular = pushed ? w + push.angular[i] : w;
     body.linear_velocity = v;
     body.angular_velocity = w;
-    body.pose.position = mul_add(linear, dt, body.pose.position);
+    if (touching[i] || i >= start_velocities.size()) {
+      body.pose.position = mul_add(linear, dt, body.pose.position);
+    } else {
+      // In free flight the mean of the step's start and end velocities: the
+      // exact parabola under constant force (plain semi-implicit Euler lags
+      // it by g dt t / 2, 16 cm after a 2 s fall at 60 Hz).
+      body.pose.position = mul_add((start_velocities[i].linear + v) / 2.0_fx, dt, body.pose.position);
+    }
     if (angular != Vec3{}) body.pose.orientation = integrate(body.pose.orientation, angular, dt);
   }
 }

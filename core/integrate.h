@@ -4,6 +4,7 @@
 
 #include <vector>
 
+#include "core/contact.h"
 #include "core/solver.h"
 
 namespace bitstep {
@@ -12,7 +13,12 @@ namespace bitstep {
 // clamps; forces are cleared. Refreshes the world inverse inertia R I^-1 R^T.
 void integrate_velocities(const Settings& settings, std::vector<Body>& bodies);
 
-// x += dt (v + v_push), q += dt/2 (w + w_push) q, renormalised.
-void integrate_positions(const Settings& settings, std::vector<Body>& bodies, const PushVelocities& push);
+// x += dt (v + v_push) for bodies with contact points, x += dt (v_start + v) / 2
+// for bodies in free flight (exact under constant force; v_start is the
+// velocity before this step's forces); q += dt/2 (w + w_push) q, renormalised.
+// `touching` is scratch (per slot: has a contact point this step).
+void integrate_positions(const Settings& settings, std::vector<Body>& bodies, const PushVelocities& push,
+                         const std::vector<BodyRates>& start_velocities, const std::vector<Contact>& contacts,
+                         std::vector<uint8_t>& touching);
 
 }  // namespace bitstep

@@ -71,8 +71,9 @@ void gather_bodies(const std::vector<Body>& bodies, std::vector<SolverBody>& out
 }
 
 void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
-                  const std::vector<SolverBody>& solver_bodies, std::vector<Contact>& contacts,
-                  std::vector<PointRow>& rows, std::vector<ManifoldRow>& manifold_rows) {
+                  const std::vector<SolverBody>& solver_bodies, const std::vector<BodyRates>& start_velocities,
+                  std::vector<Contact>& contacts, std::vector<PointRow>& rows,
+                  std::vector<ManifoldRow>& manifold_rows) {
   rows.clear();
   manifold_rows.clear();
   const Fixed inverse_dt = Fixed::one() / settings.dt;
@@ -99,14 +100,37 @@ void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
       const Fixed approach = relative_velocity(a, b, row.normal);
       // A gap (depth < 0) may close by depth / dt this step: speculative contact.
       row.velocity_target = p.depth < Fixed{} ? p.depth * inverse_dt : Fixed{};
-      // Restitution only where the surfaces meet this step: a gap the
-      // approach does not close is a speculative contact, not an impact.
+      // An impact: the surfaces meet this step (or already overlap) faster
+      // than the restitution threshold. The bounce is placed at the moment
+      // of impact. With s the approach speed before this step's forces and
+      // a the relative normal acceleration they give (gravity), the impact
+      // time from the start of the step is t = -depth / s (< 0 when the
+      // shapes already overlap), the approach speed then s - a t, and the
+      // point leaves at e (s - a t). By the end of the step, tau = dt - t
+      // after the impact, it is e (s - a t) tau + a tau^2 / 2 above the
+      // surface moving at e (s - a t) + a tau. The velocity row asks for that
+      // speed; the rest of the displacement goes through the split-impulse
+      // channel as an exact pseudo-velocity (a pull when the gap was still
+      // open), so the rebound height does not depend on where in the step
+      // the impact fell.
+      const Fixed start_speed = -relative_rate(start_velocities[ia], start_velocities[ib], row.normal);
       const bool meets = p.depth >= Fixed{} || -approach * settings.dt >= -p.depth;
-      if (meets && approach < -settings.restitution_threshold) {
-        row.velocity_target = max(row.velocity_target, -restitution * approach);
+      if (meets && start_speed > settings.restitution_threshold && approach < Fixed{}) {
+        const Fixed acceleration = (approach + start_speed) * inverse_dt;
+        const Fixed impact_time = -min(p.depth / start_speed, settings.dt);  // t, at least -dt
+        const Fixed after = settings.dt - impact_time;                          // tau
+        const Fixed leave = restitution * (start_speed - acceleration * impact_time);
+        const Fixed bounce = leave + acceleration * after;
+        if (bounce > Fixed{}) {
+          row.velocity_target = bounce;
+          row.impact = true;
+          // (depth + leave tau + a tau^2 / 2 - bounce dt) / dt
+          const Fixed rest = p.depth + leave * (after - settings.dt) + acceleration * after * (after / 2.0_fx - settings.dt);
+          row.push_target = rest * inverse_dt;
+        }
       }
       const Fixed excess = p.depth - settings.penetration_slop;
-      if (excess > Fixed{}) {
+      if (excess > Fixed{} && !row.impact) {
         const Fixed factor = settings.baumgarte ? settings.baumgarte_factor : settings.split_impulse_factor;
         const Fixed recovery = min(factor * excess * inverse_dt, settings.max_push_out_speed);
         if (settings.baumgarte) {
@@ -173,7 +197,7 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
   std::vector<PointRow>& rows = scratch.rows;
   std::vector<ManifoldRow>& manifold_rows = scratch.manifolds;
   gather_bodies(bodies, solver_bodies);
-  prepare_rows(settings, bodies, solver_bodies, contacts, rows, manifold_rows);
+  prepare_rows(settings, bodies, solver_bodies, scratch.start_velocities, contacts, rows, manifold_rows);
   if (settings.warm_starting) {
     warm_start(solver_bodies, rows, manifold_rows);
   } else {

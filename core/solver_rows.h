@@ -47,6 +47,7 @@ struct PointRow {
   Fixed push_target;      // m/s: split-impulse separation speed
   ContactPoint* point;    // where the accumulated impulse lives
   bool in_resting_face = false;  // its manifold's centroid and rocking rows stand for it
+  bool impact = false;           // push_target is an exact rebound displacement rate, either sign
 };
 
 // A manifold's points taken together, at their centroid:
@@ -101,10 +102,11 @@ inline void apply_impulse(SolverBody& a, SolverBody& b, const Jacobian& j, Fixed
 }
 
 // One point row on either rate: the accumulated impulse (normal or split)
-// moves toward the target rate and stays >= 0.
+// moves toward the target rate and stays >= 0 unless the row is an equality.
 inline void solve_point(BodyRates& a, BodyRates& b, Fixed inverse_mass_a, Fixed inverse_mass_b, const Jacobian& j,
-                        Fixed& accumulated, Fixed target) {
-  const Fixed total = max(accumulated + j.mass * (target - relative_rate(a, b, j)), Fixed{});
+                        Fixed& accumulated, Fixed target, bool equality = false) {
+  Fixed total = accumulated + j.mass * (target - relative_rate(a, b, j));
+  if (!equality) total = max(total, Fixed{});
   const Fixed delta = total - accumulated;
   accumulated = total;
   apply_rate(a, b, inverse_mass_a, inverse_mass_b, j, delta);
@@ -114,7 +116,8 @@ inline void solve_normal(SolverBody& a, SolverBody& b, const PointRow& row) {
               row.velocity_target);
 }
 inline void solve_push(SolverBody& a, SolverBody& b, const PointRow& row) {
-  solve_point(a.push, b.push, a.inverse_mass, b.inverse_mass, row.normal, row.point->split_impulse, row.push_target);
+  solve_point(a.push, b.push, a.inverse_mass, b.inverse_mass, row.normal, row.point->split_impulse, row.push_target,
+              row.impact);
 }
 
 // A manifold in the shock step's order: by the support level of its higher
@@ -128,6 +131,7 @@ struct ShockEntry {
 // settled scene's step allocates nothing. Never state: every vector is
 // rebuilt from the bodies and contacts before it is read.
 struct SolverScratch {
+  std::vector<BodyRates> start_velocities;  // per slot, before this step's forces (restitution measures these)
   std::vector<SolverBody> bodies;
   std::vector<PointRow> rows;
   std::vector<ManifoldRow> manifolds;

@@ -102,10 +102,13 @@ void World::set_velocity(BodyId id, Vec3 linear, Vec3 angular) {
 }
 
 void World::step() {
+  std::vector<BodyRates>& start = solver_scratch_.start_velocities;
+  start.resize(bodies_.size());
+  for (size_t i = 0; i < bodies_.size(); ++i) start[i] = {bodies_[i].linear_velocity, bodies_[i].angular_velocity};
   bitstep::integrate_velocities(settings_, bodies_);
   find_contacts();
   solve_contacts();
-  bitstep::integrate_positions(settings_, bodies_, push_);
+  bitstep::integrate_positions(settings_, bodies_, push_, solver_scratch_.start_velocities, contacts_, touching_);
   ++step_count_;
 }
 
@@ -118,7 +121,9 @@ void World::find_contacts() {
     for (size_t s = 1; s < body.shapes.size(); ++s) {
       bounds = bounds.merged(shape_aabb({&body.shapes[s], compose(body.pose, body.shapes[s].local)}));
     }
-    proxies_.push_back({i, bounds.expanded(settings_.speculative_distance), body.type == BodyType::dynamic});
+    // Grown by the speculative distance and this step's motion (contact_update.cpp).
+    const Fixed margin = settings_.speculative_distance + length(body.linear_velocity) * settings_.dt;
+    proxies_.push_back({i, bounds.expanded(margin), body.type == BodyType::dynamic});
   }
   find_pairs(proxies_, pairs_);
   update_contacts(bodies_, pairs_, settings_, contacts_);

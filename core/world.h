@@ -66,6 +66,7 @@ class World {
   std::vector<BodyPair> pairs_;
   PushVelocities push_;
   SolverScratch solver_scratch_;
+  std::vector<uint8_t> touching_;
 };
 
 }  // namespace bitstep
