@@ -28,16 +28,18 @@ Jacobian frozen(Jacobian j, const SolverBody& a, const SolverBody& b, bool freez
 // immovable support is solved as one block: the impulse that glues the body
 // to the support (relative velocity zero in all six directions: w = w_s and
 // the centroids moving together) is taken whole when the contact can deliver
-// it: every point still pushes and friction and twist stay inside the static
-// cone, and no row asks for a relative speed. Otherwise (false) the rows are left to the one-by-one pass. Solving
-// the block removes the coupling between friction at the face and the
-// body's rocking that row-by-row passes leave as a slow sideways creep.
+// it: every point still pushes, friction and twist stay inside the static
+// cone, and no row asks the surfaces apart. Otherwise (false) the rows are
+// left to the one-by-one pass. Solving the block removes the coupling
+// between friction at the face and the body's rocking that row-by-row
+// passes leave as a slow sideways creep.
 bool glue(SolverBody& mover, const SolverBody& support, const Body& body, bool mover_is_b, const ManifoldRow& m,
           std::vector<PointRow>& rows) {
   if (m.count < 3 || !m.rocking[0].active || !m.rocking[1].active) return false;
-  // Only a resting contact: no bounce, gap or bias asks for a relative speed.
+  // Only a resting contact: no bounce or bias asks the surfaces apart (a
+  // speculative gap's allowed approach is met by moving together).
   for (size_t i = 0; i < m.count; ++i) {
-    if (rows[m.first + i].velocity_target != Fixed{}) return false;
+    if (rows[m.first + i].velocity_target > Fixed{}) return false;
   }
   const Vec3 r_mover = mover_is_b ? m.offset_b : m.offset_a;
   const Vec3 r_support = mover_is_b ? m.offset_a : m.offset_b;
@@ -47,7 +49,7 @@ bool glue(SolverBody& mover, const SolverBody& support, const Body& body, bool m
   const Vec3 dv = v - mover.velocity.linear, dw = w - mover.velocity.angular;
   // Impulse P through the centroid and angular impulse L about it:
   // m dv = P, I dw = r x P + L (I in world axes, applied through the body frame).
-  const Vec3 impulse = dv / mover.inverse_mass;
+  const Vec3 impulse = dv * (Fixed::one() / mover.inverse_mass);
   const Quat q = body.pose.orientation;
   const Vec3 angular = rotate(q, body.inertia_local * rotate_inverse(q, dw)) - cross(r_mover, impulse);
   // In the rows' terms (an impulse lambda acts +d on b, -d on a).
@@ -59,23 +61,35 @@ bool glue(SolverBody& mover, const SolverBody& support, const Body& body, bool m
   const Fixed friction0 = manifold.friction_impulse[0] + dot(p, m.tangent[0].direction);
   const Fixed friction1 = manifold.friction_impulse[1] + dot(p, m.tangent[1].direction);
   const Fixed twist = manifold.twist_impulse + dot(l, n);
-  // In-plane angular impulse = lambda0 u0 + lambda1 u1 (the rocking rows'
-  // axes, arms of their Jacobians): a 2 x 2 solve by Cramer's rule.
-  const Vec3 in_plane = l - n * dot(l, n);
+  // The contact's whole impulse this step (the iterations' plus the glue's)
+  // as a fresh point distribution: the total normal impulse shared equally
+  // plus the rocking distributions that give its in-plane moment about the
+  // centroid, lambda0 u0 + lambda1 u1 (a 2 x 2 solve by Cramer's rule). It
+  // must push at every point. Rebuilding it drops whatever the iterations
+  // left in the modes that move nothing (a 4-point face is statically
+  // indeterminate), which would otherwise decide whether the glue holds.
+  Vec3 centroid;
+  for (size_t i = 0; i < m.count; ++i) centroid += rows[m.first + i].point->position;
+  centroid = centroid / Fixed::from_int(static_cast<int32_t>(m.count));
+  Fixed total = normal;
+  Vec3 moment = l - n * dot(l, n);
+  for (size_t i = 0; i < m.count; ++i) {
+    const ContactPoint& point = *rows[m.first + i].point;
+    total += point.normal_impulse;
+    moment += cross(point.position - centroid, n) * point.normal_impulse;
+  }
   const Vec3 u0 = m.rocking[0].row.arm_b, u1 = m.rocking[1].row.arm_b;
   const Fixed g00 = dot(u0, u0), g01 = dot(u0, u1), g11 = dot(u1, u1);
   const Fixed det = g00 * g11 - g01 * g01;
   if (det < 0.000001_fx) return false;
-  const Fixed b0 = dot(u0, in_plane), b1 = dot(u1, in_plane);
-  const Fixed lambda0 = (b0 * g11 - b1 * g01) / det, lambda1 = (b1 * g00 - b0 * g01) / det;
-  const Fixed share = normal / Fixed::from_int(static_cast<int32_t>(m.count));
+  const Fixed b0 = dot(u0, moment), b1 = dot(u1, moment);
+  const Fixed inverse_det = Fixed::one() / det;
+  const Fixed lambda0 = (b0 * g11 - b1 * g01) * inverse_det, lambda1 = (b1 * g00 - b0 * g01) * inverse_det;
+  const Fixed share = total / Fixed::from_int(static_cast<int32_t>(m.count));
   Fixed point_impulse[max_manifold_points];
-  Fixed total;
   for (size_t i = 0; i < m.count; ++i) {
-    point_impulse[i] = rows[m.first + i].point->normal_impulse + share + lambda0 * m.rocking[0].alpha[i] +
-                       lambda1 * m.rocking[1].alpha[i];
+    point_impulse[i] = share + lambda0 * m.rocking[0].alpha[i] + lambda1 * m.rocking[1].alpha[i];
     if (point_impulse[i] < Fixed{}) return false;
-    total += point_impulse[i];
   }
   if (length(Vec3{friction0, friction1, Fixed{}}) > m.static_friction * total) return false;
   if (abs(twist) > m.static_friction * total * m.twist_radius) return false;
@@ -96,16 +110,48 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
   const std::vector<ManifoldRow>& manifold_rows = scratch.manifolds;
   std::vector<uint32_t>& level = scratch.levels;
   support_levels(bodies, contacts, settings.gravity, level);
-  // Manifolds between supported bodies, by (level of the higher body, order).
+  // Manifolds between supported bodies, by (level of the higher body,
+  // order): those within a level (both bodies movable), and those through
+  // which the lower level holds the higher one up. A contact between levels
+  // that is not such a support (a tumbling body touching another from
+  // below or the side) is left to the iterations: freezing the wrong side
+  // would squeeze the body between two immovable ones.
   std::vector<ShockEntry>& order = scratch.order;
   order.clear();
   for (uint32_t i = 0; i < manifold_rows.size(); ++i) {
     const ManifoldRow& m = manifold_rows[i];
     if (level[m.a] == not_supported || level[m.b] == not_supported) continue;
+    if (level[m.a] != level[m.b]) {
+      const Vec3 normal = m.manifold->normal;  // from a to b
+      const Vec3 lower_to_upper = level[m.a] < level[m.b] ? normal : -normal;
+      if (!is_support(lower_to_upper, settings.gravity)) continue;
+    }
     order.push_back({std::max(level[m.a], level[m.b]), i});
   }
   std::sort(order.begin(), order.end(),
             [](ShockEntry x, ShockEntry y) { return x.level != y.level ? x.level < y.level : x.index < y.index; });
+
+  // Bodies held up by more than one body. One the glue cannot hold (its
+  // supports move differently, or its load's centre lies outside each
+  // contact alone) is left as the iterations left it: solved against each
+  // support in turn, one-sided, it is driven toward whichever rises fastest
+  // and, through the rotation that gives it, the bodies above it faster
+  // still (that launched the top bricks of wall128 at 90 m/s).
+  std::vector<uint32_t>& first_support = scratch.first_support;
+  std::vector<uint8_t>& several_supports = scratch.several_supports;
+  first_support.assign(bodies.size(), not_supported);
+  several_supports.assign(bodies.size(), 0);
+  for (const ShockEntry& e : order) {
+    const ManifoldRow& m = manifold_rows[e.index];
+    if (level[m.a] == level[m.b]) continue;
+    const bool mover_is_b = level[m.a] < level[m.b];
+    const uint32_t mover = mover_is_b ? m.b : m.a, support = mover_is_b ? m.a : m.b;
+    if (first_support[mover] == not_supported) {
+      first_support[mover] = support;
+    } else if (first_support[mover] != support) {
+      several_supports[mover] = 1;
+    }
+  }
 
   // Copies of the rows with the lower body's side frozen, accumulating into
   // copies of the manifolds: the shock step corrects this step's velocities
@@ -157,15 +203,15 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
     for (int pass = 0; pass < settings.shock_iterations; ++pass) {
       for (size_t i = begin; i < end; ++i) {
         const ManifoldRow& m = shock_manifolds[i];
+        bool glued = false;
         if (level[m.a] != level[m.b]) {
           const bool mover_is_b = level[m.a] < level[m.b];
           const uint32_t mover = mover_is_b ? m.b : m.a;
-          if (glue(solver_bodies[mover], solver_bodies[mover_is_b ? m.a : m.b], bodies[mover], mover_is_b, m,
-                   shock_rows)) {
-            continue;
-          }
+          glued = glue(solver_bodies[mover], solver_bodies[mover_is_b ? m.a : m.b], bodies[mover], mover_is_b, m,
+                       shock_rows);
+          if (!glued && several_supports[mover]) continue;
         }
-        solve_manifold(solver_bodies, shock_rows, m, pass);
+        if (!glued) solve_manifold(solver_bodies, shock_rows, m, pass);
       }
     }
     for (size_t i = begin; i < end; ++i) {

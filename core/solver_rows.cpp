@@ -25,8 +25,10 @@ void solve_friction(std::vector<SolverBody>& bodies, const std::vector<PointRow>
   const Fixed old0 = manifold.friction_impulse[0], old1 = manifold.friction_impulse[1];
   Fixed new0 = old0 - m.tangent[0].mass * relative_velocity(a, b, m.tangent[0]);
   Fixed new1 = old1 - m.tangent[1].mass * relative_velocity(a, b, m.tangent[1]);
-  const Fixed magnitude = length(Vec3{new0, new1, Fixed{}});
-  if (magnitude > m.static_friction * normal) {
+  // |j_t| <= |j_t0| + |j_t1|: inside the static cone by that bound needs no square root.
+  const Fixed limit = m.static_friction * normal;
+  const Fixed magnitude = abs(new0) + abs(new1) <= limit ? Fixed{} : length(Vec3{new0, new1, Fixed{}});
+  if (magnitude > limit) {
     const Fixed slide = m.dynamic_friction * normal;
     new0 = mul_div(new0, slide, magnitude);
     new1 = mul_div(new1, slide, magnitude);
@@ -68,9 +70,12 @@ void solve_rocking(std::vector<SolverBody>& bodies, std::vector<PointRow>& rows,
   for (const ManifoldRow::Rocking& r : m.rocking) {
     if (!r.active) continue;
     Fixed lambda = -r.row.mass * relative_velocity(a, b, r.row);
+    // jn_i + lambda alpha_i >= 0 for every point; the bound -jn_i / alpha_i
+    // is divided out only for a point that would pull.
     for (size_t i = 0; i < m.count; ++i) {
       const Fixed alpha = r.alpha[i];
       const Fixed jn = rows[m.first + i].point->normal_impulse;
+      if (jn + lambda * alpha >= Fixed{}) continue;
       if (alpha > Fixed{}) lambda = max(lambda, -jn / alpha);
       if (alpha < Fixed{}) lambda = min(lambda, jn / -alpha);
     }

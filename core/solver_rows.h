@@ -138,6 +138,8 @@ struct SolverScratch {
   // The shock step (shock.cpp).
   std::vector<uint32_t> levels;
   std::vector<ShockEntry> order;
+  std::vector<uint32_t> first_support;    // per slot
+  std::vector<uint8_t> several_supports;  // per slot
   std::vector<PointRow> shock_rows;
   std::vector<ManifoldRow> shock_manifolds;
   std::vector<Manifold> accumulated;

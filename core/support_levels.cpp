@@ -2,12 +2,15 @@
 
 namespace bitstep {
 
+bool is_support(Vec3 normal, Vec3 gravity) {
+  // n . up > cos 60 deg with up = -g / |g|, as n . (-g) > |g| / 2.
+  return dot(normal, -gravity) > length(gravity) / 2.0_fx;
+}
+
 void support_levels(const std::vector<Body>& bodies, const std::vector<Contact>& contacts, Vec3 gravity,
                     std::vector<uint32_t>& level) {
   level.assign(bodies.size(), not_supported);
   if (gravity == Vec3{}) return;
-  const Vec3 up = normalize(-gravity);
-  const Fixed cos_60 = 0.5_fx;
 
   // Support edges supporter -> supported, grouped by supporter (counting
   // sort over the contacts, which are in (a, b) order: deterministic).
@@ -17,9 +20,9 @@ void support_levels(const std::vector<Body>& bodies, const std::vector<Contact>&
   std::vector<Edge> edges;
   for (const Contact& c : contacts) {
     if (c.manifold.point_count == 0) continue;
-    const Fixed along_up = dot(c.manifold.normal, up);  // the normal points from a to b
-    if (along_up > cos_60) edges.push_back({c.key.body_a, c.key.body_b});
-    if (along_up < -cos_60) edges.push_back({c.key.body_b, c.key.body_a});
+    // The normal points from a to b.
+    if (is_support(c.manifold.normal, gravity)) edges.push_back({c.key.body_a, c.key.body_b});
+    if (is_support(-c.manifold.normal, gravity)) edges.push_back({c.key.body_b, c.key.body_a});
   }
   std::vector<uint32_t> first(bodies.size() + 1, 0);
   for (const Edge& e : edges) ++first[e.from + 1];

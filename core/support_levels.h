@@ -13,6 +13,10 @@ namespace bitstep {
 
 inline constexpr uint32_t not_supported = UINT32_MAX;
 
+// Whether a contact normal, pointing from one body to the other, makes the
+// first hold the second up: within 60 degrees of up = -gravity.
+bool is_support(Vec3 normal, Vec3 gravity);
+
 // Level per body slot: 0 for static and kinematic bodies; a dynamic body
 // resting on a body of level k is at most k + 1, where "resting on" means a
 // contact whose normal, from the supporter to it, lies within 60 degrees of

@@ -117,7 +117,7 @@ TEST_CASE("shipped scenes have the documented body counts", "[scene]") {
   CHECK(load_file_ok("incline.json").bodies.size() == 5);
   CHECK(load_file_ok("slide_stop.json").bodies.size() == 2);
   CHECK(load_file_ok("spheres.json").bodies.size() == 60 + 2);
-  CHECK(load_file_ok("playground.json").bodies.size() == 1 + 10 + 10 + 55 + 54 + 30 + 5 + 15 + 50 + 40);
+  CHECK(load_file_ok("playground.json").bodies.size() == 2 + 10 + 10 + 55 + 54 + 30 + 5 + 15 + 50 + 40);
 }
 
 TEST_CASE("shipped scenes: what the physics tests rely on", "[scene]") {
