@@ -24,6 +24,20 @@ Jacobian frozen(Jacobian j, const SolverBody& a, const SolverBody& b, bool freez
   return j;
 }
 
+// The manifold's rows with body a (or b) immovable, made when first needed
+// (the mover's inverse mass is still its own then: a body is frozen only
+// after its level).
+void make_one_sided(ManifoldRow& m, std::vector<PointRow>& rows, const SolverBody& a, const SolverBody& b,
+                    bool freeze_a) {
+  for (size_t k = 0; k < m.count; ++k) rows[m.first + k].normal = frozen(rows[m.first + k].normal, a, b, freeze_a);
+  m.normal = frozen(m.normal, a, b, freeze_a);
+  m.tangent[0] = frozen(m.tangent[0], a, b, freeze_a);
+  m.tangent[1] = frozen(m.tangent[1], a, b, freeze_a);
+  m.twist = frozen(m.twist, a, b, freeze_a);
+  for (ManifoldRow::Rocking& r : m.rocking) r.row = frozen(r.row, a, b, freeze_a);
+  m.one_sided = true;
+}
+
 // In the shock step a face contact (3 or 4 points) of body `mover` against an
 // immovable support is solved as one block: the impulse that glues the body
 // to the support (relative velocity zero in all six directions: w = w_s and
@@ -166,8 +180,6 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
   accumulated.resize(order.size());
   for (size_t i = 0; i < order.size(); ++i) {
     ManifoldRow m = manifold_rows[order[i].index];
-    const SolverBody& a = solver_bodies[m.a];
-    const SolverBody& b = solver_bodies[m.b];
     accumulated[i] = *m.manifold;
     m.manifold = &accumulated[i];
     const size_t first = shock_rows.size();
@@ -176,17 +188,6 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
       shock_rows.back().point = &accumulated[i].points[k];
     }
     m.first = first;
-    if (level[m.a] != level[m.b]) {
-      const bool freeze_a = level[m.a] < level[m.b];
-      for (size_t k = 0; k < m.count; ++k) {
-        shock_rows[first + k].normal = frozen(shock_rows[first + k].normal, a, b, freeze_a);
-      }
-      m.normal = frozen(m.normal, a, b, freeze_a);
-      m.tangent[0] = frozen(m.tangent[0], a, b, freeze_a);
-      m.tangent[1] = frozen(m.tangent[1], a, b, freeze_a);
-      m.twist = frozen(m.twist, a, b, freeze_a);
-      for (ManifoldRow::Rocking& r : m.rocking) r.row = frozen(r.row, a, b, freeze_a);
-    }
     shock_manifolds.push_back(m);
   }
 
@@ -202,16 +203,18 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
     while (end < order.size() && order[end].level == order[begin].level) ++end;
     for (int pass = 0; pass < settings.shock_iterations; ++pass) {
       for (size_t i = begin; i < end; ++i) {
-        const ManifoldRow& m = shock_manifolds[i];
-        bool glued = false;
+        ManifoldRow& m = shock_manifolds[i];
         if (level[m.a] != level[m.b]) {
           const bool mover_is_b = level[m.a] < level[m.b];
           const uint32_t mover = mover_is_b ? m.b : m.a;
-          glued = glue(solver_bodies[mover], solver_bodies[mover_is_b ? m.a : m.b], bodies[mover], mover_is_b, m,
-                       shock_rows);
-          if (!glued && several_supports[mover]) continue;
+          if (glue(solver_bodies[mover], solver_bodies[mover_is_b ? m.a : m.b], bodies[mover], mover_is_b, m,
+                   shock_rows)) {
+            continue;
+          }
+          if (several_supports[mover]) continue;
+          if (!m.one_sided) make_one_sided(m, shock_rows, solver_bodies[m.a], solver_bodies[m.b], mover_is_b);
         }
-        if (!glued) solve_manifold(solver_bodies, shock_rows, m, pass);
+        solve_manifold(solver_bodies, shock_rows, m, pass);
       }
     }
     for (size_t i = begin; i < end; ++i) {

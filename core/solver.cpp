@@ -174,7 +174,7 @@ void warm_start(std::vector<SolverBody>& bodies, const std::vector<PointRow>& ro
     SolverBody& b = bodies[m.b];
     apply_impulse(a, b, m.tangent[0], m.manifold->friction_impulse[0]);
     apply_impulse(a, b, m.tangent[1], m.manifold->friction_impulse[1]);
-    apply_impulse(a, b, m.twist, m.manifold->twist_impulse);
+    apply_spin(a, b, m.twist, m.manifold->twist_impulse);
   }
 }
 

@@ -39,14 +39,14 @@ void solve_friction(std::vector<SolverBody>& bodies, const std::vector<PointRow>
   apply_impulse(a, b, m.tangent[1], new1 - old1);
 
   const Fixed old_twist = manifold.twist_impulse;
-  Fixed twist = old_twist - m.twist.mass * relative_velocity(a, b, m.twist);
+  Fixed twist = old_twist - m.twist.mass * relative_spin(a, b, m.twist);
   const Fixed twist_limit = m.static_friction * normal * m.twist_radius;
   if (abs(twist) > twist_limit) {
     const Fixed slide = m.dynamic_friction * normal * m.twist_radius;
     twist = twist < Fixed{} ? -slide : slide;
   }
   manifold.twist_impulse = twist;
-  apply_impulse(a, b, m.twist, twist - old_twist);
+  apply_spin(a, b, m.twist, twist - old_twist);
 }
 
 
@@ -69,7 +69,7 @@ void solve_rocking(std::vector<SolverBody>& bodies, std::vector<PointRow>& rows,
   SolverBody& b = bodies[m.b];
   for (const ManifoldRow::Rocking& r : m.rocking) {
     if (!r.active) continue;
-    Fixed lambda = -r.row.mass * relative_velocity(a, b, r.row);
+    Fixed lambda = -r.row.mass * relative_spin(a, b, r.row);
     // jn_i + lambda alpha_i >= 0 for every point; the bound -jn_i / alpha_i
     // is divided out only for a point that would pull.
     for (size_t i = 0; i < m.count; ++i) {
@@ -83,7 +83,7 @@ void solve_rocking(std::vector<SolverBody>& bodies, std::vector<PointRow>& rows,
       ContactPoint& p = *rows[m.first + i].point;
       p.normal_impulse = max(p.normal_impulse + lambda * r.alpha[i], Fixed{});
     }
-    apply_impulse(a, b, r.row, lambda);
+    apply_spin(a, b, r.row, lambda);
   }
 }
 

@@ -77,6 +77,7 @@ struct ManifoldRow {
     Fixed alpha[max_manifold_points];
     bool active = false;
   } rocking[2];
+  bool one_sided = false;  // shock step: the lower body's side dropped (shock.cpp)
 };
 
 // J (a, b) for either rate of the two bodies.
@@ -92,6 +93,16 @@ inline void apply_rate(BodyRates& a, BodyRates& b, Fixed inverse_mass_a, Fixed i
   a.angular -= j.turn_a * lambda;
   b.linear += j.direction * (lambda * inverse_mass_b);
   b.angular += j.turn_b * lambda;
+}
+
+// The same for an angular-only row (direction zero: twist and rocking),
+// skipping the linear terms.
+inline Fixed relative_spin(const SolverBody& a, const SolverBody& b, const Jacobian& j) {
+  return dot(b.velocity.angular, j.arm_b) - dot(a.velocity.angular, j.arm_a);
+}
+inline void apply_spin(SolverBody& a, SolverBody& b, const Jacobian& j, Fixed lambda) {
+  a.velocity.angular -= j.turn_a * lambda;
+  b.velocity.angular += j.turn_b * lambda;
 }
 
 inline Fixed relative_velocity(const SolverBody& a, const SolverBody& b, const Jacobian& j) {
