@@ -152,12 +152,13 @@ void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
     manifold_rows.push_back({ia, ib, first, static_cast<size_t>(m.point_count), make_jacobian(a, b, ra, rb, m.normal),
                              {make_jacobian(a, b, ra, rb, t1), make_jacobian(a, b, ra, rb, t2)},
                              make_twist(a, b, m.normal), ra, rb, target / count, radius / count, mu_s, mu_d, &m,
-                             {make_rocking(a, b, m, centroid, t1), make_rocking(a, b, m, centroid, t2)}});
+                             {make_rocking(a, b, m, centroid, t1), make_rocking(a, b, m, centroid, t2)}, {}, false});
     // A resting face (3 or more touching points asking for no relative
     // speed) has three normal degrees of freedom, its centroid row and two
     // rocking rows, which keep every point pushing: its point rows would only
     // redistribute impulse between the points, so the iterations skip them.
-    const ManifoldRow& face = manifold_rows.back();
+    ManifoldRow& face = manifold_rows.back();
+    face.share_mass = face.normal.mass / count;
     bool resting = m.point_count >= 3 && face.rocking[0].active && face.rocking[1].active;
     for (size_t k = first; k < rows.size(); ++k) {
       resting = resting && rows[k].velocity_target == Fixed{} && rows[k].point->depth >= Fixed{};

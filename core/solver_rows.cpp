@@ -55,7 +55,7 @@ void solve_manifold_normal(std::vector<SolverBody>& bodies, std::vector<PointRow
   SolverBody& a = bodies[m.a];
   SolverBody& b = bodies[m.b];
   const Fixed vn = relative_velocity(a, b, m.normal);
-  Fixed share = m.normal.mass * (m.velocity_target - vn) / Fixed::from_int(static_cast<int32_t>(m.count));
+  Fixed share = m.share_mass * (m.velocity_target - vn);
   // Each point's accumulated impulse stays >= 0.
   for (size_t i = m.first; i < m.first + m.count; ++i) share = max(share, -rows[i].point->normal_impulse);
   for (size_t i = m.first; i < m.first + m.count; ++i) rows[i].point->normal_impulse += share;

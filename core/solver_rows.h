@@ -77,6 +77,7 @@ struct ManifoldRow {
     Fixed alpha[max_manifold_points];
     bool active = false;
   } rocking[2];
+  Fixed share_mass;        // normal.mass / count: each point's share of the centroid row
   bool one_sided = false;  // shock step: the lower body's side dropped (shock.cpp)
 };
 
