@@ -50,6 +50,8 @@ class World {
   // Slots in creation order; dead slots have alive == false.
   const std::vector<Body>& bodies() const { return bodies_; }
   const std::vector<Contact>& contacts() const { return contacts_; }
+  // Removed slots, reused last-in first-out (state: it decides where the next body goes).
+  const std::vector<uint32_t>& free_slots() const { return free_slots_; }
   StepStats stats() const;
 
  private:

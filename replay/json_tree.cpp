@@ -205,4 +205,57 @@ std::variant<Node, SyntaxError> parse(std::string_view text) {
   return builder.take_root();
 }
 
+namespace {
+
+void write_string(std::string_view text, std::string& out) {
+  static constexpr char hex[] = "0123456789abcdef";
+  out += '"';
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (byte < 0x20) {
+      out += "\\u00";
+      out += hex[byte >> 4];
+      out += hex[byte & 15];
+    } else {
+      out += c;
+    }
+  }
+  out += '"';
+}
+
+void write_node(const Node& node, std::string& out) {
+  switch (node.kind) {
+    case Kind::null: out += "null"; break;
+    case Kind::boolean: out += node.boolean ? "true" : "false"; break;
+    case Kind::number: out += node.text; break;
+    case Kind::string: write_string(node.text, out); break;
+    case Kind::array:
+    case Kind::object: {
+      const bool object = node.kind == Kind::object;
+      out += object ? '{' : '[';
+      for (size_t i = 0; i < node.children.size(); ++i) {
+        if (i > 0) out += ", ";
+        if (object) {
+          write_string(node.children[i].key, out);
+          out += ": ";
+        }
+        write_node(node.children[i], out);
+      }
+      out += object ? '}' : ']';
+      break;
+    }
+  }
+}
+
+}  // namespace
+
+std::string write(const Node& node) {
+  std::string out;
+  write_node(node, out);
+  return out;
+}
+
 }  // namespace bitstep::json

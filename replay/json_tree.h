@@ -47,6 +47,10 @@ std::variant<Node, SyntaxError> parse(std::string_view text);
 // control characters escaped as in JSON, cut to 60 bytes with "...".
 std::string quote(std::string_view text);
 
+// Compact JSON text of a tree: numbers as their lexemes (exact), strings
+// escaped, members in document order. parse(write(node)) gives the same tree.
+std::string write(const Node& node);
+
 // The path of `key` inside the object at `parent_path`.
 std::string member_path(const std::string& parent_path, std::string_view key);
 

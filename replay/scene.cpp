@@ -303,7 +303,7 @@ Scene read_scene(const Node& root) {
   if (const Node* description = reader.find("description")) read_string(*description);
   Scene scene;
   if (const Node* settings = reader.find("settings")) scene.settings = read_settings(*settings);
-  MaterialTable materials;
+  MaterialTable& materials = scene.materials;
   if (const Node* table = reader.find("materials")) materials = read_materials(*table);
   std::set<std::string> names;
   if (const Node* bodies = reader.find("bodies")) {
@@ -343,15 +343,32 @@ std::variant<Scene, SceneError> parse_scene(std::string_view json_text, const st
   }
 }
 
-std::variant<Scene, SceneError> load_scene_file(const std::string& path) {
+bool read_text_file(const std::string& path, std::string& text, std::string& reason) {
   std::error_code ignored;
-  if (!std::filesystem::is_regular_file(path, ignored)) return SceneError{path, "", "cannot read the file (no such regular file)"};
+  if (!std::filesystem::is_regular_file(path, ignored)) {
+    reason = "cannot read the file (no such regular file)";
+    return false;
+  }
   const std::uintmax_t size = std::filesystem::file_size(path, ignored);
-  if (ignored || size > max_file_bytes) return SceneError{path, "", "cannot read the file (unreadable or over 1 GiB)"};
-  std::string text(static_cast<size_t>(size), '\0');
+  if (ignored || size > max_file_bytes) {
+    reason = "cannot read the file (unreadable or over 1 GiB)";
+    return false;
+  }
+  text.assign(static_cast<size_t>(size), '\0');
   std::ifstream file(path, std::ios::binary);
-  if (!file.read(text.data(), static_cast<std::streamsize>(size))) return SceneError{path, "", "cannot read the file"};
+  if (!file.read(text.data(), static_cast<std::streamsize>(size))) {
+    reason = "cannot read the file";
+    return false;
+  }
+  return true;
+}
+
+std::variant<Scene, SceneError> load_scene_file(const std::string& path) {
+  std::string text, reason;
+  if (!read_text_file(path, text, reason)) return SceneError{path, "", reason};
   return parse_scene(text, path);
 }
+
+SceneBody read_scene_body(const json::Node& node, const Scene& scene) { return read_body(node, scene.materials); }
 
 }  // namespace bitstep

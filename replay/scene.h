@@ -6,11 +6,13 @@
 
 #include <string>
 #include <string_view>
+#include <utility>
 #include <variant>
 #include <vector>
 
 #include "core/body.h"
 #include "core/settings.h"
+#include "replay/json_tree.h"
 
 namespace bitstep {
 
@@ -22,6 +24,7 @@ struct SceneBody {
 struct Scene {
   Settings settings;
   std::vector<SceneBody> bodies;  // creation order: "bodies" first, then each generator's
+  std::vector<std::pair<std::string, Material>> materials;  // "materials", for bodies spawned later
 };
 
 struct SceneError {
@@ -35,7 +38,14 @@ struct SceneError {
 // Parses scene JSON; on error returns the first error found and no scene.
 // Never throws.
 std::variant<Scene, SceneError> parse_scene(std::string_view json_text, const std::string& file_name);
+// Reads the whole file into `text` (at most 1 GiB); false with a reason.
+bool read_text_file(const std::string& path, std::string& text, std::string& reason);
 // Reads the file, then parse_scene.
 std::variant<Scene, SceneError> load_scene_file(const std::string& path);
+
+// One body object in the scene format (as in "bodies"), material names
+// resolved against the scene's table: for bodies spawned by replay inputs.
+// Throws scene_reader::ReadFailure with the JSON path (callers catch it).
+SceneBody read_scene_body(const json::Node& node, const Scene& scene);
 
 }  // namespace bitstep

@@ -35,6 +35,17 @@ struct Writer {
 void serialize_state(const World& world, std::vector<uint8_t>& out) {
   Writer w{out};
   w.u64(world.step_count());
+  const Settings& s = world.settings();
+  w.fixed(s.dt);
+  w.vec(s.gravity);
+  w.u32(static_cast<uint32_t>(s.velocity_iterations));
+  w.u32(static_cast<uint32_t>(s.position_iterations));
+  for (Fixed f : {s.penetration_slop, s.split_impulse_factor, s.max_push_out_speed, s.baumgarte_factor,
+                  s.restitution_threshold, s.speculative_distance, s.max_linear_speed, s.max_angular_speed}) {
+    w.fixed(f);
+  }
+  w.u8(static_cast<uint8_t>((s.baumgarte ? 1 : 0) | (s.warm_starting ? 2 : 0) | (s.shock_propagation ? 4 : 0)));
+  w.u32(static_cast<uint32_t>(s.shock_iterations));
   w.u32(static_cast<uint32_t>(world.bodies().size()));
   for (const Body& body : world.bodies()) {
     w.u8(body.alive ? 1 : 0);
@@ -47,7 +58,27 @@ void serialize_state(const World& world, std::vector<uint8_t>& out) {
     w.vec(body.angular_velocity);
     w.vec(body.force);
     w.vec(body.torque);
+    // What the body is made of (a spawned body is part of the state too).
+    w.fixed(body.inverse_mass);
+    for (const Vec3& row : body.inertia_local.rows) w.vec(row);
+    for (const Vec3& row : body.inverse_inertia_local.rows) w.vec(row);
+    w.fixed(body.material.static_friction);
+    w.fixed(body.material.dynamic_friction);
+    w.fixed(body.material.restitution);
+    w.fixed(body.linear_damping);
+    w.fixed(body.angular_damping);
+    w.u32(static_cast<uint32_t>(body.shapes.size()));
+    for (const Shape& shape : body.shapes) {
+      w.u8(static_cast<uint8_t>(shape.type));
+      w.vec(shape.half_extents);
+      w.fixed(shape.radius);
+      w.fixed(shape.half_height);
+      w.vec(shape.local.position);
+      w.quat(shape.local.orientation);
+    }
   }
+  w.u32(static_cast<uint32_t>(world.free_slots().size()));
+  for (uint32_t slot : world.free_slots()) w.u32(slot);
   w.u32(static_cast<uint32_t>(world.contacts().size()));
   for (const Contact& c : world.contacts()) {
     w.u32(c.key.body_a);
@@ -55,12 +86,15 @@ void serialize_state(const World& world, std::vector<uint8_t>& out) {
     w.u32(c.key.shape_a);
     w.u32(c.key.shape_b);
     w.u8(static_cast<uint8_t>(c.manifold.point_count));
+    w.vec(c.manifold.normal);
     w.fixed(c.manifold.friction_impulse[0]);
     w.fixed(c.manifold.friction_impulse[1]);
     w.fixed(c.manifold.twist_impulse);
     for (int i = 0; i < c.manifold.point_count; ++i) {
       const ContactPoint& p = c.manifold.points[static_cast<size_t>(i)];
       w.u32(p.feature);
+      w.vec(p.position);  // warm starting matches old points by position too
+      w.fixed(p.depth);
       w.fixed(p.normal_impulse);
     }
   }

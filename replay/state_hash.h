@@ -10,9 +10,10 @@
 namespace bitstep {
 
 // Appends the canonical bytes of everything that influences the future: the
-// step counter, every body slot (alive, generation, type, pose, velocities,
-// pending forces), and every contact (key, feature ids and accumulated
-// impulses, which warm-start the next step).
+// step counter, the settings, every body slot (alive, generation, type, pose, velocities,
+// pending forces, mass properties, material, damping, shapes), the free-slot
+// list, and every contact (key, normal, points with feature ids, positions,
+// depths and accumulated impulses, which warm-start the next step).
 void serialize_state(const World& world, std::vector<uint8_t>& out);
 
 uint64_t state_hash(const World& world);

@@ -9,6 +9,7 @@
 #include "tools/bench_fixed.h"
 #include "tools/fixed_accuracy.h"
 #include "tools/known_answer.h"
+#include "tools/replay_command.h"
 #include "tools/run_command.h"
 
 namespace {
@@ -19,6 +20,9 @@ constexpr const char* usage =
     "commands:\n"
     "  run SCENE [--steps N] [--seconds S] [--hash-every K] [--json]\n"
     "                           run a scene: per-second summary and the final state hash\n"
+    "  record SCENE [--inputs FILE] --steps N -o REPLAY\n"
+    "                           run a scene with inputs and write a replay with its hash chain\n"
+    "  verify REPLAY...         re-run replays; exit 0 only if every step's hash matches\n"
     "  selftest [--samples N]   fixed-point known-answer hash and accuracy table\n"
     "  bench fixed [--quick]    ns/op of fixed-point operations next to float and double\n"
     "  version                  engine version and build options\n"
@@ -65,6 +69,8 @@ int main(int argc, char** argv) {
   }
   const std::string_view command = argv[1];
   if (command == "run") return bitstep::run_scene_command(argc - 2, argv + 2);
+  if (command == "record") return bitstep::record_command(argc - 2, argv + 2, BITSTEP_VERSION);
+  if (command == "verify") return bitstep::verify_command(argc - 2, argv + 2);
   if (command == "selftest") return selftest(argc - 2, argv + 2);
   if (command == "bench" && argc >= 3 && std::string_view(argv[2]) == "fixed") {
     return bitstep::run_bench_fixed(argc - 3, argv + 3);

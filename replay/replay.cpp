@@ -1,0 +1,249 @@
+#include "replay/replay.h"
+
+#include <algorithm>
+#include <climits>
+#include <filesystem>
+
+#include "replay/scene_reader.h"
+#include "replay/state_hash.h"
+
+namespace bitstep {
+
+using json::Kind;
+using json::Node;
+using namespace scene_reader;
+
+namespace {
+
+constexpr Fixed max_impulse = 1000000.0_fx;  // N s; with the lightest body (0.01 kg) 1e8 m/s before the clamp
+constexpr Fixed max_force = 1000000.0_fx;    // N; F / m stays inside Q32.32 for every body in the envelope
+constexpr int max_steps = 100000000;
+
+uint64_t read_hash(const Node& node) {
+  const std::string& text = read_string(node);
+  if (text.size() != 16) fail(node, "expected 16 hex digits, got " + json::quote(text));
+  uint64_t value = 0;
+  for (const char c : text) {
+    int digit = -1;
+    if (c >= '0' && c <= '9') digit = c - '0';
+    if (c >= 'a' && c <= 'f') digit = c - 'a' + 10;
+    if (digit < 0) fail(node, "expected 16 lowercase hex digits, got " + json::quote(text));
+    value = (value << 4) | static_cast<uint64_t>(digit);
+  }
+  return value;
+}
+
+uint32_t read_body_ref(const Node& node, const Scene& scene) {
+  if (node.kind == Kind::string) {
+    for (size_t i = 0; i < scene.bodies.size(); ++i) {
+      if (scene.bodies[i].name == node.text) return static_cast<uint32_t>(i);
+    }
+    fail(node, "no body named " + json::quote(node.text) + " in the scene");
+  }
+  return static_cast<uint32_t>(read_int(node, 0, INT_MAX));
+}
+
+Vec3 read_point(const Node& node) {
+  return read_vec3_within(node, -envelope::max_position, envelope::max_position, "m");
+}
+
+Input read_input(const Node& node, const Scene& scene) {
+  ObjectReader reader(node);
+  Input input;
+  input.source = node;
+  input.step = read_int(reader.require("step"), 1, max_steps);
+  static constexpr Input::Kind kinds[] = {Input::Kind::impulse, Input::Kind::force,  Input::Kind::set_velocity,
+                                          Input::Kind::spawn,   Input::Kind::remove, Input::Kind::wake};
+  input.kind = kinds[read_choice(reader.require("type"), {"impulse", "force", "set_velocity", "spawn", "remove", "wake"})];
+  const Node& body = reader.require("body");
+  switch (input.kind) {
+    case Input::Kind::impulse:
+      input.body = read_body_ref(body, scene);
+      input.vector = read_vec3_within(reader.require("impulse"), -max_impulse, max_impulse, "N s");
+      input.point = read_point(reader.require("point"));
+      break;
+    case Input::Kind::force:
+      input.body = read_body_ref(body, scene);
+      input.vector = read_vec3_within(reader.require("force"), -max_force, max_force, "N");
+      input.point = read_point(reader.require("point"));
+      break;
+    case Input::Kind::set_velocity:
+      input.body = read_body_ref(body, scene);
+      if (const Node* linear = reader.find("linear")) {
+        input.vector = read_vec3_within(*linear, -envelope::max_linear_speed, envelope::max_linear_speed, "m/s");
+      }
+      if (const Node* angular = reader.find("angular")) {
+        input.point = read_vec3_within(*angular, -envelope::max_angular_speed, envelope::max_angular_speed, "rad/s");
+      }
+      break;
+    case Input::Kind::spawn:
+      input.spawned = read_scene_body(body, scene);
+      break;
+    case Input::Kind::remove:
+    case Input::Kind::wake:
+      input.body = read_body_ref(body, scene);
+      break;
+  }
+  reader.finish();
+  return input;
+}
+
+std::vector<Input> read_inputs(const Node& node, const Scene& scene) {
+  if (node.kind != Kind::array) fail(node, std::string("expected an array of inputs, got ") + json::describe(node.kind));
+  std::vector<Input> inputs;
+  for (const Node& input : node.children) inputs.push_back(read_input(input, scene));
+  // Step order; within a step, file order.
+  std::stable_sort(inputs.begin(), inputs.end(), [](const Input& a, const Input& b) { return a.step < b.step; });
+  return inputs;
+}
+
+template <class Read>
+auto parse_file(const std::string& path, Read read) -> std::variant<decltype(read(std::declval<const Node&>())), ReplayError> {
+  std::string text, reason;
+  if (!read_text_file(path, text, reason)) return ReplayError{path, "", reason};
+  try {
+    auto tree = json::parse(text);
+    if (const auto* error = std::get_if<json::SyntaxError>(&tree)) return ReplayError{path, error->where, error->reason};
+    return read(std::get<Node>(tree));
+  } catch (const ReadFailure& failure) {
+    return ReplayError{path, failure.path, failure.reason};
+  } catch (const std::exception& e) {  // allocation failure
+    return ReplayError{path, "$", std::string("cannot load: ") + e.what()};
+  }
+}
+
+std::string hex(uint64_t value) {
+  static constexpr char digits[] = "0123456789abcdef";
+  std::string out(16, '0');
+  for (int i = 15; i >= 0; --i, value >>= 4) out[static_cast<size_t>(i)] = digits[value & 15];
+  return out;
+}
+
+}  // namespace
+
+std::string ReplayError::message() const {
+  if (path.empty()) return file + ": " + reason;
+  return file + ": " + path + ": " + reason;
+}
+
+std::variant<Replay, ReplayError> load_replay_file(const std::string& path, bool require_hashes) {
+  // The scene is loaded in the middle of reading the replay; its error, if
+  // any, is the one reported.
+  std::variant<Replay, ReplayError> scene_error;
+  bool scene_failed = false;
+  auto read = [&](const Node& root) {
+    ObjectReader reader(root);
+    const Node& format = reader.require("format");
+    if (read_string(format) != "bitstep-replay") fail(format, "expected \"bitstep-replay\", got " + json::quote(format.text));
+    const Node& version = reader.require("version");
+    const int number = read_int(version, INT_MIN, INT_MAX);
+    if (number != 1) fail(version, "unsupported version " + std::to_string(number) + " (this build reads version 1)");
+    if (const Node* engine = reader.find("engine")) read_string(*engine);
+    if (const Node* description = reader.find("description")) read_string(*description);
+    Replay replay;
+    const Node& scene = reader.require("scene");
+    replay.scene_file = read_string(scene);
+    const std::string scene_path = (std::filesystem::path(path).parent_path() / replay.scene_file).string();
+    auto loaded = load_scene_file(scene_path);
+    if (const SceneError* error = std::get_if<SceneError>(&loaded)) {
+      scene_failed = true;
+      scene_error = ReplayError{error->file, error->path, error->reason};
+      return replay;
+    }
+    replay.scene = std::move(std::get<Scene>(loaded));
+    replay.scene_hash = read_hash(reader.require("scene_hash"));
+    replay.steps = read_int(reader.require("steps"), 0, max_steps);
+    if (const Node* inputs = reader.find("inputs")) replay.inputs = read_inputs(*inputs, replay.scene);
+    if (!replay.inputs.empty() && replay.inputs.back().step > replay.steps) {
+      fail(replay.inputs.back().source.path + ".step", "after the last step (" + std::to_string(replay.steps) + ")");
+    }
+    if (const Node* hashes = reader.find("hashes")) {
+      if (hashes->kind != Kind::array) fail(*hashes, std::string("expected an array of hashes, got ") + json::describe(hashes->kind));
+      for (const Node& h : hashes->children) replay.hashes.push_back(read_hash(h));
+      if (static_cast<int64_t>(replay.hashes.size()) != replay.steps) {
+        fail(*hashes, std::to_string(replay.hashes.size()) + " hashes for " + std::to_string(replay.steps) + " steps");
+      }
+    } else if (require_hashes) {
+      fail(root, "missing key \"hashes\" (the hash chain to verify against)");
+    }
+    reader.finish();
+    return replay;
+  };
+  auto result = parse_file(path, read);
+  if (scene_failed) return scene_error;
+  return result;
+}
+
+std::variant<std::vector<Input>, ReplayError> load_inputs_file(const std::string& path, const Scene& scene) {
+  return parse_file(path, [&](const Node& root) {
+    ObjectReader reader(root);
+    std::vector<Input> inputs = read_inputs(reader.require("inputs"), scene);
+    // A replay may serve as the inputs file (to record it again): its other
+    // keys are then known and ignored.
+    if (const Node* format = reader.find("format"); format != nullptr && format->text == "bitstep-replay") {
+      for (const char* key : {"version", "engine", "description", "scene", "scene_hash", "steps", "hashes"}) {
+        reader.find(key);
+      }
+    }
+    reader.finish();
+    return inputs;
+  });
+}
+
+bool build_world(const Scene& scene, World& world, std::string& reason) {
+  for (size_t i = 0; i < scene.bodies.size(); ++i) {
+    const CreateResult created = world.create_body(scene.bodies[i].def);
+    if (!created.ok()) {
+      reason = "body " + std::to_string(i) + ": " + created.error.field + ": " + created.error.reason;
+      return false;
+    }
+  }
+  return true;
+}
+
+void apply_inputs(World& world, const std::vector<Input>& inputs, int64_t step, size_t& next) {
+  for (; next < inputs.size() && inputs[next].step <= step; ++next) {
+    const Input& input = inputs[next];
+    if (input.step < step) continue;
+    const bool occupied = input.body < world.bodies().size() && world.bodies()[input.body].alive;
+    const BodyId id{input.body, occupied ? world.bodies()[input.body].generation : 0};
+    switch (input.kind) {
+      case Input::Kind::impulse: world.apply_impulse(id, input.vector, input.point); break;
+      case Input::Kind::force: world.apply_force(id, input.vector, input.point); break;
+      case Input::Kind::set_velocity: world.set_velocity(id, input.vector, input.point); break;
+      case Input::Kind::spawn: world.create_body(input.spawned.def); break;  // checked against the envelope when read
+      case Input::Kind::remove: world.remove_body(id); break;
+      case Input::Kind::wake: break;  // nothing sleeps yet (issue 5)
+    }
+  }
+}
+
+std::string replay_json(const Replay& replay, const std::string& engine_version) {
+  std::string out = "{\n  \"format\": \"bitstep-replay\",\n  \"version\": 1,\n";
+  out += "  \"engine\": " + json::write(Node{Kind::string, false, engine_version, {}, {}, {}}) + ",\n";
+  out += "  \"scene\": " + json::write(Node{Kind::string, false, replay.scene_file, {}, {}, {}}) + ",\n";
+  out += "  \"scene_hash\": \"" + hex(replay.scene_hash) + "\",\n";
+  out += "  \"steps\": " + std::to_string(replay.steps) + ",\n";
+  out += "  \"inputs\": [";
+  for (size_t i = 0; i < replay.inputs.size(); ++i) {
+    out += (i == 0 ? "\n    " : ",\n    ") + json::write(replay.inputs[i].source);
+  }
+  out += replay.inputs.empty() ? "],\n" : "\n  ],\n";
+  out += "  \"hashes\": [";
+  for (size_t i = 0; i < replay.hashes.size(); ++i) {
+    out += i == 0 ? "\n    " : (i % 6 == 0 ? ",\n    " : ", ");
+    out += "\"" + hex(replay.hashes[i]) + "\"";
+  }
+  out += replay.hashes.empty() ? "]\n}\n" : "\n  ]\n}\n";
+  return out;
+}
+
+int64_t first_divergent_step(const std::vector<uint64_t>& recorded, const std::vector<uint64_t>& replayed) {
+  const size_t common = std::min(recorded.size(), replayed.size());
+  for (size_t i = 0; i < common; ++i) {
+    if (recorded[i] != replayed[i]) return static_cast<int64_t>(i) + 1;
+  }
+  return recorded.size() == replayed.size() ? 0 : static_cast<int64_t>(common) + 1;
+}
+
+}  // namespace bitstep

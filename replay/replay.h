@@ -1,0 +1,72 @@
+// Input replays (format "bitstep-replay", version 1; replay/README.md): a
+// scene, the inputs by step and the hash chain, one state hash per step.
+// Recording runs the scene with the inputs and writes the chain; verifying
+// runs it again and compares every step.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "core/world.h"
+#include "replay/json_tree.h"
+#include "replay/scene.h"
+
+namespace bitstep {
+
+// One input. It applies at the start of step `step` (the first step is 1),
+// after the inputs before it in the file. `body` is a slot index (a name in
+// the file is resolved to the scene body's slot when the replay is read);
+// the input goes to whatever body occupies the slot then, and is ignored
+// when the slot is empty.
+struct Input {
+  enum class Kind { impulse, force, set_velocity, spawn, remove, wake };
+  int64_t step = 1;
+  Kind kind = Kind::impulse;
+  uint32_t body = 0;
+  Vec3 vector;       // impulse (N s), force (N) or linear velocity (m/s)
+  Vec3 point;        // world point of an impulse or force (m); angular velocity (rad/s) for set_velocity
+  SceneBody spawned; // spawn: the new body
+  json::Node source; // the input as written, kept for writing the replay back exactly
+};
+
+struct Replay {
+  std::string scene_file;  // as written in the replay: relative to the replay's folder
+  Scene scene;
+  uint64_t scene_hash = 0;  // state_hash of the scene's world before step 1
+  int64_t steps = 0;
+  std::vector<Input> inputs;    // in step order (stable: file order within a step)
+  std::vector<uint64_t> hashes; // state hash after each step; empty before recording
+};
+
+struct ReplayError {
+  std::string file;
+  std::string path;    // JSON path, or empty
+  std::string reason;
+  std::string message() const;  // "<file>: <path>: <reason>", one line
+};
+
+// Reads a replay file and the scene it names. With `require_hashes` the hash
+// chain must be there, one per step (for verify); a recording's input file
+// has none.
+std::variant<Replay, ReplayError> load_replay_file(const std::string& path, bool require_hashes);
+
+// Reads an inputs file for `bitstep record`: {"inputs": [...]} against a
+// scene, or a replay file (its inputs, to record it again).
+std::variant<std::vector<Input>, ReplayError> load_inputs_file(const std::string& path, const Scene& scene);
+
+// A world with the scene's bodies in order; false (and the reason) when a
+// body is refused.
+bool build_world(const Scene& scene, World& world, std::string& reason);
+
+// Applies the inputs of step `step` starting at `next` (advanced past them).
+void apply_inputs(World& world, const std::vector<Input>& inputs, int64_t step, size_t& next);
+
+// The replay as JSON text (hashes as 16 hex digits).
+std::string replay_json(const Replay& replay, const std::string& engine_version);
+
+// Where two hash chains first differ: the step (1-based) or 0 when equal.
+int64_t first_divergent_step(const std::vector<uint64_t>& recorded, const std::vector<uint64_t>& replayed);
+
+}  // namespace bitstep

@@ -1,0 +1,174 @@
+#include "tools/replay_command.h"
+
+#include <fmt/core.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <variant>
+
+#include "replay/replay.h"
+#include "replay/state_hash.h"
+
+namespace bitstep {
+
+namespace {
+
+bool parse_steps(const char* text, int64_t& out) {
+  char* end = nullptr;
+  const long long value = std::strtoll(text, &end, 10);
+  if (end == text || *end != '\0' || value < 0 || value > 100000000) return false;
+  out = value;
+  return true;
+}
+
+// Writes `text` to `path` through a temporary file renamed into place, so a
+// failure never leaves a partial replay behind.
+bool write_file_atomically(const std::string& path, const std::string& text, std::string& reason) {
+  const std::string temporary = path + ".partial";
+  {
+    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
+    if (!file || !file.write(text.data(), static_cast<std::streamsize>(text.size())) || !file.flush()) {
+      reason = "cannot write " + temporary;
+      std::error_code ignored;
+      std::filesystem::remove(temporary, ignored);
+      return false;
+    }
+  }
+  std::error_code error;
+  std::filesystem::rename(temporary, path, error);
+  if (error) {
+    reason = "cannot rename " + temporary + " to " + path + ": " + error.message();
+    std::filesystem::remove(temporary, error);
+    return false;
+  }
+  return true;
+}
+
+// Runs `steps` steps with the inputs, appending each step's state hash.
+void run_chain(World& world, const std::vector<Input>& inputs, int64_t steps, std::vector<uint64_t>& hashes) {
+  size_t next = 0;
+  for (int64_t step = 1; step <= steps; ++step) {
+    apply_inputs(world, inputs, step, next);
+    world.step();
+    hashes.push_back(state_hash(world));
+  }
+}
+
+}  // namespace
+
+int record_command(int argc, char** argv, const char* engine_version) {
+  std::string scene_path, inputs_path, output;
+  int64_t steps = -1;
+  for (int i = 0; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (arg == "--inputs" && has_value) {
+      inputs_path = argv[++i];
+    } else if (arg == "--steps" && has_value) {
+      if (!parse_steps(argv[++i], steps)) {
+        fmt::print(stderr, "bitstep record: --steps needs an integer 0..100000000, got '{}'\n", argv[i]);
+        return 2;
+      }
+    } else if (arg == "-o" && has_value) {
+      output = argv[++i];
+    } else if (!arg.empty() && arg[0] != '-' && scene_path.empty()) {
+      scene_path = arg;
+    } else {
+      fmt::print(stderr, "bitstep record: unknown or incomplete option '{}'\n", arg);
+      return 2;
+    }
+  }
+  if (scene_path.empty() || steps < 0 || output.empty()) {
+    fmt::print(stderr, "bitstep record: usage: bitstep record SCENE [--inputs FILE] --steps N -o REPLAY\n");
+    return 2;
+  }
+  auto loaded = load_scene_file(scene_path);
+  if (const SceneError* error = std::get_if<SceneError>(&loaded)) {
+    fmt::print(stderr, "bitstep record: {}\n", error->message());
+    return 1;
+  }
+  Replay replay;
+  replay.scene = std::move(std::get<Scene>(loaded));
+  replay.steps = steps;
+  if (!inputs_path.empty()) {
+    auto inputs = load_inputs_file(inputs_path, replay.scene);
+    if (const ReplayError* error = std::get_if<ReplayError>(&inputs)) {
+      fmt::print(stderr, "bitstep record: {}\n", error->message());
+      return 1;
+    }
+    replay.inputs = std::move(std::get<std::vector<Input>>(inputs));
+    if (!replay.inputs.empty() && replay.inputs.back().step > steps) {
+      fmt::print(stderr, "bitstep record: {}: {}.step: after the last step ({})\n", inputs_path,
+                 replay.inputs.back().source.path, steps);
+      return 1;
+    }
+  }
+  // The scene as the replay will name it: relative to the replay's folder.
+  const std::filesystem::path out_dir = std::filesystem::absolute(output).parent_path();
+  replay.scene_file = std::filesystem::absolute(scene_path).lexically_proximate(out_dir).generic_string();
+
+  World world(replay.scene.settings);
+  std::string reason;
+  if (!build_world(replay.scene, world, reason)) {
+    fmt::print(stderr, "bitstep record: {}: {}\n", scene_path, reason);
+    return 1;
+  }
+  replay.scene_hash = state_hash(world);
+  run_chain(world, replay.inputs, steps, replay.hashes);
+  if (!write_file_atomically(output, replay_json(replay, std::string("bitstep ") + engine_version), reason)) {
+    fmt::print(stderr, "bitstep record: {}\n", reason);
+    return 1;
+  }
+  fmt::print("recorded {}: {} steps, {} inputs, final hash {:016x}\n", output, steps, replay.inputs.size(),
+             replay.hashes.empty() ? replay.scene_hash : replay.hashes.back());
+  return 0;
+}
+
+int verify_command(int argc, char** argv) {
+  if (argc == 0) {
+    fmt::print(stderr, "bitstep verify: usage: bitstep verify REPLAY...\n");
+    return 2;
+  }
+  bool all_match = true;
+  for (int i = 0; i < argc; ++i) {
+    const std::string path = argv[i];
+    auto loaded = load_replay_file(path, true);
+    if (const ReplayError* error = std::get_if<ReplayError>(&loaded)) {
+      fmt::print(stderr, "bitstep verify: {}\n", error->message());
+      all_match = false;
+      continue;
+    }
+    const Replay& replay = std::get<Replay>(loaded);
+    World world(replay.scene.settings);
+    std::string reason;
+    if (!build_world(replay.scene, world, reason)) {
+      fmt::print(stderr, "bitstep verify: {}: {}\n", path, reason);
+      all_match = false;
+      continue;
+    }
+    const uint64_t scene_hash = state_hash(world);
+    if (scene_hash != replay.scene_hash) {
+      fmt::print("{}: DIFFERS before step 1: the scene builds a world with hash {:016x}, recorded {:016x}\n", path,
+                 scene_hash, replay.scene_hash);
+      all_match = false;
+      continue;
+    }
+    std::vector<uint64_t> hashes;
+    run_chain(world, replay.inputs, replay.steps, hashes);
+    const int64_t divergent = first_divergent_step(replay.hashes, hashes);
+    if (divergent != 0) {
+      const size_t at = static_cast<size_t>(divergent - 1);
+      fmt::print("{}: DIFFERS at step {} of {}: hash {:016x}, recorded {:016x}\n", path, divergent, replay.steps,
+                 hashes[at], replay.hashes[at]);
+      all_match = false;
+      continue;
+    }
+    fmt::print("{}: {} steps match, final hash {:016x}\n", path, replay.steps,
+               hashes.empty() ? scene_hash : hashes.back());
+  }
+  return all_match ? 0 : 1;
+}
+
+}  // namespace bitstep
