@@ -218,6 +218,28 @@ void apply_inputs(World& world, const std::vector<Input>& inputs, int64_t step, 
   }
 }
 
+void run_inputs(World& world, const std::vector<Input>& inputs, int64_t steps, std::vector<uint64_t>& hashes) {
+  size_t next = 0;
+  for (int64_t step = 1; step <= steps; ++step) {
+    apply_inputs(world, inputs, step, next);
+    world.step();
+    hashes.push_back(state_hash(world));
+  }
+}
+
+Verification verify_replay(const Replay& replay) {
+  Verification v;
+  World world(replay.scene.settings);
+  v.built = build_world(replay.scene, world, v.reason);
+  if (!v.built) return v;
+  v.scene_hash = state_hash(world);
+  v.scene_matches = v.scene_hash == replay.scene_hash;
+  if (!v.scene_matches) return v;
+  run_inputs(world, replay.inputs, replay.steps, v.hashes);
+  v.divergent_step = first_divergent_step(replay.hashes, v.hashes);
+  return v;
+}
+
 std::string replay_json(const Replay& replay, const std::string& engine_version) {
   std::string out = "{\n  \"format\": \"bitstep-replay\",\n  \"version\": 1,\n";
   out += "  \"engine\": " + json::write(Node{Kind::string, false, engine_version, {}, {}, {}}) + ",\n";

@@ -63,6 +63,22 @@ bool build_world(const Scene& scene, World& world, std::string& reason);
 // Applies the inputs of step `step` starting at `next` (advanced past them).
 void apply_inputs(World& world, const std::vector<Input>& inputs, int64_t step, size_t& next);
 
+// Runs `steps` steps with the inputs from a world at step 0, appending each
+// step's state hash.
+void run_inputs(World& world, const std::vector<Input>& inputs, int64_t steps, std::vector<uint64_t>& hashes);
+
+// Re-runs a replay from its scene and compares every hash.
+struct Verification {
+  bool built = false;          // false: a scene body was refused (reason)
+  std::string reason;
+  uint64_t scene_hash = 0;     // of the world before step 1
+  bool scene_matches = false;  // scene_hash equals the recorded one
+  int64_t divergent_step = 0;  // first step whose hash differs, 0 when all match
+  std::vector<uint64_t> hashes;
+  bool ok() const { return built && scene_matches && divergent_step == 0; }
+};
+Verification verify_replay(const Replay& replay);
+
 // The replay as JSON text (hashes as 16 hex digits).
 std::string replay_json(const Replay& replay, const std::string& engine_version);
 

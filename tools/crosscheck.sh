@@ -1,16 +1,34 @@
 #!/usr/bin/env bash
 # The cross-build matrix: builds the known-answer program (fixed/ +
-# tools/known_answer.cpp, no CMake, no libraries) with every compiler, option
-# set, 128-bit backend and CPU below, runs each (foreign CPUs under qemu-user,
-# statically linked) and fails unless every build prints the frozen hash.
-# Prints a table: build | backend | byte order | hash | result.
+# tools/known_answer.cpp) and the golden-replay verifier (fixed/, core/,
+# replay/ + tools/verify_replays_main.cpp; xxhash inlined, nlohmann
+# header-only) with every compiler, option set, 128-bit backend and CPU
+# below, runs each (foreign CPUs under qemu-user, statically linked) and fails
+# unless every build prints the frozen known-answer hash and reproduces every
+# golden replay's hash chain at every step. Prints two tables.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=build/crosscheck
 mkdir -p "$out"
 
 sources=(fixed/*.cpp tools/known_answer.cpp tools/known_answer_main.cpp)
+replay_sources=(fixed/*.cpp core/*.cpp replay/*.cpp tools/verify_replays_main.cpp)
 common=(-std=c++20 -I. -Wall -Wextra -Wpedantic -Wconversion -Wsign-conversion -Wshadow -Werror)
+# The header-only libraries, visible to the cross compilers too (their own
+# sysroots have no nlohmann or xxhash); no other host header leaks in.
+mkdir -p "$out/include"
+ln -sfn /usr/include/nlohmann "$out/include/nlohmann"
+ln -sf /usr/include/xxhash.h "$out/include/xxhash.h"
+replay_flags=(-isystem "$out/include" -DXXH_INLINE_ALL -DXXH_VECTOR=0)
+
+# Golden replays: every build verifies them all, except that the builds run
+# under qemu skip the three heaviest (wall128, pyramid20, playground: minutes
+# each when emulated).
+replays=(scenes/*.replay.json)
+short_replays=()
+for r in "${replays[@]}"; do
+  case "$r" in *wall128*|*pyramid20*|*playground*) ;; *) short_replays+=("$r") ;; esac
+done
 
 # name | compiler | flags | runner ("-" = run directly)
 builds=(
@@ -31,11 +49,17 @@ slug() { echo "$1" | tr -c 'A-Za-z0-9\n' '_'; }
 # Compile every build, two at a time (CI has 2 cores).
 compile() {
   IFS='|' read -r name compiler flags _ <<<"$1"
-  local exe="$out/kat_$(slug "$name")"
+  local exe="$out/kat_$(slug "$name")" verifier="$out/replays_$(slug "$name")"
   # shellcheck disable=SC2086
   if ! "$compiler" "${common[@]}" $flags "${sources[@]}" -o "$exe" 2>"$exe.log"; then
     echo "crosscheck: build '$name' failed to compile:" >&2
     cat "$exe.log" >&2
+    return 1
+  fi
+  # shellcheck disable=SC2086
+  if ! "$compiler" "${common[@]}" "${replay_flags[@]}" $flags "${replay_sources[@]}" -o "$verifier" 2>"$verifier.log"; then
+    echo "crosscheck: the replay verifier of build '$name' failed to compile:" >&2
+    cat "$verifier.log" >&2
     return 1
   fi
 }
@@ -75,3 +99,37 @@ for b in "${builds[@]}"; do
 done
 [ $failed -eq 0 ] || { echo "crosscheck: builds disagree" >&2; exit 1; }
 echo "crosscheck: all ${#builds[@]} builds print $expected"
+echo
+
+# Golden replays: one column per replay, "match" or the first divergent step.
+header="| build |"; rule="|---|"
+for r in "${replays[@]}"; do
+  header+=" $(basename "$r" .replay.json) |"; rule+="---|"
+done
+printf '%s\n%s\n' "$header" "$rule"
+for b in "${builds[@]}"; do
+  IFS='|' read -r name _ _ runner <<<"$b"
+  verifier="$out/replays_$(slug "$name")"
+  if [ "$runner" = "-" ]; then
+    set_=("${replays[@]}"); run=("$verifier")
+  else
+    set_=("${short_replays[@]}"); run=("$runner" "$verifier")
+  fi
+  results=$("${run[@]}" "${set_[@]}" || true)
+  row="| $name |"
+  for r in "${replays[@]}"; do
+    line=$(grep -F "$r " <<<"$results" | head -1 || true)
+    read -r _ verdict detail _ <<<"$line"
+    case "$verdict" in
+      match) cell=match ;;
+      DIFFERS) cell="DIFFERS ($detail)"; failed=1 ;;
+      ERROR) cell="ERROR"; failed=1 ;;
+      *)
+        if printf '%s\n' "${set_[@]}" | grep -qxF "$r"; then cell="FAILED (no output)"; failed=1; else cell="-"; fi ;;
+    esac
+    row+=" $cell |"
+  done
+  echo "$row"
+done
+[ $failed -eq 0 ] || { echo "crosscheck: a golden replay differs" >&2; exit 1; }
+echo "crosscheck: every build reproduces every golden replay it runs (- = skipped under qemu)"

@@ -46,16 +46,6 @@ bool write_file_atomically(const std::string& path, const std::string& text, std
   return true;
 }
 
-// Runs `steps` steps with the inputs, appending each step's state hash.
-void run_chain(World& world, const std::vector<Input>& inputs, int64_t steps, std::vector<uint64_t>& hashes) {
-  size_t next = 0;
-  for (int64_t step = 1; step <= steps; ++step) {
-    apply_inputs(world, inputs, step, next);
-    world.step();
-    hashes.push_back(state_hash(world));
-  }
-}
-
 }  // namespace
 
 int record_command(int argc, char** argv, const char* engine_version) {
@@ -116,7 +106,7 @@ int record_command(int argc, char** argv, const char* engine_version) {
     return 1;
   }
   replay.scene_hash = state_hash(world);
-  run_chain(world, replay.inputs, steps, replay.hashes);
+  run_inputs(world, replay.inputs, steps, replay.hashes);
   if (!write_file_atomically(output, replay_json(replay, std::string("bitstep ") + engine_version), reason)) {
     fmt::print(stderr, "bitstep record: {}\n", reason);
     return 1;
@@ -141,32 +131,27 @@ int verify_command(int argc, char** argv) {
       continue;
     }
     const Replay& replay = std::get<Replay>(loaded);
-    World world(replay.scene.settings);
-    std::string reason;
-    if (!build_world(replay.scene, world, reason)) {
-      fmt::print(stderr, "bitstep verify: {}: {}\n", path, reason);
+    const Verification v = verify_replay(replay);
+    if (!v.built) {
+      fmt::print(stderr, "bitstep verify: {}: {}\n", path, v.reason);
       all_match = false;
       continue;
     }
-    const uint64_t scene_hash = state_hash(world);
-    if (scene_hash != replay.scene_hash) {
+    if (!v.scene_matches) {
       fmt::print("{}: DIFFERS before step 1: the scene builds a world with hash {:016x}, recorded {:016x}\n", path,
-                 scene_hash, replay.scene_hash);
+                 v.scene_hash, replay.scene_hash);
       all_match = false;
       continue;
     }
-    std::vector<uint64_t> hashes;
-    run_chain(world, replay.inputs, replay.steps, hashes);
-    const int64_t divergent = first_divergent_step(replay.hashes, hashes);
-    if (divergent != 0) {
-      const size_t at = static_cast<size_t>(divergent - 1);
-      fmt::print("{}: DIFFERS at step {} of {}: hash {:016x}, recorded {:016x}\n", path, divergent, replay.steps,
-                 hashes[at], replay.hashes[at]);
+    if (v.divergent_step != 0) {
+      const size_t at = static_cast<size_t>(v.divergent_step - 1);
+      fmt::print("{}: DIFFERS at step {} of {}: hash {:016x}, recorded {:016x}\n", path, v.divergent_step,
+                 replay.steps, v.hashes[at], replay.hashes[at]);
       all_match = false;
       continue;
     }
     fmt::print("{}: {} steps match, final hash {:016x}\n", path, replay.steps,
-               hashes.empty() ? scene_hash : hashes.back());
+               v.hashes.empty() ? v.scene_hash : v.hashes.back());
   }
   return all_match ? 0 : 1;
 }

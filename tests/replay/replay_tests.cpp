@@ -35,12 +35,7 @@ std::vector<uint64_t> replay_chain(const Replay& replay, uint64_t& scene_hash) {
   REQUIRE(build_world(replay.scene, world, reason));
   scene_hash = state_hash(world);
   std::vector<uint64_t> hashes;
-  size_t next = 0;
-  for (int64_t step = 1; step <= replay.steps; ++step) {
-    apply_inputs(world, replay.inputs, step, next);
-    world.step();
-    hashes.push_back(state_hash(world));
-  }
+  run_inputs(world, replay.inputs, replay.steps, hashes);
   return hashes;
 }
 

@@ -1,0 +1,39 @@
+// Standalone golden-replay verifier for tools/crosscheck.sh: built by each
+// compiler and cross compiler from fixed/, core/ and replay/ alone (xxhash
+// inlined, nlohmann header-only, no fmt), it prints one line per replay,
+// "<file> match <steps> <final hash>" or "<file> DIFFERS <where>", and exits
+// 0 only if every replay matches at every step.
+#include <cinttypes>
+#include <cstdio>
+#include <string>
+#include <variant>
+
+#include "replay/replay.h"
+
+int main(int argc, char** argv) {
+  int status = 0;
+  for (int i = 1; i < argc; ++i) {
+    auto loaded = bitstep::load_replay_file(argv[i], true);
+    if (const auto* error = std::get_if<bitstep::ReplayError>(&loaded)) {
+      std::printf("%s ERROR %s\n", argv[i], error->message().c_str());
+      status = 1;
+      continue;
+    }
+    const bitstep::Replay& replay = std::get<bitstep::Replay>(loaded);
+    const bitstep::Verification v = bitstep::verify_replay(replay);
+    if (!v.built) {
+      std::printf("%s ERROR %s\n", argv[i], v.reason.c_str());
+      status = 1;
+    } else if (!v.scene_matches) {
+      std::printf("%s DIFFERS scene-hash\n", argv[i]);
+      status = 1;
+    } else if (v.divergent_step != 0) {
+      std::printf("%s DIFFERS step-%" PRId64 "\n", argv[i], v.divergent_step);
+      status = 1;
+    } else {
+      std::printf("%s match %" PRId64 " %016" PRIx64 "\n", argv[i], replay.steps,
+                  v.hashes.empty() ? v.scene_hash : v.hashes.back());
+    }
+  }
+  return status;
+}
