@@ -10,6 +10,16 @@ namespace bitstep {
 
 World::World(const Settings& settings) : settings_(settings) {}
 
+World World::from_state(const Settings& settings, uint64_t step_count, std::vector<Body> bodies,
+                        std::vector<uint32_t> free_slots, std::vector<Contact> contacts) {
+  World world(settings);
+  world.step_count_ = step_count;
+  world.bodies_ = std::move(bodies);
+  world.free_slots_ = std::move(free_slots);
+  world.contacts_ = std::move(contacts);
+  return world;
+}
+
 CreateResult World::create_body(const BodyDef& def) {
   CreateResult result;
   result.error = check_envelope(def);

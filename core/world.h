@@ -31,6 +31,11 @@ class World {
  public:
   explicit World(const Settings& settings = {});
 
+  // A world continuing from a saved state (replay/snapshot.cpp): the caller
+  // has checked that contacts and free slots refer to existing slots.
+  static World from_state(const Settings& settings, uint64_t step_count, std::vector<Body> bodies,
+                          std::vector<uint32_t> free_slots, std::vector<Contact> contacts);
+
   // Validates the definition against the world envelope first; on error the
   // world is unchanged.
   CreateResult create_body(const BodyDef& def);

@@ -62,6 +62,9 @@ void serialize_state(const World& world, std::vector<uint8_t>& out) {
     w.fixed(body.inverse_mass);
     for (const Vec3& row : body.inertia_local.rows) w.vec(row);
     for (const Vec3& row : body.inverse_inertia_local.rows) w.vec(row);
+    // Refreshed at the start of a step, from the pose before it moved: an
+    // impulse applied between steps uses this one.
+    for (const Vec3& row : body.inverse_inertia_world.rows) w.vec(row);
     w.fixed(body.material.static_friction);
     w.fixed(body.material.dynamic_friction);
     w.fixed(body.material.restitution);

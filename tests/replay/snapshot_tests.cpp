@@ -1,0 +1,130 @@
+// Snapshots: restoring continues bit-identically, and a damaged image is
+// refused without touching the world.
+#include <catch2/catch.hpp>
+
+#include <string>
+#include <variant>
+
+#include "replay/replay.h"
+#include "replay/snapshot.h"
+#include "replay/state_hash.h"
+
+using namespace bitstep;
+
+namespace {
+
+const std::string scenes_dir = std::string(BITSTEP_SOURCE_DIR) + "/scenes";
+
+World load_world(const std::string& name) {
+  auto loaded = load_scene_file(scenes_dir + "/" + name);
+  REQUIRE(std::holds_alternative<Scene>(loaded));
+  const Scene& scene = std::get<Scene>(loaded);
+  World world(scene.settings);
+  std::string reason;
+  REQUIRE(build_world(scene, world, reason));
+  return world;
+}
+
+World restored_from(const std::vector<uint8_t>& image) {
+  World world;
+  const auto error = restore(image, world);
+  if (error) FAIL(*error);
+  return world;
+}
+
+}  // namespace
+
+TEST_CASE("snapshot equals real: restored at any step of a contact-dense window, the chain is the same",
+          "[snapshot]") {
+  World straight = load_world("thrown.json");
+  const int first = 30, last = 75, end = 90;  // cubes hitting the pile
+  std::vector<uint64_t> chain(end + 1);
+  std::vector<std::vector<uint8_t>> images(end + 1);
+  for (int step = 1; step <= end; ++step) {
+    straight.step();
+    chain[static_cast<size_t>(step)] = state_hash(straight);
+    if (step >= first && step <= last) images[static_cast<size_t>(step)] = snapshot(straight);
+  }
+  for (int k = first; k <= last; ++k) {
+    INFO("restored at step " << k);
+    World world = restored_from(images[static_cast<size_t>(k)]);
+    REQUIRE(state_hash(world) == chain[static_cast<size_t>(k)]);
+    REQUIRE(snapshot(world) == images[static_cast<size_t>(k)]);  // the image round-trips byte for byte
+    for (int step = k + 1; step <= end; ++step) {
+      world.step();
+      REQUIRE(state_hash(world) == chain[static_cast<size_t>(step)]);
+    }
+  }
+}
+
+TEST_CASE("rollback: 1,000 rounds of mispredicted inputs, restored and corrected, end bit-equal",
+          "[snapshot]") {
+  World straight = load_world("tables.json");
+  World rolled = load_world("tables.json");
+  const Vec3 point{Fixed{}, 9.0_fx, Fixed{}};
+  for (int round = 0; round < 1000; ++round) {
+    // The right input: a small push every 7th step on a table.
+    const BodyId table{static_cast<uint32_t>(1 + round % 5), 0};
+    const Vec3 right{Fixed::from_int(round % 7 == 0 ? 20 : 0), Fixed{}, Fixed{}};
+    straight.apply_impulse(table, right, point);
+    straight.step();
+    // Predict with a wrong input for three steps, then roll back.
+    const std::vector<uint8_t> image = snapshot(rolled);
+    for (int k = 0; k < 3; ++k) {
+      rolled.apply_impulse(table, Vec3{Fixed{}, Fixed{}, 30.0_fx}, point);
+      rolled.step();
+    }
+    REQUIRE_FALSE(restore(image, rolled).has_value());
+    rolled.apply_impulse(table, right, point);
+    rolled.step();
+  }
+  CHECK(straight.step_count() == 1000);
+  CHECK(state_hash(rolled) == state_hash(straight));
+  CHECK(snapshot(rolled) == snapshot(straight));
+}
+
+TEST_CASE("a corrupt, truncated or wrong-version snapshot is refused and the world is untouched", "[snapshot]") {
+  World source = load_world("stack20.json");
+  for (int i = 0; i < 30; ++i) source.step();
+  const std::vector<uint8_t> good = snapshot(source);
+  World target = load_world("bounce.json");
+  const uint64_t before = state_hash(target);
+
+  auto refused = [&](std::vector<uint8_t> image, const std::string& expected) {
+    INFO(expected);
+    const auto error = restore(image, target);
+    REQUIRE(error.has_value());
+    INFO(*error);
+    CHECK(error->find(expected) != std::string::npos);
+    CHECK(state_hash(target) == before);
+  };
+  std::vector<uint8_t> flipped = good;
+  flipped[flipped.size() / 2] ^= 0x10;
+  refused(flipped, "checksum mismatch");
+  refused(std::vector<uint8_t>(good.begin(), good.begin() + static_cast<std::ptrdiff_t>(good.size() - 9)), "truncated");
+  refused(std::vector<uint8_t>(good.begin(), good.begin() + 10), "truncated");
+  std::vector<uint8_t> version = good;
+  version[8] = 2;
+  refused(version, "version 2");
+  std::vector<uint8_t> magic = good;
+  magic[0] = 'X';
+  refused(magic, "bad magic");
+  refused({}, "truncated");
+
+  // The good image restores, and the world then equals the source.
+  REQUIRE_FALSE(restore(good, target).has_value());
+  CHECK(state_hash(target) == state_hash(source));
+}
+
+TEST_CASE("snapshotting a world does not change its future", "[snapshot]") {
+  World a = load_world("jenga.json");
+  World b = load_world("jenga.json");
+  size_t bytes = 0;
+  for (int i = 0; i < 60; ++i) {
+    bytes += snapshot(a).size();
+    a.step();
+    b.step();
+  }
+  CHECK(bytes > 0);
+  CHECK(state_hash(a) == state_hash(b));
+}
