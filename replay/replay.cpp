@@ -5,6 +5,8 @@
 #include <filesystem>
 
 #include "replay/scene_reader.h"
+#include "replay/snapshot.h"
+#include "replay/state_dump.h"
 #include "replay/state_hash.h"
 
 namespace bitstep {
@@ -218,16 +220,19 @@ void apply_inputs(World& world, const std::vector<Input>& inputs, int64_t step, 
   }
 }
 
-void run_inputs(World& world, const std::vector<Input>& inputs, int64_t steps, std::vector<uint64_t>& hashes) {
+void run_inputs(World& world, const std::vector<Input>& inputs, int64_t steps, std::vector<uint64_t>& hashes,
+                int64_t dump_step, std::string* dump) {
+  if (dump != nullptr && dump_step == 0) *dump = dump_state(world);
   size_t next = 0;
   for (int64_t step = 1; step <= steps; ++step) {
     apply_inputs(world, inputs, step, next);
     world.step();
     hashes.push_back(state_hash(world));
+    if (dump != nullptr && step == dump_step) *dump = dump_state(world);
   }
 }
 
-Verification verify_replay(const Replay& replay) {
+Verification verify_replay(const Replay& replay, int64_t dump_step, std::string* dump) {
   Verification v;
   World world(replay.scene.settings);
   v.built = build_world(replay.scene, world, v.reason);
@@ -235,8 +240,10 @@ Verification verify_replay(const Replay& replay) {
   v.scene_hash = state_hash(world);
   v.scene_matches = v.scene_hash == replay.scene_hash;
   if (!v.scene_matches) return v;
-  run_inputs(world, replay.inputs, replay.steps, v.hashes);
+  run_inputs(world, replay.inputs, replay.steps, v.hashes, dump_step, dump);
   v.divergent_step = first_divergent_step(replay.hashes, v.hashes);
+  const std::vector<uint8_t> image = snapshot(world);
+  for (size_t i = 0; i < 8; ++i) v.snapshot_checksum |= static_cast<uint64_t>(image[image.size() - 8 + i]) << (8 * i);
   return v;
 }
 

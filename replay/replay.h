@@ -65,7 +65,10 @@ void apply_inputs(World& world, const std::vector<Input>& inputs, int64_t step, 
 
 // Runs `steps` steps with the inputs from a world at step 0, appending each
 // step's state hash.
-void run_inputs(World& world, const std::vector<Input>& inputs, int64_t steps, std::vector<uint64_t>& hashes);
+// With `dump` set, the state after step `dump_step` (0: before step 1) is
+// written into it as dump_state's JSON.
+void run_inputs(World& world, const std::vector<Input>& inputs, int64_t steps, std::vector<uint64_t>& hashes,
+                int64_t dump_step = -1, std::string* dump = nullptr);
 
 // Re-runs a replay from its scene and compares every hash.
 struct Verification {
@@ -75,9 +78,10 @@ struct Verification {
   bool scene_matches = false;  // scene_hash equals the recorded one
   int64_t divergent_step = 0;  // first step whose hash differs, 0 when all match
   std::vector<uint64_t> hashes;
+  uint64_t snapshot_checksum = 0;  // of the snapshot image after the last step (the same bytes in every build)
   bool ok() const { return built && scene_matches && divergent_step == 0; }
 };
-Verification verify_replay(const Replay& replay);
+Verification verify_replay(const Replay& replay, int64_t dump_step = -1, std::string* dump = nullptr);
 
 // The replay as JSON text (hashes as 16 hex digits).
 std::string replay_json(const Replay& replay, const std::string& engine_version);

@@ -101,7 +101,10 @@ done
 echo "crosscheck: all ${#builds[@]} builds print $expected"
 echo
 
-# Golden replays: one column per replay, "match" or the first divergent step.
+# Golden replays: one column per replay, "match" or the first divergent step;
+# the snapshot image after the last step must also be the same bytes in every
+# build (its checksum is compared with the first build's).
+declare -A snapshot_of
 header="| build |"; rule="|---|"
 for r in "${replays[@]}"; do
   header+=" $(basename "$r" .replay.json) |"; rule+="---|"
@@ -119,9 +122,15 @@ for b in "${builds[@]}"; do
   row="| $name |"
   for r in "${replays[@]}"; do
     line=$(grep -F "$r " <<<"$results" | head -1 || true)
-    read -r _ verdict detail _ <<<"$line"
+    read -r _ verdict detail checksum <<<"$line"
     case "$verdict" in
-      match) cell=match ;;
+      match)
+        cell=match
+        if [ -z "${snapshot_of[$r]:-}" ]; then
+          snapshot_of[$r]=$checksum
+        elif [ "${snapshot_of[$r]}" != "$checksum" ]; then
+          cell="SNAPSHOT BYTES DIFFER"; failed=1
+        fi ;;
       DIFFERS) cell="DIFFERS ($detail)"; failed=1 ;;
       ERROR) cell="ERROR"; failed=1 ;;
       *)

@@ -22,7 +22,10 @@ constexpr const char* usage =
     "                           run a scene: per-second summary and the final state hash\n"
     "  record SCENE [--inputs FILE] --steps N -o REPLAY\n"
     "                           run a scene with inputs and write a replay with its hash chain\n"
-    "  verify REPLAY...         re-run replays; exit 0 only if every step's hash matches\n"
+    "  verify REPLAY... [--dump-at STEP FILE]\n"
+    "                           re-run replays; exit 0 only if every step's hash matches;\n"
+    "                           --dump-at writes the full state after STEP as exact JSON\n"
+    "  diff DUMP_A DUMP_B       the first body, contact or field where two dumps differ\n"
     "  selftest [--samples N]   fixed-point known-answer hash and accuracy table\n"
     "  bench fixed [--quick]    ns/op of fixed-point operations next to float and double\n"
     "  version                  engine version and build options\n"
@@ -71,6 +74,7 @@ int main(int argc, char** argv) {
   if (command == "run") return bitstep::run_scene_command(argc - 2, argv + 2);
   if (command == "record") return bitstep::record_command(argc - 2, argv + 2, BITSTEP_VERSION);
   if (command == "verify") return bitstep::verify_command(argc - 2, argv + 2);
+  if (command == "diff") return bitstep::diff_command(argc - 2, argv + 2);
   if (command == "selftest") return selftest(argc - 2, argv + 2);
   if (command == "bench" && argc >= 3 && std::string_view(argv[2]) == "fixed") {
     return bitstep::run_bench_fixed(argc - 3, argv + 3);

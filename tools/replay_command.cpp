@@ -9,6 +9,8 @@
 #include <variant>
 
 #include "replay/replay.h"
+#include "tools/file_output.h"
+#include "replay/state_dump.h"
 #include "replay/state_hash.h"
 
 namespace bitstep {
@@ -20,29 +22,6 @@ bool parse_steps(const char* text, int64_t& out) {
   const long long value = std::strtoll(text, &end, 10);
   if (end == text || *end != '\0' || value < 0 || value > 100000000) return false;
   out = value;
-  return true;
-}
-
-// Writes `text` to `path` through a temporary file renamed into place, so a
-// failure never leaves a partial replay behind.
-bool write_file_atomically(const std::string& path, const std::string& text, std::string& reason) {
-  const std::string temporary = path + ".partial";
-  {
-    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
-    if (!file || !file.write(text.data(), static_cast<std::streamsize>(text.size())) || !file.flush()) {
-      reason = "cannot write " + temporary;
-      std::error_code ignored;
-      std::filesystem::remove(temporary, ignored);
-      return false;
-    }
-  }
-  std::error_code error;
-  std::filesystem::rename(temporary, path, error);
-  if (error) {
-    reason = "cannot rename " + temporary + " to " + path + ": " + error.message();
-    std::filesystem::remove(temporary, error);
-    return false;
-  }
   return true;
 }
 
@@ -117,13 +96,30 @@ int record_command(int argc, char** argv, const char* engine_version) {
 }
 
 int verify_command(int argc, char** argv) {
-  if (argc == 0) {
-    fmt::print(stderr, "bitstep verify: usage: bitstep verify REPLAY...\n");
+  std::vector<std::string> paths;
+  int64_t dump_step = -1;
+  std::string dump_path;
+  for (int i = 0; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--dump-at" && i + 2 < argc) {
+      if (!parse_steps(argv[++i], dump_step)) {
+        fmt::print(stderr, "bitstep verify: --dump-at needs a step 0..100000000, got '{}'\n", argv[i]);
+        return 2;
+      }
+      dump_path = argv[++i];
+    } else if (!arg.empty() && arg[0] != '-') {
+      paths.push_back(arg);
+    } else {
+      fmt::print(stderr, "bitstep verify: unknown or incomplete option '{}'\n", arg);
+      return 2;
+    }
+  }
+  if (paths.empty() || (!dump_path.empty() && paths.size() != 1)) {
+    fmt::print(stderr, "bitstep verify: usage: bitstep verify REPLAY... | bitstep verify REPLAY --dump-at STEP FILE\n");
     return 2;
   }
   bool all_match = true;
-  for (int i = 0; i < argc; ++i) {
-    const std::string path = argv[i];
+  for (const std::string& path : paths) {
     auto loaded = load_replay_file(path, true);
     if (const ReplayError* error = std::get_if<ReplayError>(&loaded)) {
       fmt::print(stderr, "bitstep verify: {}\n", error->message());
@@ -131,7 +127,20 @@ int verify_command(int argc, char** argv) {
       continue;
     }
     const Replay& replay = std::get<Replay>(loaded);
-    const Verification v = verify_replay(replay);
+    std::string dump;
+    const Verification v = verify_replay(replay, dump_step, dump_path.empty() ? nullptr : &dump);
+    if (!dump_path.empty()) {
+      std::string reason;
+      if (dump_step > replay.steps) {
+        fmt::print(stderr, "bitstep verify: --dump-at {}: the replay has {} steps\n", dump_step, replay.steps);
+        return 2;
+      }
+      if (!dump.empty() && !write_file_atomically(dump_path, dump, reason)) {
+        fmt::print(stderr, "bitstep verify: {}\n", reason);
+        return 1;
+      }
+      if (!dump.empty()) fmt::print("wrote the state after step {} to {}\n", dump_step, dump_path);
+    }
     if (!v.built) {
       fmt::print(stderr, "bitstep verify: {}: {}\n", path, v.reason);
       all_match = false;
@@ -154,6 +163,29 @@ int verify_command(int argc, char** argv) {
                v.hashes.empty() ? v.scene_hash : v.hashes.back());
   }
   return all_match ? 0 : 1;
+}
+
+int diff_command(int argc, char** argv) {
+  if (argc != 2) {
+    fmt::print(stderr, "bitstep diff: usage: bitstep diff DUMP_A DUMP_B (from bitstep verify --dump-at)\n");
+    return 2;
+  }
+  std::string a, b, reason;
+  if (!read_text_file(argv[0], a, reason) || !read_text_file(argv[1], b, reason)) {
+    fmt::print(stderr, "bitstep diff: {}\n", reason);
+    return 2;
+  }
+  const DumpDifference d = diff_dumps(a, b);
+  if (!d.readable) {
+    fmt::print(stderr, "bitstep diff: {}\n", d.reason);
+    return 2;
+  }
+  if (!d.first) {
+    fmt::print("the states are identical\n");
+    return 0;
+  }
+  fmt::print("first difference: {}\n", *d.first);
+  return 1;
 }
 
 }  // namespace bitstep

@@ -7,11 +7,15 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <span>
 #include <string>
 #include <variant>
 #include <vector>
 
+#include "replay/replay.h"
 #include "replay/scene.h"
+#include "replay/snapshot.h"
+#include "tools/file_output.h"
 #include "replay/state_hash.h"
 
 namespace bitstep {
@@ -24,6 +28,9 @@ struct RunOptions {
   std::string seconds = "10";
   long long hash_every = 0;
   bool json = false;
+  long long snapshot_at = -1;   // write a snapshot after this step
+  std::string snapshot_path;
+  std::string restore_path;     // continue from this snapshot instead of the scene's start
 };
 
 double to_double(Fixed f) { return static_cast<double>(f.raw()) * 0x1p-32; }
@@ -49,6 +56,13 @@ std::string parse_options(int argc, char** argv, RunOptions& o) {
       if (!parse_count(argv[++i], o.hash_every)) {
         return fmt::format("--hash-every needs a non-negative integer, got '{}'", argv[i]);
       }
+    } else if (arg == "--snapshot-at" && i + 2 < argc) {
+      if (!parse_count(argv[++i], o.snapshot_at)) {
+        return fmt::format("--snapshot-at needs a non-negative step, got '{}'", argv[i]);
+      }
+      o.snapshot_path = argv[++i];
+    } else if (arg == "--restore" && has_value) {
+      o.restore_path = argv[++i];
     } else if (!arg.empty() && arg[0] != '-' && o.scene_path.empty()) {
       o.scene_path = arg;
     } else {
@@ -95,11 +109,20 @@ int run_scene_command(int argc, char** argv) {
   }
   const Scene& scene = std::get<Scene>(loaded);
   World world(scene.settings);
-  for (size_t i = 0; i < scene.bodies.size(); ++i) {
-    const CreateResult created = world.create_body(scene.bodies[i].def);
-    if (!created.ok()) {
-      fmt::print(stderr, "bitstep run: {}: body {}: {}: {}\n", options.scene_path, i, created.error.field,
-                 created.error.reason);
+  std::string reason;
+  if (!build_world(scene, world, reason)) {
+    fmt::print(stderr, "bitstep run: {}: {}\n", options.scene_path, reason);
+    return 1;
+  }
+  if (!options.restore_path.empty()) {
+    std::string bytes;
+    if (!read_text_file(options.restore_path, bytes, reason)) {
+      fmt::print(stderr, "bitstep run: {}: {}\n", options.restore_path, reason);
+      return 1;
+    }
+    const std::span<const uint8_t> image(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size());
+    if (const auto error = restore(image, world)) {
+      fmt::print(stderr, "bitstep run: {}: {}\n", options.restore_path, *error);
       return 1;
     }
   }
@@ -132,6 +155,14 @@ int run_scene_command(int argc, char** argv) {
     world.step();
     busy += Clock::now() - began;
     ++steps_in_second;
+    if (step == options.snapshot_at) {
+      const std::vector<uint8_t> image = snapshot(world);
+      if (!write_file_atomically(options.snapshot_path, std::string(image.begin(), image.end()), reason)) {
+        fmt::print(stderr, "bitstep run: {}\n", reason);
+        return 1;
+      }
+      if (!options.json) fmt::print("step {}: snapshot written to {}\n", world.step_count(), options.snapshot_path);
+    }
     if (options.hash_every > 0 && step % options.hash_every == 0) {
       hashes.emplace_back(step, state_hash(world));
       if (!options.json) fmt::print("step {} hash {:016x}\n", step, hashes.back().second);

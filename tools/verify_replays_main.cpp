@@ -1,7 +1,8 @@
 // Standalone golden-replay verifier for tools/crosscheck.sh: built by each
 // compiler and cross compiler from fixed/, core/ and replay/ alone (xxhash
 // inlined, nlohmann header-only, no fmt), it prints one line per replay,
-// "<file> match <steps> <final hash>" or "<file> DIFFERS <where>", and exits
+// "<file> match <final hash> <final snapshot checksum>" or "<file> DIFFERS
+// <where>", and exits
 // 0 only if every replay matches at every step.
 #include <cinttypes>
 #include <cstdio>
@@ -31,8 +32,8 @@ int main(int argc, char** argv) {
       std::printf("%s DIFFERS step-%" PRId64 "\n", argv[i], v.divergent_step);
       status = 1;
     } else {
-      std::printf("%s match %" PRId64 " %016" PRIx64 "\n", argv[i], replay.steps,
-                  v.hashes.empty() ? v.scene_hash : v.hashes.back());
+      std::printf("%s match %016" PRIx64 " %016" PRIx64 "\n", argv[i],
+                  v.hashes.empty() ? v.scene_hash : v.hashes.back(), v.snapshot_checksum);
     }
   }
   return status;

@@ -273,7 +273,7 @@ TEST_CASE("box-box: swapping the boxes flips the normal and keeps the points", "
                           rotation_tolerance);
 }
 
-TEST_CASE("box-box feature ids: identical input gives identical bits; a 1 mm move keeps the ids", "[collide]") {
+TEST_CASE("box-box feature ids: identical input gives identical bits, a 1 mm move keeps the ids", "[collide]") {
   struct Scene {
     const char* name;
     Placed a, b;
@@ -313,7 +313,7 @@ TEST_CASE("box-box feature ids: identical input gives identical bits; a 1 mm mov
   }
 }
 
-TEST_CASE("box on a plane: the bottom corners; on a tilted plane too", "[collide]") {
+TEST_CASE("box on a plane: the bottom corners, on a tilted plane too", "[collide]") {
   const Placed cube = place(cube_shape(0.5_fx), v3({}, 0.5_fx, {}));
   const std::vector<Vec3> corners{v3(0.5_fx, {}, 0.5_fx), v3(-0.5_fx, {}, 0.5_fx), v3(-0.5_fx, {}, -0.5_fx),
                                   v3(0.5_fx, {}, -0.5_fx)};

@@ -184,7 +184,7 @@ TEST_CASE("numbers are exact whatever their spelling and key order", "[scene]") 
   CHECK(first.bodies[3].def.pose.position.y == 0.5_fx - 0.005_fx + Fixed::from_int(2) * (1.0_fx - 0.005_fx));
 }
 
-TEST_CASE("defaults come from the structs; only present keys override", "[scene]") {
+TEST_CASE("defaults come from the structs, only present keys override", "[scene]") {
   const Scene scene = load_ok(scene_text("{" + unit_box + "}", R"("settings": {"dt": "1/240"}, )"));
   Settings expected;
   expected.dt = "1/240"_fx;

@@ -8,22 +8,13 @@
 #include "replay/replay.h"
 #include "replay/snapshot.h"
 #include "replay/state_hash.h"
+#include "tests/replay/test_scenes.h"
 
 using namespace bitstep;
 
 namespace {
 
-const std::string scenes_dir = std::string(BITSTEP_SOURCE_DIR) + "/scenes";
-
-World load_world(const std::string& name) {
-  auto loaded = load_scene_file(scenes_dir + "/" + name);
-  REQUIRE(std::holds_alternative<Scene>(loaded));
-  const Scene& scene = std::get<Scene>(loaded);
-  World world(scene.settings);
-  std::string reason;
-  REQUIRE(build_world(scene, world, reason));
-  return world;
-}
+using bitstep::test::world_of;
 
 World restored_from(const std::vector<uint8_t>& image) {
   World world;
@@ -36,7 +27,7 @@ World restored_from(const std::vector<uint8_t>& image) {
 
 TEST_CASE("snapshot equals real: restored at any step of a contact-dense window, the chain is the same",
           "[snapshot]") {
-  World straight = load_world("thrown.json");
+  World straight = world_of("thrown.json");
   const int first = 30, last = 75, end = 90;  // cubes hitting the pile
   std::vector<uint64_t> chain(end + 1);
   std::vector<std::vector<uint8_t>> images(end + 1);
@@ -59,8 +50,8 @@ TEST_CASE("snapshot equals real: restored at any step of a contact-dense window,
 
 TEST_CASE("rollback: 1,000 rounds of mispredicted inputs, restored and corrected, end bit-equal",
           "[snapshot]") {
-  World straight = load_world("tables.json");
-  World rolled = load_world("tables.json");
+  World straight = world_of("tables.json");
+  World rolled = world_of("tables.json");
   const Vec3 point{Fixed{}, 9.0_fx, Fixed{}};
   for (int round = 0; round < 1000; ++round) {
     // The right input: a small push every 7th step on a table.
@@ -84,10 +75,10 @@ TEST_CASE("rollback: 1,000 rounds of mispredicted inputs, restored and corrected
 }
 
 TEST_CASE("a corrupt, truncated or wrong-version snapshot is refused and the world is untouched", "[snapshot]") {
-  World source = load_world("stack20.json");
+  World source = world_of("stack20.json");
   for (int i = 0; i < 30; ++i) source.step();
   const std::vector<uint8_t> good = snapshot(source);
-  World target = load_world("bounce.json");
+  World target = world_of("bounce.json");
   const uint64_t before = state_hash(target);
 
   auto refused = [&](std::vector<uint8_t> image, const std::string& expected) {
@@ -117,8 +108,8 @@ TEST_CASE("a corrupt, truncated or wrong-version snapshot is refused and the wor
 }
 
 TEST_CASE("snapshotting a world does not change its future", "[snapshot]") {
-  World a = load_world("jenga.json");
-  World b = load_world("jenga.json");
+  World a = world_of("jenga.json");
+  World b = world_of("jenga.json");
   size_t bytes = 0;
   for (int i = 0; i < 60; ++i) {
     bytes += snapshot(a).size();
