@@ -143,10 +143,19 @@ std::variant<Replay, ReplayError> load_replay_file(const std::string& path, bool
     if (const Node* engine = reader.find("engine")) read_string(*engine);
     if (const Node* description = reader.find("description")) read_string(*description);
     Replay replay;
+    // The scene: a file relative to the replay's folder, or inline.
     const Node& scene = reader.require("scene");
-    replay.scene_file = read_string(scene);
-    const std::string scene_path = (std::filesystem::path(path).parent_path() / replay.scene_file).string();
-    auto loaded = load_scene_file(scene_path);
+    std::variant<Scene, SceneError> loaded;
+    if (scene.kind == Kind::object) {
+      replay.inline_scene = json::write(scene);
+      loaded = parse_scene(replay.inline_scene, path);
+      if (SceneError* error = std::get_if<SceneError>(&loaded); error != nullptr && error->path.rfind('$', 0) == 0) {
+        error->path = "$.scene" + error->path.substr(1);
+      }
+    } else {
+      replay.scene_file = read_string(scene);
+      loaded = load_scene_file((std::filesystem::path(path).parent_path() / replay.scene_file).string());
+    }
     if (const SceneError* error = std::get_if<SceneError>(&loaded)) {
       scene_failed = true;
       scene_error = ReplayError{error->file, error->path, error->reason};
@@ -250,7 +259,10 @@ Verification verify_replay(const Replay& replay, int64_t dump_step, std::string*
 std::string replay_json(const Replay& replay, const std::string& engine_version) {
   std::string out = "{\n  \"format\": \"bitstep-replay\",\n  \"version\": 1,\n";
   out += "  \"engine\": " + json::write(Node{Kind::string, false, engine_version, {}, {}, {}}) + ",\n";
-  out += "  \"scene\": " + json::write(Node{Kind::string, false, replay.scene_file, {}, {}, {}}) + ",\n";
+  out += "  \"scene\": ";
+  out += replay.inline_scene.empty() ? json::write(Node{Kind::string, false, replay.scene_file, {}, {}, {}})
+                                     : replay.inline_scene;
+  out += ",\n";
   out += "  \"scene_hash\": \"" + hex(replay.scene_hash) + "\",\n";
   out += "  \"steps\": " + std::to_string(replay.steps) + ",\n";
   out += "  \"inputs\": [";

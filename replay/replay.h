@@ -32,7 +32,8 @@ struct Input {
 };
 
 struct Replay {
-  std::string scene_file;  // as written in the replay: relative to the replay's folder
+  std::string scene_file;    // as written in the replay: relative to the replay's folder
+  std::string inline_scene;  // or the scene itself, as compact JSON (then scene_file is empty)
   Scene scene;
   uint64_t scene_hash = 0;  // state_hash of the scene's world before step 1
   int64_t steps = 0;

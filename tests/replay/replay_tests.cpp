@@ -231,3 +231,28 @@ TEST_CASE("independence: key order and number spelling do not change the chain, 
     REQUIRE(without == dumps_one[i]);
   }
 }
+
+TEST_CASE("a replay may carry its scene inline", "[replay]") {
+  auto golden = load_replay_file(scenes_dir + "/bounce.replay.json", true);
+  REQUIRE(std::holds_alternative<Replay>(golden));
+  Replay replay = std::get<Replay>(golden);
+  // The first 30 steps come before the golden replay's first input.
+  replay.steps = 30;
+  replay.hashes.resize(30);
+  replay.inputs.clear();
+  replay.inline_scene = read_all(scenes_dir + "/bounce.json");
+  const TempFile file("inline_test.replay.json", replay_json(replay, "test"));
+  auto loaded = load_replay_file(file.path, true);
+  if (const ReplayError* error = std::get_if<ReplayError>(&loaded)) FAIL(error->message());
+  CHECK(verify_replay(std::get<Replay>(loaded)).ok());
+
+  std::string broken = read_all(file.path);
+  const std::string radius = "\"half_extents\": [0.5, 0.5, 0.5]";
+  const size_t at = broken.find(radius);
+  REQUIRE(at != std::string::npos);
+  broken.replace(at, radius.size(), "\"half_extents\": [0.5, 0.5, 500]");
+  const TempFile bad("inline_bad_test.replay.json", broken);
+  const std::string message = error_of(bad.path);
+  INFO(message);
+  CHECK(message.find("$.scene.bodies[1].shapes[0].half_extents") != std::string::npos);
+}
