@@ -1,0 +1,34 @@
+// Islands: the groups of dynamic bodies joined by touching contacts (and,
+// later, joints). An island sleeps and wakes as one (issue 5). Static
+// bodies never join: two stacks on one ground are two islands.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/body.h"
+#include "core/contact.h"
+
+namespace bitstep {
+
+inline constexpr uint32_t no_island = UINT32_MAX;
+
+struct Islands {
+  // Per body slot: the island index, or no_island for static, kinematic and
+  // dead slots. Islands are numbered in the order of their lowest slot.
+  std::vector<uint32_t> island_of;
+  // The bodies of island i are members[first[i] .. first[i + 1]), in slot order.
+  std::vector<uint32_t> first;
+  std::vector<uint32_t> members;
+
+  size_t count() const { return first.empty() ? 0 : first.size() - 1; }
+};
+
+// Builds the islands from the contacts that touch: a manifold with a point at
+// depth >= -touch_distance (m) joins its two bodies when both are dynamic.
+// Deterministic: the result depends on slots and contacts only, never on
+// memory addresses or iteration over unordered containers.
+void build_islands(const std::vector<Body>& bodies, const std::vector<Contact>& contacts, Fixed touch_distance,
+                   Islands& islands);
+
+}  // namespace bitstep
