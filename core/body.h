@@ -46,6 +46,7 @@ struct BodyDef {
   Material material;
   Fixed linear_damping;   // 1/s
   Fixed angular_damping;  // 1/s
+  bool asleep = false;    // start asleep (dynamic, at rest): a wall built to stand (first seed)
 };
 
 // What a body is made of, in dense per-slot arrays (structure of records).
@@ -66,6 +67,25 @@ struct Body {
   Fixed linear_damping;
   Fixed angular_damping;
   std::vector<Shape> shapes;      // local poses relative to the centre of mass
+  // Sleep (core/sleep.h). A sleeping body is not integrated, has zero
+  // velocity, and is immovable to the bodies that touch it.
+  bool asleep = false;
+  Fixed sleep_motion;             // m^2/s^2, motion: the recently-weighted average of v.v + w.w
+  uint32_t sleepy_steps = 0;      // steps in a row below sleep_epsilon (motion) or within tolerance (still)
+  Pose sleep_reference;           // still: the pose the body has stayed near
 };
+
+// Moved by the integrator and the solver this step.
+inline bool is_awake_dynamic(const Body& body) {
+  return body.alive && body.type == BodyType::dynamic && !body.asleep;
+}
+
+// Can change its contacts this step: an awake dynamic body or a kinematic one
+// with a velocity. Contacts between bodies that cannot are kept as they are.
+inline bool moves(const Body& body) {
+  if (!body.alive) return false;
+  if (body.type == BodyType::kinematic) return body.linear_velocity != Vec3{} || body.angular_velocity != Vec3{};
+  return is_awake_dynamic(body);
+}
 
 }  // namespace bitstep

@@ -17,7 +17,7 @@ struct BodyPair {
 struct BroadphaseProxy {
   uint32_t body;
   Aabb bounds;
-  bool movable;  // dynamic (later: and awake); pairs of two unmovable bodies are skipped
+  bool movable;  // moves this step (core/body.h moves()); pairs of two unmovable bodies are skipped
 };
 
 // All pairs whose bounds overlap and of which at least one is movable,

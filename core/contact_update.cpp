@@ -1,5 +1,7 @@
 #include "core/contact_update.h"
 
+#include <tuple>
+
 #include "core/collide.h"
 
 namespace bitstep {
@@ -47,12 +49,30 @@ void inherit_impulses(const Manifold& old, Manifold& fresh) {
 
 void update_contacts(const std::vector<Body>& bodies, const std::vector<BodyPair>& pairs, const Settings& settings,
                      std::vector<Contact>& contacts) {
+  // A contact between two bodies that cannot move this step (asleep,
+  // static, kinematic at rest) is kept as it is, with its impulses: the
+  // broadphase reports no pair for it.
+  auto kept = [&](const Contact& c) { return !moves(bodies[c.key.body_a]) && !moves(bodies[c.key.body_b]); };
+  if (pairs.empty()) {
+    std::erase_if(contacts, [&](const Contact& c) { return !kept(c); });
+    return;
+  }
   std::vector<Contact> previous;
   previous.swap(contacts);
+  contacts.reserve(previous.size());
   size_t next_old = 0;  // both lists are sorted by key: one merge walk
+  auto keep_old_before = [&](BodyPair pair) {
+    for (; next_old < previous.size() && std::tie(previous[next_old].key.body_a, previous[next_old].key.body_b) <
+                                             std::tie(pair.a, pair.b);
+         ++next_old) {
+      if (kept(previous[next_old])) contacts.push_back(previous[next_old]);
+    }
+  };
   for (const BodyPair& pair : pairs) {
     const Body& a = bodies[pair.a];
     const Body& b = bodies[pair.b];
+    if (a.type != BodyType::dynamic && b.type != BodyType::dynamic) continue;  // a moving kinematic body
+    keep_old_before(pair);
     // Contacts are kept this far apart: the speculative distance plus how
     // far the two bodies close in on each other this step (linear motion),
     // so a fast body meets its contact one step early instead of one step deep.
@@ -71,6 +91,7 @@ void update_contacts(const std::vector<Body>& bodies, const std::vector<BodyPair
       }
     }
   }
+  keep_old_before({UINT32_MAX, UINT32_MAX});
 }
 
 }  // namespace bitstep

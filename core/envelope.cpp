@@ -65,6 +65,10 @@ EnvelopeError check_envelope(const BodyDef& def) {
   };
   if (faster_than(def.linear_velocity, envelope::max_linear_speed)) return {"velocity", -1, "faster than 500 m/s"};
   if (faster_than(def.angular_velocity, envelope::max_angular_speed)) return {"angular_velocity", -1, "faster than 100 rad/s"};
+  if (def.asleep && def.type != BodyType::dynamic) return {"asleep", -1, "only a dynamic body sleeps"};
+  if (def.asleep && (def.linear_velocity != Vec3{} || def.angular_velocity != Vec3{})) {
+    return {"asleep", -1, "a sleeping body has no velocity"};
+  }
   return {};
 }
 

@@ -16,19 +16,22 @@ Fixed damping_factor(Fixed dt, Fixed damping) { return Fixed::one() / (Fixed::on
 
 }  // namespace
 
-void integrate_velocities(const Settings& settings, std::vector<Body>& bodies) {
+void integrate_velocity(const Settings& settings, Body& body) {
   const Fixed dt = settings.dt;
+  const Mat33 r = rotation(body.pose.orientation);
+  body.inverse_inertia_world = r * body.inverse_inertia_local * transpose(r);
+  body.linear_velocity += (settings.gravity + body.force * body.inverse_mass) * dt;
+  body.angular_velocity += body.inverse_inertia_world * body.torque * dt;
+  if (body.linear_damping > Fixed{}) body.linear_velocity *= damping_factor(dt, body.linear_damping);
+  if (body.angular_damping > Fixed{}) body.angular_velocity *= damping_factor(dt, body.angular_damping);
+  body.linear_velocity = clamp_length(body.linear_velocity, settings.max_linear_speed);
+  body.angular_velocity = clamp_length(body.angular_velocity, settings.max_angular_speed);
+  body.force = body.torque = Vec3{};
+}
+
+void integrate_velocities(const Settings& settings, std::vector<Body>& bodies) {
   for (Body& body : bodies) {
-    if (!body.alive || body.type != BodyType::dynamic) continue;
-    const Mat33 r = rotation(body.pose.orientation);
-    body.inverse_inertia_world = r * body.inverse_inertia_local * transpose(r);
-    body.linear_velocity += (settings.gravity + body.force * body.inverse_mass) * dt;
-    body.angular_velocity += body.inverse_inertia_world * body.torque * dt;
-    if (body.linear_damping > Fixed{}) body.linear_velocity *= damping_factor(dt, body.linear_damping);
-    if (body.angular_damping > Fixed{}) body.angular_velocity *= damping_factor(dt, body.angular_damping);
-    body.linear_velocity = clamp_length(body.linear_velocity, settings.max_linear_speed);
-    body.angular_velocity = clamp_length(body.angular_velocity, settings.max_angular_speed);
-    body.force = body.torque = Vec3{};
+    if (is_awake_dynamic(body)) integrate_velocity(settings, body);
   }
 }
 
@@ -43,7 +46,7 @@ void integrate_positions(const Settings& settings, std::vector<Body>& bodies, co
   }
   for (size_t i = 0; i < bodies.size(); ++i) {
     Body& body = bodies[i];
-    if (!body.alive || body.type == BodyType::static_body) continue;
+    if (!body.alive || body.type == BodyType::static_body || body.asleep) continue;
     const bool pushed = i < push.linear.size();
     const Vec3 v = clamp_length(body.linear_velocity, settings.max_linear_speed);
     const Vec3 w = clamp_length(body.angular_velocity, settings.max_angular_speed);

@@ -11,7 +11,9 @@ namespace bitstep {
 
 // v += dt (g + F / m), w += dt I^-1 tau, damping, then the envelope's speed
 // clamps; forces are cleared. Refreshes the world inverse inertia R I^-1 R^T.
+// Sleeping bodies are skipped; integrate_velocity is one awake dynamic body.
 void integrate_velocities(const Settings& settings, std::vector<Body>& bodies);
+void integrate_velocity(const Settings& settings, Body& body);
 
 // x += dt (v + v_push) for bodies with contact points, x += dt (v_start + v) / 2
 // for bodies in free flight (exact under constant force; v_start is the

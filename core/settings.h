@@ -2,6 +2,8 @@
 // override any of them (replay/ maps the JSON keys of "settings" here).
 #pragma once
 
+#include <cstdint>
+
 #include "fixed/decimal.h"
 #include "fixed/vec3.h"
 
@@ -20,6 +22,13 @@ inline constexpr Fixed max_linear_speed = 500.0_fx;  // m/s
 inline constexpr Fixed max_angular_speed = 100.0_fx; // rad/s
 }  // namespace envelope
 
+// How bodies fall asleep (core/sleep.h). Off: no sleep bookkeeping at all.
+enum class SleepMethod : uint8_t {
+  off,
+  motion,  // first seed: a recently-weighted average of v.v + w.w stays below sleep_epsilon
+  still,   // second seed: the pose stays within tolerances of a reference pose for sleep_time
+};
+
 struct Settings {
   Fixed dt = "1/60"_fx;                              // s, the fixed time step
   Vec3 gravity{Fixed{}, -9.81_fx, Fixed{}};          // m/s^2
@@ -37,6 +46,15 @@ struct Settings {
   bool warm_starting = true;                         // start each step from last step's impulses
   bool shock_propagation = true;                     // second seed: a last pass upward from the ground, lower bodies immovable
   int shock_iterations = 2;                          // passes over each support level in the shock step
+  SleepMethod sleep_method = SleepMethod::off;       // islands at rest stop costing anything
+  Fixed sleep_epsilon = 0.05_fx;                     // m^2/s^2 (v.v + w.w), motion: sleepy below it, wakes a
+                                                     // sleeping body it touches above 2x, capped at 10x
+  Fixed sleep_bias = 0.96_fx;                        // 1, motion: rwa = bias rwa + (1 - bias) (v.v + w.w) per step
+  Fixed sleep_min_time = 0.5_fx;                     // s, motion: sleepy this long before the island may sleep
+  Fixed sleep_time = 1.0_fx;                         // s, still: within tolerance this long; velocities ramp
+                                                     // to zero over its second half
+  Fixed sleep_linear_tolerance = 0.01_fx;            // m, still: distance from the reference position
+  Fixed sleep_angular_tolerance = 0.02_fx;           // rad, still: rotation from the reference orientation
 };
 
 

@@ -122,6 +122,7 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
   std::vector<SolverBody>& solver_bodies = scratch.bodies;
   const std::vector<PointRow>& rows = scratch.rows;
   const std::vector<ManifoldRow>& manifold_rows = scratch.manifolds;
+  if (manifold_rows.empty()) return;  // nothing awake touches anything
   std::vector<uint32_t>& level = scratch.levels;
   support_levels(bodies, contacts, settings.gravity, level);
   // Manifolds between supported bodies, by (level of the higher body,

@@ -65,7 +65,7 @@ void gather_bodies(const std::vector<Body>& bodies, std::vector<SolverBody>& out
   out.assign(bodies.size(), SolverBody{});
   for (size_t i = 0; i < bodies.size(); ++i) {
     const Body& body = bodies[i];
-    if (!body.alive) continue;
+    if (!body.alive || body.asleep) continue;  // a sleeping body is immovable: zero inverse mass
     out[i] = {{body.linear_velocity, body.angular_velocity}, {}, body.inverse_mass, body.inverse_inertia_world};
   }
 }
@@ -81,6 +81,7 @@ void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
     const uint32_t ia = contact.key.body_a, ib = contact.key.body_b;
     const Body& body_a = bodies[ia];
     const Body& body_b = bodies[ib];
+    if (!is_awake_dynamic(body_a) && !is_awake_dynamic(body_b)) continue;  // asleep: kept, not solved
     const SolverBody& a = solver_bodies[ia];
     const SolverBody& b = solver_bodies[ib];
     Manifold& m = contact.manifold;
@@ -223,7 +224,7 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
   push.angular.assign(bodies.size(), Vec3{});
   for (size_t i = 0; i < bodies.size(); ++i) {
     Body& body = bodies[i];
-    if (!body.alive || body.type != BodyType::dynamic) continue;
+    if (!is_awake_dynamic(body)) continue;
     body.linear_velocity = solver_bodies[i].velocity.linear;
     body.angular_velocity = solver_bodies[i].velocity.angular;
     push.linear[i] = solver_bodies[i].push.linear;

@@ -33,7 +33,7 @@ void support_levels(const std::vector<Body>& bodies, const std::vector<Contact>&
 
   std::vector<uint32_t> queue;
   for (uint32_t i = 0; i < bodies.size(); ++i) {
-    if (bodies[i].alive && bodies[i].type != BodyType::dynamic) {
+    if (bodies[i].alive && !is_awake_dynamic(bodies[i])) {  // static, kinematic or asleep
       level[i] = 0;
       queue.push_back(i);
     }
@@ -42,7 +42,7 @@ void support_levels(const std::vector<Body>& bodies, const std::vector<Contact>&
     const uint32_t from = queue[head];
     for (uint32_t k = first[from]; k < first[from + 1]; ++k) {
       const uint32_t to = supported[k];
-      if (level[to] != not_supported || bodies[to].type != BodyType::dynamic) continue;
+      if (level[to] != not_supported || !is_awake_dynamic(bodies[to])) continue;
       level[to] = level[from] + 1;
       queue.push_back(to);
     }

@@ -8,6 +8,19 @@
 
 namespace bitstep {
 
+namespace {
+
+// The bounds of all of a body's shapes.
+Aabb body_bounds(const Body& body) {
+  Aabb bounds = shape_aabb({&body.shapes[0], compose(body.pose, body.shapes[0].local)});
+  for (size_t s = 1; s < body.shapes.size(); ++s) {
+    bounds = bounds.merged(shape_aabb({&body.shapes[s], compose(body.pose, body.shapes[s].local)}));
+  }
+  return bounds;
+}
+
+}  // namespace
+
 World::World(const Settings& settings) : settings_(settings) {}
 
 World World::from_state(const Settings& settings, uint64_t step_count, std::vector<Body> bodies,
@@ -35,6 +48,7 @@ CreateResult World::create_body(const BodyDef& def) {
   body.linear_damping = def.linear_damping;
   body.angular_damping = def.angular_damping;
   body.shapes = def.shapes;
+  body.asleep = def.asleep && settings_.sleep_method != SleepMethod::off;
   if (def.type == BodyType::dynamic) {
     // A given mass scales the density: rho = m / V.
     Fixed density = def.density;
@@ -70,6 +84,16 @@ CreateResult World::create_body(const BodyDef& def) {
     bodies_.push_back(std::move(body));
   }
   result.id = {index, bodies_[index].generation};
+  reset_sleep(settings_, bodies_[index]);
+  if (settings_.sleep_method != SleepMethod::off && !bodies_[index].asleep) {
+    // A spawn touching sleeping bodies wakes their islands.
+    const Aabb reach = body_bounds(bodies_[index]).expanded(settings_.speculative_distance);
+    std::vector<uint32_t> touched;
+    for (uint32_t i = 0; i < bodies_.size(); ++i) {
+      if (bodies_[i].alive && bodies_[i].asleep && body_bounds(bodies_[i]).overlaps(reach)) touched.push_back(i);
+    }
+    wake_islands_of(touched);
+  }
   return result;
 }
 
@@ -83,21 +107,31 @@ bool World::remove_body(BodyId id) {
   body.alive = false;
   body.shapes.clear();
   free_slots_.push_back(id.index);
+  // Sleeping bodies it touched lose a support: they wake (their islands
+  // through them), in time to fall in the next step.
+  std::vector<uint32_t> touched;
+  for (const Contact& c : contacts_) {
+    if (c.key.body_a == id.index && bodies_[c.key.body_b].asleep) touched.push_back(c.key.body_b);
+    if (c.key.body_b == id.index && bodies_[c.key.body_a].asleep) touched.push_back(c.key.body_a);
+  }
   // Contacts of the removed body go now, so a new body in this slot does not inherit them.
   std::erase_if(contacts_, [&](const Contact& c) { return c.key.body_a == id.index || c.key.body_b == id.index; });
+  wake_islands_of(touched);
   return true;
 }
 
 void World::apply_impulse(BodyId id, Vec3 impulse, Vec3 world_point) {
   if (!is_alive(id)) return;
+  if (bodies_[id.index].type != BodyType::dynamic) return;
+  wake_if_asleep(id.index);
   Body& body = bodies_[id.index];
-  if (body.type != BodyType::dynamic) return;
   body.linear_velocity += impulse * body.inverse_mass;
   body.angular_velocity += body.inverse_inertia_world * cross(world_point - body.pose.position, impulse);
 }
 
 void World::apply_force(BodyId id, Vec3 force, Vec3 world_point) {
   if (!is_alive(id)) return;
+  wake_if_asleep(id.index);
   Body& body = bodies_[id.index];
   body.force += force;
   body.torque += cross(world_point - body.pose.position, force);
@@ -107,8 +141,22 @@ void World::set_velocity(BodyId id, Vec3 linear, Vec3 angular) {
   if (!is_alive(id)) return;
   Body& body = bodies_[id.index];
   if (body.type == BodyType::static_body) return;
+  wake_if_asleep(id.index);
   body.linear_velocity = linear;
   body.angular_velocity = angular;
+}
+
+void World::wake(BodyId id) {
+  if (is_alive(id)) wake_if_asleep(id.index);
+}
+
+void World::wake_if_asleep(uint32_t slot) {
+  if (bodies_[slot].asleep) wake_islands_of({slot});
+}
+
+void World::wake_islands_of(const std::vector<uint32_t>& slots) {
+  if (settings_.sleep_method == SleepMethod::off) return;
+  bitstep::wake_islands_of(settings_, bodies_, contacts_, slots);
 }
 
 void World::step() {
@@ -117,8 +165,11 @@ void World::step() {
   for (size_t i = 0; i < bodies_.size(); ++i) start[i] = {bodies_[i].linear_velocity, bodies_[i].angular_velocity};
   bitstep::integrate_velocities(settings_, bodies_);
   find_contacts();
+  const bool sleeping = settings_.sleep_method != SleepMethod::off;
+  if (sleeping) wake_islands(settings_, bodies_, contacts_, sleep_scratch_);
   solve_contacts();
   bitstep::integrate_positions(settings_, bodies_, push_, solver_scratch_.start_velocities, contacts_, touching_);
+  if (sleeping) sleep_islands(settings_, bodies_, sleep_scratch_);
   ++step_count_;
 }
 
@@ -127,13 +178,9 @@ void World::find_contacts() {
   for (uint32_t i = 0; i < bodies_.size(); ++i) {
     const Body& body = bodies_[i];
     if (!body.alive) continue;
-    Aabb bounds = shape_aabb({&body.shapes[0], compose(body.pose, body.shapes[0].local)});
-    for (size_t s = 1; s < body.shapes.size(); ++s) {
-      bounds = bounds.merged(shape_aabb({&body.shapes[s], compose(body.pose, body.shapes[s].local)}));
-    }
     // Grown by the speculative distance and this step's motion (contact_update.cpp).
     const Fixed margin = settings_.speculative_distance + length(body.linear_velocity) * settings_.dt;
-    proxies_.push_back({i, bounds.expanded(margin), body.type == BodyType::dynamic});
+    proxies_.push_back({i, body_bounds(body).expanded(margin), moves(body)});
   }
   find_pairs(proxies_, pairs_);
   update_contacts(bodies_, pairs_, settings_, contacts_);
@@ -145,6 +192,10 @@ StepStats World::stats() const {
   StepStats s;
   for (const Body& body : bodies_) {
     if (!body.alive || body.type != BodyType::dynamic) continue;
+    if (body.asleep) {
+      ++s.sleeping_bodies;
+      continue;
+    }
     ++s.awake_bodies;
     // 1/2 m v^2 + 1/2 w . I w, the rotational part in body axes.
     const Fixed mass = Fixed::one() / body.inverse_mass;

@@ -9,13 +9,15 @@
 #include "core/contact.h"
 #include "core/envelope.h"
 #include "core/settings.h"
+#include "core/sleep.h"
 #include "core/solver.h"
 
 namespace bitstep {
 
 // Per-step figures for reports (bitstep run).
 struct StepStats {
-  int awake_bodies = 0;
+  int awake_bodies = 0;     // dynamic bodies awake
+  int sleeping_bodies = 0;
   int contact_points = 0;
   Fixed max_penetration;  // m
   Fixed kinetic_energy;   // J (saturates beyond 2^31 J)
@@ -47,6 +49,8 @@ class World {
   void apply_impulse(BodyId id, Vec3 impulse, Vec3 world_point);
   void apply_force(BodyId id, Vec3 force, Vec3 world_point);
   void set_velocity(BodyId id, Vec3 linear, Vec3 angular);
+  // Wakes the body's island (no-op when it is awake or sleep is off).
+  void wake(BodyId id);
 
   const Settings& settings() const { return settings_; }
   uint64_t step_count() const { return step_count_; }
@@ -62,6 +66,8 @@ class World {
  private:
   void find_contacts();
   void solve_contacts();
+  void wake_islands_of(const std::vector<uint32_t>& slots);
+  void wake_if_asleep(uint32_t slot);
 
   Settings settings_;
   uint64_t step_count_ = 0;
@@ -74,6 +80,7 @@ class World {
   PushVelocities push_;
   SolverScratch solver_scratch_;
   std::vector<uint8_t> touching_;
+  SleepScratch sleep_scratch_;
 };
 
 }  // namespace bitstep
