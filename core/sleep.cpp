@@ -1,5 +1,7 @@
 #include "core/sleep.h"
 
+#include <algorithm>
+
 #include "core/integrate.h"
 
 namespace bitstep {
@@ -11,10 +13,11 @@ constexpr uint8_t island_has_sleeper = 2;  // holds a sleeping body
 constexpr uint8_t island_woken = 4;        // woken this step: stays awake until the next
 constexpr uint8_t island_touched = 8;      // a body fast enough to wake it touches it
 
-// Steps that make up `time` (s), at least one: round(time / dt).
+// Steps that make up `time` (s), at least one: round(time / dt), exact on
+// the raw values (both positive and below 2^62).
 uint32_t steps_for(Fixed time, Fixed dt) {
-  const Fixed steps = round(time / dt);
-  return steps < Fixed::one() ? 1u : static_cast<uint32_t>(steps.raw() >> 32);
+  const int64_t steps = (time.raw() + dt.raw() / 2) / dt.raw();
+  return static_cast<uint32_t>(std::clamp<int64_t>(steps, 1, INT32_MAX));
 }
 
 // v.v + w.w (m^2/s^2 and rad^2/s^2 added as numbers, as the first seed does).

@@ -24,6 +24,7 @@ SceneBody dynamic_body(std::string name, Vec3 position, std::vector<Shape> shape
   body.def.shapes = std::move(shapes);
   body.def.density = substance.density;
   body.def.material = substance.material;
+  body.def.asleep = substance.asleep;
   return body;
 }
 

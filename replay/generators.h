@@ -18,6 +18,7 @@ namespace bitstep {
 struct Substance {
   Material material;
   Fixed density = 1000.0_fx;  // kg/m^3
+  bool asleep = false;        // start asleep (when the scene's sleep is on)
 };
 
 // Boxes one on another, centred over `position` (the middle of the bottom

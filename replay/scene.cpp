@@ -43,6 +43,17 @@ Settings read_settings(const Node& node) {
   read_optional(reader, "warm_starting", s.warm_starting);
   read_optional(reader, "shock_propagation", s.shock_propagation);
   read_optional(reader, "shock_iterations", s.shock_iterations, 1, 1000);
+  if (const Node* sleep = reader.find("sleep")) {
+    static constexpr SleepMethod methods[] = {SleepMethod::off, SleepMethod::motion, SleepMethod::still};
+    s.sleep_method = methods[read_choice(*sleep, {"off", "motion", "still"})];
+  }
+  // Bounded so that 10 epsilon and time / dt stay inside Q32.32.
+  read_optional_within(reader, "sleep_epsilon", s.sleep_epsilon, 0.0_fx, 1000.0_fx, "m^2/s^2");
+  read_optional(reader, "sleep_bias", s.sleep_bias, Bound::unit_interval);
+  read_optional_within(reader, "sleep_min_time", s.sleep_min_time, 0.0_fx, 1000.0_fx, "s");
+  read_optional_within(reader, "sleep_time", s.sleep_time, 0.0_fx, 1000.0_fx, "s");
+  read_optional_within(reader, "sleep_linear_tolerance", s.sleep_linear_tolerance, 0.0_fx, 1000.0_fx, "m");
+  read_optional_within(reader, "sleep_angular_tolerance", s.sleep_angular_tolerance, 0.0_fx, 4.0_fx, "rad");
   reader.finish();
   return s;
 }
@@ -111,6 +122,7 @@ SceneBody read_body(const Node& node, const MaterialTable& materials) {
   if (const Node* material = reader.find("material")) def.material = read_material(*material, materials);
   read_optional(reader, "linear_damping", def.linear_damping, Bound::non_negative);
   read_optional(reader, "angular_damping", def.angular_damping, Bound::non_negative);
+  read_optional(reader, "asleep", def.asleep);
   const Node& shapes = reader.require("shapes");
   if (shapes.kind != Kind::array) fail(shapes, std::string("expected an array of shapes, got ") + json::describe(shapes.kind));
   for (const Node& shape : shapes.children) def.shapes.push_back(read_shape(shape));
@@ -141,6 +153,7 @@ void read_common(ObjectReader& reader, const MaterialTable& materials, std::stri
   if (const Node* n = reader.find("name")) name = read_string(*n);
   if (const Node* material = reader.find("material")) substance.material = read_material(*material, materials);
   read_optional(reader, "density", substance.density, Bound::positive);
+  read_optional(reader, "asleep", substance.asleep);
 }
 
 // An overlap must leave boxes with positive height: below the half height.

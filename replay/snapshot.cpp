@@ -86,16 +86,23 @@ Settings read_settings(Reader& r) {
                    &s.restitution_threshold, &s.speculative_distance, &s.max_linear_speed, &s.max_angular_speed}) {
     *f = r.fixed();
   }
-  const uint8_t flags = static_cast<uint8_t>(r.within(r.u8(), 0, 7, "settings flags"));
+  const uint8_t flags = static_cast<uint8_t>(r.within(r.u8(), 0, 15, "settings flags"));
   s.baumgarte = (flags & 1) != 0;
   s.warm_starting = (flags & 2) != 0;
   s.shock_propagation = (flags & 4) != 0;
   s.shock_iterations = static_cast<int>(r.within(r.u32(), 1, max_iterations, "shock_iterations"));
+  if ((flags & 8) != 0) {
+    s.sleep_method = static_cast<SleepMethod>(r.within(r.u8(), 1, 2, "sleep method"));
+    for (Fixed* f : {&s.sleep_epsilon, &s.sleep_bias, &s.sleep_min_time, &s.sleep_time, &s.sleep_linear_tolerance,
+                     &s.sleep_angular_tolerance}) {
+      *f = r.fixed();
+    }
+  }
   if (s.dt <= Fixed{}) r.fail("dt not positive");
   return s;
 }
 
-Body read_body(Reader& r) {
+Body read_body(Reader& r, bool sleep) {
   Body body;
   body.alive = r.within(r.u8(), 0, 1, "alive flag") == 1;
   body.generation = r.u32();
@@ -116,6 +123,14 @@ Body read_body(Reader& r) {
   body.material.restitution = r.fixed();
   body.linear_damping = r.fixed();
   body.angular_damping = r.fixed();
+  if (sleep) {
+    body.asleep = r.within(r.u8(), 0, 1, "asleep flag") == 1;
+    if (body.asleep && body.type != BodyType::dynamic) r.fail("only a dynamic body sleeps");
+    body.sleep_motion = r.fixed();
+    body.sleepy_steps = r.u32();
+    body.sleep_reference.position = r.vec();
+    body.sleep_reference.orientation = r.quat();
+  }
   const uint32_t shapes = r.count(1 + 8 * 12, "shapes");
   if (shapes == 0 || shapes > UINT16_MAX) r.fail("a body needs 1..65535 shapes");
   for (uint32_t i = 0; i < shapes; ++i) {
@@ -136,7 +151,7 @@ World read_world(std::span<const uint8_t> payload) {
   const uint64_t step_count = r.u64();
   const Settings settings = read_settings(r);
   std::vector<Body> bodies(r.count(5, "bodies"));
-  for (Body& body : bodies) body = read_body(r);
+  for (Body& body : bodies) body = read_body(r, settings.sleep_method != SleepMethod::off);
 
   // Free slots: exactly the dead slots, each once.
   std::vector<uint32_t> free_slots(r.count(4, "free slots"));

@@ -96,6 +96,13 @@ std::string dump_state(const World& world) {
       o.field("inverse_mass", num(b.inverse_mass));
       o.field("inverse_inertia_world", mat(b.inverse_inertia_world));
       o.field("shapes", std::to_string(b.shapes.size()));
+      if (world.settings().sleep_method != SleepMethod::off) {
+        o.field("asleep", b.asleep ? "true" : "false");
+        o.field("sleep_motion", num(b.sleep_motion));
+        o.field("sleepy_steps", std::to_string(b.sleepy_steps));
+        o.field("sleep_reference", "{\"position\": " + vec(b.sleep_reference.position) +
+                                       ", \"orientation\": " + quat(b.sleep_reference.orientation) + "}");
+      }
     }
     o.close();
   }

@@ -44,8 +44,19 @@ void serialize_state(const World& world, std::vector<uint8_t>& out) {
                   s.restitution_threshold, s.speculative_distance, s.max_linear_speed, s.max_angular_speed}) {
     w.fixed(f);
   }
-  w.u8(static_cast<uint8_t>((s.baumgarte ? 1 : 0) | (s.warm_starting ? 2 : 0) | (s.shock_propagation ? 4 : 0)));
+  // Sleep adds its block only when on (flag 8), so a world without sleep
+  // serialises as it did before sleep existed.
+  const bool sleep = s.sleep_method != SleepMethod::off;
+  w.u8(static_cast<uint8_t>((s.baumgarte ? 1 : 0) | (s.warm_starting ? 2 : 0) | (s.shock_propagation ? 4 : 0) |
+                            (sleep ? 8 : 0)));
   w.u32(static_cast<uint32_t>(s.shock_iterations));
+  if (sleep) {
+    w.u8(static_cast<uint8_t>(s.sleep_method));
+    for (Fixed f : {s.sleep_epsilon, s.sleep_bias, s.sleep_min_time, s.sleep_time, s.sleep_linear_tolerance,
+                    s.sleep_angular_tolerance}) {
+      w.fixed(f);
+    }
+  }
   w.u32(static_cast<uint32_t>(world.bodies().size()));
   for (const Body& body : world.bodies()) {
     w.u8(body.alive ? 1 : 0);
@@ -70,6 +81,13 @@ void serialize_state(const World& world, std::vector<uint8_t>& out) {
     w.fixed(body.material.restitution);
     w.fixed(body.linear_damping);
     w.fixed(body.angular_damping);
+    if (sleep) {
+      w.u8(body.asleep ? 1 : 0);
+      w.fixed(body.sleep_motion);
+      w.u32(body.sleepy_steps);
+      w.vec(body.sleep_reference.position);
+      w.quat(body.sleep_reference.orientation);
+    }
     w.u32(static_cast<uint32_t>(body.shapes.size()));
     for (const Shape& shape : body.shapes) {
       w.u8(static_cast<uint8_t>(shape.type));
