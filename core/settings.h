@@ -53,8 +53,8 @@ struct Settings {
   Fixed sleep_min_time = 0.5_fx;                     // s, motion: sleepy this long before the island may sleep
   Fixed sleep_time = 1.0_fx;                         // s, still: within tolerance this long; velocities ramp
                                                      // to zero over its second half
-  Fixed sleep_linear_tolerance = 0.01_fx;            // m, still: distance from the reference position
-  Fixed sleep_angular_tolerance = 0.02_fx;           // rad, still: rotation from the reference orientation
+  Fixed sleep_linear_tolerance = 0.05_fx;            // m, still: distance from the reference position
+  Fixed sleep_angular_tolerance = 0.1_fx;            // rad, still: rotation from the reference orientation
 };
 
 

@@ -30,12 +30,32 @@ bool touching(const Manifold& m, Fixed touch_distance) {
   return false;
 }
 
-// Does awake body `toucher`, in contact with a sleeping body, wake it?
-bool wakes_on_touch(const Settings& settings, const Body& toucher) {
+// The fastest speed (m/s) at which `toucher` closes in on the sleeping body
+// of contact m at one of its points; `normal` points from the toucher to it.
+Fixed closing_speed(const Body& toucher, const Manifold& m, Vec3 normal) {
+  Fixed fastest = Fixed::lowest();
+  for (int i = 0; i < m.point_count; ++i) {
+    const Vec3 r = m.points[static_cast<size_t>(i)].position - toucher.pose.position;
+    fastest = max(fastest, dot(toucher.linear_velocity + cross(toucher.angular_velocity, r), normal));
+  }
+  return fastest;
+}
+
+// Does awake body `toucher`, in contact m with a sleeping body, wake it?
+// A speculative contact counts when the toucher closes in. motion: the
+// toucher's v.v + w.w exceeds 2 epsilon (first seed). still: it closes in
+// faster than the tolerance per sleep time, or touches and has just left
+// its own tolerance (a body sliding along the sleeper).
+bool wakes_on_touch(const Settings& settings, const Body& toucher, const Manifold& m, Vec3 normal) {
   if (toucher.type == BodyType::kinematic) return moves(toucher);
   if (!is_awake_dynamic(toucher)) return false;
-  if (settings.sleep_method == SleepMethod::motion) return motion_of(toucher) > settings.sleep_epsilon * 2.0_fx;
-  return true;
+  const bool touches = touching(m, settings.penetration_slop);
+  const Fixed closing = closing_speed(toucher, m, normal);
+  if (settings.sleep_method == SleepMethod::motion) {
+    return motion_of(toucher) > settings.sleep_epsilon * 2.0_fx && (touches || closing > Fixed{});
+  }
+  const Fixed slow = settings.sleep_linear_tolerance / max(settings.sleep_time, settings.dt);
+  return closing > slow || (touches && toucher.sleepy_steps == 0);
 }
 
 void wake(const Settings& settings, Body& body) {
@@ -122,8 +142,9 @@ int wake_islands(const Settings& settings, std::vector<Body>& bodies, const std:
     if (holds_b && island_a != no_island && touching(c.manifold, touch_distance)) flags[island_a] |= island_supported;
     // A body touching a sleeping one (a speculative contact counts: it is
     // closing in this step).
-    if (b.asleep && island_b != no_island && wakes_on_touch(settings, a)) flags[island_b] |= island_touched;
-    if (a.asleep && island_a != no_island && wakes_on_touch(settings, b)) flags[island_a] |= island_touched;
+    const Vec3 n = c.manifold.normal;  // from a to b
+    if (b.asleep && wakes_on_touch(settings, a, c.manifold, n)) flags[island_b] |= island_touched;
+    if (a.asleep && wakes_on_touch(settings, b, c.manifold, -n)) flags[island_a] |= island_touched;
   }
   int woken = 0;
   for (size_t k = 0; k < islands.count(); ++k) {
