@@ -88,4 +88,9 @@ inline bool moves(const Body& body) {
   return is_awake_dynamic(body);
 }
 
+// Its contacts are found this step: it moves, or it was created asleep and
+// has not had its contacts found yet (sleepy_steps 0: a body that falls
+// asleep has counted at least one sleepy step).
+inline bool needs_contacts(const Body& body) { return moves(body) || (body.asleep && body.sleepy_steps == 0); }
+
 }  // namespace bitstep

@@ -17,7 +17,7 @@ struct BodyPair {
 struct BroadphaseProxy {
   uint32_t body;
   Aabb bounds;
-  bool movable;  // moves this step (core/body.h moves()); pairs of two unmovable bodies are skipped
+  bool movable;  // its contacts are found this step (core/body.h needs_contacts()); pairs of two unmovable bodies are skipped
 };
 
 // All pairs whose bounds overlap and of which at least one is movable,

@@ -52,7 +52,9 @@ void update_contacts(const std::vector<Body>& bodies, const std::vector<BodyPair
   // A contact between two bodies that cannot move this step (asleep,
   // static, kinematic at rest) is kept as it is, with its impulses: the
   // broadphase reports no pair for it.
-  auto kept = [&](const Contact& c) { return !moves(bodies[c.key.body_a]) && !moves(bodies[c.key.body_b]); };
+  auto kept = [&](const Contact& c) {
+    return !needs_contacts(bodies[c.key.body_a]) && !needs_contacts(bodies[c.key.body_b]);
+  };
   if (pairs.empty()) {
     std::erase_if(contacts, [&](const Contact& c) { return !kept(c); });
     return;

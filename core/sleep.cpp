@@ -125,6 +125,9 @@ int wake_islands(const Settings& settings, std::vector<Body>& bodies, const std:
   const Fixed touch_distance = settings.penetration_slop;
   Islands& islands = scratch.islands;
   build_islands(bodies, contacts, touch_distance, islands);
+  for (Body& body : bodies) {
+    if (body.asleep && body.sleepy_steps == 0) body.sleepy_steps = 1;  // created asleep: its contacts are found now
+  }
   std::vector<uint8_t>& flags = scratch.island_flags;
   flags.assign(islands.count(), 0);
   for (uint32_t i = 0; i < bodies.size(); ++i) {

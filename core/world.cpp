@@ -180,7 +180,7 @@ void World::find_contacts() {
     if (!body.alive) continue;
     // Grown by the speculative distance and this step's motion (contact_update.cpp).
     const Fixed margin = settings_.speculative_distance + length(body.linear_velocity) * settings_.dt;
-    proxies_.push_back({i, body_bounds(body).expanded(margin), moves(body)});
+    proxies_.push_back({i, body_bounds(body).expanded(margin), needs_contacts(body)});
   }
   find_pairs(proxies_, pairs_);
   update_contacts(bodies_, pairs_, settings_, contacts_);
