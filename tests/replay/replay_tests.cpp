@@ -256,3 +256,91 @@ TEST_CASE("a replay may carry its scene inline", "[replay]") {
   INFO(message);
   CHECK(message.find("$.scene.bodies[1].shapes[0].half_extents") != std::string::npos);
 }
+
+namespace {
+
+// A replay of the first 30 steps of bounce.json with `settings` (a JSON
+// member, or empty) recorded: read without hashes, then run.
+Replay record_bounce(const std::string& name, const std::string& settings) {
+  const TempFile file(name, "{\"format\": \"bitstep-replay\", \"version\": 1, \"scene\": \"bounce.json\", " + settings +
+                                "\"scene_hash\": \"0000000000000000\", \"steps\": 30}");
+  auto loaded = load_replay_file(file.path, false);
+  if (const ReplayError* error = std::get_if<ReplayError>(&loaded)) FAIL(error->message());
+  Replay replay = std::get<Replay>(loaded);
+  replay.hashes = replay_chain(replay, replay.scene_hash);
+  return replay;
+}
+
+}  // namespace
+
+TEST_CASE("a replay's settings override the scene's and verify", "[replay][settings]") {
+  const Replay plain = record_bounce("plain_settings_test.replay.json", "");
+  const Replay fewer = record_bounce("fewer_settings_test.replay.json", "\"settings\": {\"velocity_iterations\": 3}, ");
+  CHECK(plain.settings_override.empty());
+  CHECK(fewer.settings_override == "{\"velocity_iterations\": 3}");
+  auto scene = load_scene_file(scenes_dir + "/bounce.json");
+  REQUIRE(std::holds_alternative<Scene>(scene));
+  const Settings& scene_settings = std::get<Scene>(scene).settings;
+  REQUIRE(scene_settings.velocity_iterations != 3);
+  CHECK(plain.scene.settings.velocity_iterations == scene_settings.velocity_iterations);
+  // Over the scene's settings: the keys the override does not name stay the scene's.
+  CHECK(fewer.scene.settings.restitution_threshold == scene_settings.restitution_threshold);
+  CHECK(fewer.scene_hash != plain.scene_hash);  // the hash covers the settings
+  CHECK(replay_json(plain, "test").find("\"settings\"") == std::string::npos);
+
+  const TempFile file("fewer_verify_test.replay.json", replay_json(fewer, "test"));
+  auto loaded = load_replay_file(file.path, true);
+  if (const ReplayError* error = std::get_if<ReplayError>(&loaded)) FAIL(error->message());
+  const Replay& replay = std::get<Replay>(loaded);
+  CHECK(verify_replay(replay).ok());
+  World world(replay.scene.settings);
+  std::string reason;
+  REQUIRE(build_world(replay.scene, world, reason));
+  CHECK(world.settings().velocity_iterations == 3);
+}
+
+TEST_CASE("a replay with a bad settings override is refused with its JSON path", "[replay][settings]") {
+  const std::string head = "{\"format\": \"bitstep-replay\", \"version\": 1, \"scene\": \"bounce.json\", ";
+  const std::string tail = ", \"scene_hash\": \"0000000000000000\", \"steps\": 0, \"hashes\": []}";
+  struct Case {
+    std::string settings, expected;
+  };
+  const Case cases[] = {
+      {"{\"no_such_key\": 1}", "$.settings.no_such_key: unknown key"},
+      {"{\"sleep\": \"sometimes\"}", "$.settings.sleep"},
+      {"{\"velocity_iterations\": 0}", "$.settings.velocity_iterations"},
+      {"3", "$.settings: expected an object"},
+  };
+  for (const Case& c : cases) {
+    INFO(c.settings);
+    const TempFile file("bad_settings_test.replay.json", head + "\"settings\": " + c.settings + tail);
+    const std::string message = error_of(file.path);
+    INFO(message);
+    CHECK(message.find(file.path + ": " + c.expected) == 0);
+    CHECK(message.find('\n') == std::string::npos);
+  }
+  // The command line's --settings: the same reader, the same kind of message.
+  Settings settings;
+  auto applied = apply_settings_text("{\"velocity_iterations\": 4, \"sleep\": 1}", "--settings", settings);
+  REQUIRE(std::holds_alternative<SceneError>(applied));
+  CHECK(std::get<SceneError>(applied).message().rfind("--settings: $.sleep: ", 0) == 0);
+  CHECK(settings.velocity_iterations == Settings{}.velocity_iterations);  // untouched on error
+  applied = apply_settings_text("{\"velocity_iterations\":4}", "--settings", settings);
+  REQUIRE(std::holds_alternative<std::string>(applied));
+  CHECK(std::get<std::string>(applied) == "{\"velocity_iterations\": 4}");
+  CHECK(settings.velocity_iterations == 4);
+}
+
+TEST_CASE("a settings override survives writing and reading the replay", "[replay][settings]") {
+  const Replay replay = record_bounce("round_trip_settings_test.replay.json",
+                                      "\"settings\": {\"sleep\": \"still\", \"gravity\": [0, \"-981/100\", 0]}, ");
+  const std::string text = replay_json(replay, "test");
+  const TempFile file("round_trip_written_test.replay.json", text);
+  auto loaded = load_replay_file(file.path, true);
+  if (const ReplayError* error = std::get_if<ReplayError>(&loaded)) FAIL(error->message());
+  const Replay& reread = std::get<Replay>(loaded);
+  CHECK(reread.settings_override == replay.settings_override);
+  CHECK(reread.settings_override == "{\"sleep\": \"still\", \"gravity\": [0, \"-981/100\", 0]}");
+  CHECK(reread.scene.settings.sleep_method == SleepMethod::still);
+  CHECK(replay_json(reread, "test") == text);
+}

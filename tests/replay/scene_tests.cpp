@@ -311,7 +311,7 @@ TEST_CASE("scene errors name the file, the JSON path and the reason", "[scene]")
           "f.json: $.generators[0].type: expected \"stack\", \"pyramid\", \"wall\", \"jenga\", \"dominoes\", "
           "\"tables\" or \"throw\", got \"tower\"");
     CHECK(error_of(R"({"format": "bitstep-scene", "version": 1, "generators": [{"type": "stack", "base": 3}]})") ==
-          "f.json: $.generators[0].base: unknown key (known keys: type, name, material, density, count, "
+          "f.json: $.generators[0].base: unknown key (known keys: type, name, material, density, asleep, count, "
           "half_extents, position, overlap)");
     CHECK(error_of(R"({"format": "bitstep-scene", "version": 1, "generators": [{"type": "throw", "count": 100,
                        "spread": [0, 0, 0]}]})") ==

@@ -134,7 +134,7 @@ TEST_CASE("removing the bottom box of a sleeping stack20 wakes every box in that
   }
 }
 
-TEST_CASE("an impulse on one domino of a sleeping row wakes only its island; its fall wakes the next ones",
+TEST_CASE("an impulse on one domino of a sleeping row wakes only its island, and its fall wakes the next ones",
           "[sleep][scene]") {
   for (SleepMethod method : {SleepMethod::motion, SleepMethod::still}) {
     INFO(name_of(method));
@@ -245,3 +245,29 @@ TEST_CASE("snapshot in the middle of a sleep countdown: the restored world conti
 }
 
 
+
+TEST_CASE("sleep keys in a scene: read, and refused with the path and the reason", "[sleep][scene]") {
+  auto parse = [](const std::string& settings, const std::string& body_extra) {
+    return parse_scene(R"({"format": "bitstep-scene", "version": 1, "settings": {)" + settings +
+                           R"(}, "bodies": [{"position": [0, 0.5, 0], )" + body_extra +
+                           R"("shapes": [{"type": "box", "half_extents": [0.5, 0.5, 0.5]}]}]})",
+                       "f.json");
+  };
+  auto error_of = [&](const std::string& settings, const std::string& body_extra) {
+    const auto result = parse(settings, body_extra);
+    if (const auto* error = std::get_if<SceneError>(&result)) return error->message();
+    return std::string("no error");
+  };
+  const auto good = parse(R"("sleep": "still", "sleep_time": 2, "sleep_linear_tolerance": 0.01)", R"("asleep": true, )");
+  REQUIRE(std::holds_alternative<Scene>(good));
+  const Scene& scene = std::get<Scene>(good);
+  CHECK(scene.settings.sleep_method == SleepMethod::still);
+  CHECK(scene.settings.sleep_time == 2.0_fx);
+  CHECK(scene.settings.sleep_linear_tolerance == 0.01_fx);
+  CHECK(scene.bodies[0].def.asleep);
+
+  CHECK(error_of(R"("sleep": "doze")", "") == R"(f.json: $.settings.sleep: expected "off", "motion" or "still", got "doze")");
+  CHECK(error_of(R"("sleep_time": 5000)", "").starts_with("f.json: $.settings.sleep_time: outside"));
+  CHECK(error_of("", R"("asleep": true, "velocity": [1, 0, 0], )") ==
+        "f.json: $.bodies[0].asleep: a sleeping body has no velocity");
+}
