@@ -1,0 +1,72 @@
+// The broadphase reports exactly the overlapping pairs with a mover, in
+// (a, b) order, whether it uses the grid or tests the few movers against all.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "core/broadphase.h"
+#include "fixed/decimal.h"
+
+using namespace bitstep;
+using namespace bitstep::literals;
+
+namespace {
+
+// A fixed linear congruential sequence (Knuth's MMIX constants).
+struct Sequence {
+  uint64_t state;
+  int64_t below(int64_t n) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<int64_t>((state >> 33) % static_cast<uint64_t>(n));
+  }
+};
+
+// n boxes up to 1 m wide in a 20 m cube, every `mover_every`-th one movable,
+// plus a large static proxy around them all.
+std::vector<BroadphaseProxy> scatter(uint32_t n, uint32_t mover_every, uint64_t seed) {
+  Sequence random{seed};
+  std::vector<BroadphaseProxy> proxies;
+  for (uint32_t i = 0; i < n; ++i) {
+    Vec3 min{Fixed::from_ratio(random.below(20000), 1000), Fixed::from_ratio(random.below(20000), 1000),
+             Fixed::from_ratio(random.below(20000), 1000)};
+    Vec3 size{Fixed::from_ratio(random.below(1000) + 10, 1000), Fixed::from_ratio(random.below(1000) + 10, 1000),
+              Fixed::from_ratio(random.below(1000) + 10, 1000)};
+    proxies.push_back({i, {min, min + size}, i % mover_every == 0});
+  }
+  proxies.push_back({n, {{-1.0_fx, -1.0_fx, -1.0_fx}, {21.0_fx, 21.0_fx, 21.0_fx}}, false});
+  return proxies;
+}
+
+std::vector<BodyPair> all_pairs(const std::vector<BroadphaseProxy>& proxies) {
+  std::vector<BodyPair> pairs;
+  for (size_t i = 0; i < proxies.size(); ++i) {
+    for (size_t j = i + 1; j < proxies.size(); ++j) {
+      if ((proxies[i].movable || proxies[j].movable) && proxies[i].bounds.overlaps(proxies[j].bounds)) {
+        pairs.push_back({std::min(proxies[i].body, proxies[j].body), std::max(proxies[i].body, proxies[j].body)});
+      }
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  return pairs;
+}
+
+}  // namespace
+
+TEST_CASE("find_pairs gives every overlapping pair with a mover, by the grid and by the few-movers test",
+          "[broadphase]") {
+  // Movers: all (grid), one in 4 (grid), one in 100 and one in 1000 (each
+  // mover against all), none.
+  for (uint32_t mover_every : {1u, 4u, 100u, 1000u, 100000u}) {
+    for (uint64_t seed : {1u, 2u, 3u}) {
+      INFO("one mover in " << mover_every << ", seed " << seed);
+      const std::vector<BroadphaseProxy> proxies = scatter(2000, mover_every, seed);
+      std::vector<BodyPair> pairs;
+      find_pairs(proxies, pairs);
+      const std::vector<BodyPair> expected = all_pairs(proxies);
+      CHECK(pairs == expected);
+      if (mover_every < 100000u) CHECK(!expected.empty());
+    }
+  }
+}
