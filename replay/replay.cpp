@@ -162,6 +162,10 @@ std::variant<Replay, ReplayError> load_replay_file(const std::string& path, bool
       return replay;
     }
     replay.scene = std::move(std::get<Scene>(loaded));
+    if (const Node* settings = reader.find("settings")) {
+      read_settings_onto(*settings, replay.scene.settings);
+      replay.settings_override = json::write(*settings);
+    }
     replay.scene_hash = read_hash(reader.require("scene_hash"));
     replay.steps = read_int(reader.require("steps"), 0, max_steps);
     if (const Node* inputs = reader.find("inputs")) replay.inputs = read_inputs(*inputs, replay.scene);
@@ -185,19 +189,25 @@ std::variant<Replay, ReplayError> load_replay_file(const std::string& path, bool
   return result;
 }
 
-std::variant<std::vector<Input>, ReplayError> load_inputs_file(const std::string& path, const Scene& scene) {
+std::variant<InputsFile, ReplayError> load_inputs_file(const std::string& path, const Scene& scene) {
   return parse_file(path, [&](const Node& root) {
     ObjectReader reader(root);
-    std::vector<Input> inputs = read_inputs(reader.require("inputs"), scene);
-    // A replay may serve as the inputs file (to record it again): its other
-    // keys are then known and ignored.
+    InputsFile file;
+    file.inputs = read_inputs(reader.require("inputs"), scene);
+    // A replay may serve as the inputs file (to record it again): its
+    // settings override is kept, its other keys are known and ignored.
     if (const Node* format = reader.find("format"); format != nullptr && format->text == "bitstep-replay") {
       for (const char* key : {"version", "engine", "description", "scene", "scene_hash", "steps", "hashes"}) {
         reader.find(key);
       }
+      if (const Node* settings = reader.find("settings")) {
+        Settings checked = scene.settings;
+        read_settings_onto(*settings, checked);
+        file.settings_override = json::write(*settings);
+      }
     }
     reader.finish();
-    return inputs;
+    return file;
   });
 }
 
@@ -224,7 +234,7 @@ void apply_inputs(World& world, const std::vector<Input>& inputs, int64_t step, 
       case Input::Kind::set_velocity: world.set_velocity(id, input.vector, input.point); break;
       case Input::Kind::spawn: world.create_body(input.spawned.def); break;  // checked against the envelope when read
       case Input::Kind::remove: world.remove_body(id); break;
-      case Input::Kind::wake: break;  // nothing sleeps yet (issue 5)
+      case Input::Kind::wake: world.wake(id); break;
     }
   }
 }
@@ -263,6 +273,7 @@ std::string replay_json(const Replay& replay, const std::string& engine_version)
   out += replay.inline_scene.empty() ? json::write(Node{Kind::string, false, replay.scene_file, {}, {}, {}})
                                      : replay.inline_scene;
   out += ",\n";
+  if (!replay.settings_override.empty()) out += "  \"settings\": " + replay.settings_override + ",\n";
   out += "  \"scene_hash\": \"" + hex(replay.scene_hash) + "\",\n";
   out += "  \"steps\": " + std::to_string(replay.steps) + ",\n";
   out += "  \"inputs\": [";

@@ -34,6 +34,7 @@ struct Input {
 struct Replay {
   std::string scene_file;    // as written in the replay: relative to the replay's folder
   std::string inline_scene;  // or the scene itself, as compact JSON (then scene_file is empty)
+  std::string settings_override;  // the replay's own "settings" as compact JSON, applied onto scene.settings; or empty
   Scene scene;
   uint64_t scene_hash = 0;  // state_hash of the scene's world before step 1
   int64_t steps = 0;
@@ -54,8 +55,13 @@ struct ReplayError {
 std::variant<Replay, ReplayError> load_replay_file(const std::string& path, bool require_hashes);
 
 // Reads an inputs file for `bitstep record`: {"inputs": [...]} against a
-// scene, or a replay file (its inputs, to record it again).
-std::variant<std::vector<Input>, ReplayError> load_inputs_file(const std::string& path, const Scene& scene);
+// scene, or a replay file (its inputs, to record it again, and its settings
+// override, checked against the scene's settings).
+struct InputsFile {
+  std::vector<Input> inputs;
+  std::string settings_override;  // a replay's "settings" as compact JSON, or empty
+};
+std::variant<InputsFile, ReplayError> load_inputs_file(const std::string& path, const Scene& scene);
 
 // A world with the scene's bodies in order; false (and the reason) when a
 // body is refused.

@@ -24,40 +24,6 @@ constexpr Fixed max_distance = 1000.0_fx;  // m: a generator's gap, spacing, spr
 constexpr Fixed max_speed = 500.0_fx;      // m/s, as check_envelope
 constexpr Fixed max_spin = 100.0_fx;       // rad/s, as check_envelope
 
-Settings read_settings(const Node& node) {
-  ObjectReader reader(node);
-  Settings s;
-  read_optional(reader, "dt", s.dt, Bound::positive);
-  read_optional(reader, "gravity", s.gravity);
-  read_optional(reader, "velocity_iterations", s.velocity_iterations, 1, 1000);
-  read_optional(reader, "position_iterations", s.position_iterations, 0, 1000);
-  read_optional(reader, "penetration_slop", s.penetration_slop, Bound::non_negative);
-  read_optional(reader, "split_impulse_factor", s.split_impulse_factor, Bound::unit_interval);
-  read_optional(reader, "max_push_out_speed", s.max_push_out_speed, Bound::non_negative);
-  read_optional(reader, "baumgarte", s.baumgarte);
-  read_optional(reader, "baumgarte_factor", s.baumgarte_factor, Bound::unit_interval);
-  read_optional(reader, "restitution_threshold", s.restitution_threshold, Bound::non_negative);
-  read_optional(reader, "speculative_distance", s.speculative_distance, Bound::non_negative);
-  read_optional(reader, "max_linear_speed", s.max_linear_speed, Bound::positive);
-  read_optional(reader, "max_angular_speed", s.max_angular_speed, Bound::positive);
-  read_optional(reader, "warm_starting", s.warm_starting);
-  read_optional(reader, "shock_propagation", s.shock_propagation);
-  read_optional(reader, "shock_iterations", s.shock_iterations, 1, 1000);
-  if (const Node* sleep = reader.find("sleep")) {
-    static constexpr SleepMethod methods[] = {SleepMethod::off, SleepMethod::motion, SleepMethod::still};
-    s.sleep_method = methods[read_choice(*sleep, {"off", "motion", "still"})];
-  }
-  // Bounded so that 10 epsilon and time / dt stay inside Q32.32.
-  read_optional_within(reader, "sleep_epsilon", s.sleep_epsilon, 0.0_fx, 1000.0_fx, "m^2/s^2");
-  read_optional(reader, "sleep_bias", s.sleep_bias, Bound::unit_interval);
-  read_optional_within(reader, "sleep_min_time", s.sleep_min_time, 0.0_fx, 1000.0_fx, "s");
-  read_optional_within(reader, "sleep_time", s.sleep_time, 0.0_fx, 1000.0_fx, "s");
-  read_optional_within(reader, "sleep_linear_tolerance", s.sleep_linear_tolerance, 0.0_fx, 1000.0_fx, "m");
-  read_optional_within(reader, "sleep_angular_tolerance", s.sleep_angular_tolerance, 0.0_fx, 4.0_fx, "rad");
-  reader.finish();
-  return s;
-}
-
 MaterialTable read_materials(const Node& node) {
   if (node.kind != Kind::object) fail(node, std::string("expected an object of named materials, got ") + json::describe(node.kind));
   MaterialTable table;
@@ -315,7 +281,7 @@ Scene read_scene(const Node& root) {
   check_header(reader);
   if (const Node* description = reader.find("description")) read_string(*description);
   Scene scene;
-  if (const Node* settings = reader.find("settings")) scene.settings = read_settings(*settings);
+  if (const Node* settings = reader.find("settings")) read_settings_onto(*settings, scene.settings);
   MaterialTable& materials = scene.materials;
   if (const Node* table = reader.find("materials")) materials = read_materials(*table);
   std::set<std::string> names;
@@ -339,6 +305,38 @@ Scene read_scene(const Node& root) {
 
 }  // namespace
 
+void read_settings_onto(const Node& node, Settings& s) {
+  ObjectReader reader(node);
+  read_optional(reader, "dt", s.dt, Bound::positive);
+  read_optional(reader, "gravity", s.gravity);
+  read_optional(reader, "velocity_iterations", s.velocity_iterations, 1, 1000);
+  read_optional(reader, "position_iterations", s.position_iterations, 0, 1000);
+  read_optional(reader, "penetration_slop", s.penetration_slop, Bound::non_negative);
+  read_optional(reader, "split_impulse_factor", s.split_impulse_factor, Bound::unit_interval);
+  read_optional(reader, "max_push_out_speed", s.max_push_out_speed, Bound::non_negative);
+  read_optional(reader, "baumgarte", s.baumgarte);
+  read_optional(reader, "baumgarte_factor", s.baumgarte_factor, Bound::unit_interval);
+  read_optional(reader, "restitution_threshold", s.restitution_threshold, Bound::non_negative);
+  read_optional(reader, "speculative_distance", s.speculative_distance, Bound::non_negative);
+  read_optional(reader, "max_linear_speed", s.max_linear_speed, Bound::positive);
+  read_optional(reader, "max_angular_speed", s.max_angular_speed, Bound::positive);
+  read_optional(reader, "warm_starting", s.warm_starting);
+  read_optional(reader, "shock_propagation", s.shock_propagation);
+  read_optional(reader, "shock_iterations", s.shock_iterations, 1, 1000);
+  if (const Node* sleep = reader.find("sleep")) {
+    static constexpr SleepMethod methods[] = {SleepMethod::off, SleepMethod::motion, SleepMethod::still};
+    s.sleep_method = methods[read_choice(*sleep, {"off", "motion", "still"})];
+  }
+  // Bounded so that 10 epsilon and time / dt stay inside Q32.32.
+  read_optional_within(reader, "sleep_epsilon", s.sleep_epsilon, 0.0_fx, 1000.0_fx, "m^2/s^2");
+  read_optional(reader, "sleep_bias", s.sleep_bias, Bound::unit_interval);
+  read_optional_within(reader, "sleep_min_time", s.sleep_min_time, 0.0_fx, 1000.0_fx, "s");
+  read_optional_within(reader, "sleep_time", s.sleep_time, 0.0_fx, 1000.0_fx, "s");
+  read_optional_within(reader, "sleep_linear_tolerance", s.sleep_linear_tolerance, 0.0_fx, 1000.0_fx, "m");
+  read_optional_within(reader, "sleep_angular_tolerance", s.sleep_angular_tolerance, 0.0_fx, 4.0_fx, "rad");
+  reader.finish();
+}
+
 std::string SceneError::message() const {
   if (path.empty()) return file + ": " + reason;
   return file + ": " + path + ": " + reason;
@@ -353,6 +351,23 @@ std::variant<Scene, SceneError> parse_scene(std::string_view json_text, const st
     return SceneError{file_name, failure.path, failure.reason};
   } catch (const std::exception& e) {  // allocation failure
     return SceneError{file_name, "$", std::string("cannot load: ") + e.what()};
+  }
+}
+
+std::variant<std::string, SceneError> apply_settings_text(std::string_view json_text, const std::string& source,
+                                                          Settings& settings) {
+  try {
+    auto tree = json::parse(json_text);
+    if (const auto* error = std::get_if<json::SyntaxError>(&tree)) return SceneError{source, error->where, error->reason};
+    const Node& node = std::get<Node>(tree);
+    Settings applied = settings;
+    read_settings_onto(node, applied);
+    settings = applied;
+    return json::write(node);
+  } catch (const ReadFailure& failure) {
+    return SceneError{source, failure.path, failure.reason};
+  } catch (const std::exception& e) {  // allocation failure
+    return SceneError{source, "$", std::string("cannot load: ") + e.what()};
   }
 }
 

@@ -43,6 +43,18 @@ bool read_text_file(const std::string& path, std::string& text, std::string& rea
 // Reads the file, then parse_scene.
 std::variant<Scene, SceneError> load_scene_file(const std::string& path);
 
+// The keys of a scene's "settings" object, each applied over the value
+// `settings` already holds (a scene: over the defaults; a replay's override:
+// over the scene's). Throws scene_reader::ReadFailure with the JSON path.
+void read_settings_onto(const json::Node& node, Settings& settings);
+
+// A settings override as JSON text (`--settings` of bitstep run and record):
+// an object of "settings" keys, applied onto `settings`. Returns the object
+// as compact JSON text, or the first error (its file `source`), leaving
+// `settings` as it was. Never throws.
+std::variant<std::string, SceneError> apply_settings_text(std::string_view json_text, const std::string& source,
+                                                          Settings& settings);
+
 // One body object in the scene format (as in "bodies"), material names
 // resolved against the scene's table: for bodies spawned by replay inputs.
 // Throws scene_reader::ReadFailure with the JSON path (callers catch it).

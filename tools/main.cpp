@@ -7,6 +7,7 @@
 #include "fixed/checked.h"
 #include "fixed/u128.h"
 #include "tools/bench_fixed.h"
+#include "tools/bench_sleep.h"
 #include "tools/fixed_accuracy.h"
 #include "tools/known_answer.h"
 #include "tools/replay_command.h"
@@ -18,16 +19,20 @@ constexpr const char* usage =
     "usage: bitstep <command> [options]\n"
     "\n"
     "commands:\n"
-    "  run SCENE [--steps N] [--seconds S] [--hash-every K] [--json]\n"
-    "                           run a scene: per-second summary and the final state hash\n"
-    "  record SCENE [--inputs FILE] --steps N -o REPLAY\n"
-    "                           run a scene with inputs and write a replay with its hash chain\n"
+    "  run SCENE [--steps N] [--seconds S] [--hash-every K] [--json] [--settings JSON]\n"
+    "                           run a scene: per-second summary and the final state hash;\n"
+    "                           --settings overrides scene settings: '{\"sleep\": \"still\"}'\n"
+    "  record SCENE [--inputs FILE] [--settings JSON] --steps N -o REPLAY\n"
+    "                           run a scene with inputs and write a replay with its hash chain;\n"
+    "                           the replay keeps --settings (else that of a replay given as --inputs)\n"
     "  verify REPLAY... [--dump-at STEP FILE]\n"
     "                           re-run replays; exit 0 only if every step's hash matches;\n"
     "                           --dump-at writes the full state after STEP as exact JSON\n"
     "  diff DUMP_A DUMP_B       the first body, contact or field where two dumps differ\n"
     "  selftest [--samples N]   fixed-point known-answer hash and accuracy table\n"
     "  bench fixed [--quick]    ns/op of fixed-point operations next to float and double\n"
+    "  bench sleep [--quick] [--still] [--scenes DIR]\n"
+    "                           ms/step of scenes awake and asleep (sleep motion, or still)\n"
     "  version                  engine version and build options\n"
     "  help                     this text\n";
 
@@ -78,6 +83,9 @@ int main(int argc, char** argv) {
   if (command == "selftest") return selftest(argc - 2, argv + 2);
   if (command == "bench" && argc >= 3 && std::string_view(argv[2]) == "fixed") {
     return bitstep::run_bench_fixed(argc - 3, argv + 3);
+  }
+  if (command == "bench" && argc >= 3 && std::string_view(argv[2]) == "sleep") {
+    return bitstep::run_bench_sleep(argc - 3, argv + 3);
   }
   if (command == "version") {
     fmt::print("bitstep {} (Q32.32, {} 128-bit arithmetic{})\n", BITSTEP_VERSION, bitstep::wide_backend_name,

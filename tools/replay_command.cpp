@@ -28,7 +28,7 @@ bool parse_steps(const char* text, int64_t& out) {
 }  // namespace
 
 int record_command(int argc, char** argv, const char* engine_version) {
-  std::string scene_path, inputs_path, output;
+  std::string scene_path, inputs_path, output, settings_text;
   int64_t steps = -1;
   for (int i = 0; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -42,6 +42,8 @@ int record_command(int argc, char** argv, const char* engine_version) {
       }
     } else if (arg == "-o" && has_value) {
       output = argv[++i];
+    } else if (arg == "--settings" && has_value) {
+      settings_text = argv[++i];
     } else if (!arg.empty() && arg[0] != '-' && scene_path.empty()) {
       scene_path = arg;
     } else {
@@ -50,7 +52,8 @@ int record_command(int argc, char** argv, const char* engine_version) {
     }
   }
   if (scene_path.empty() || steps < 0 || output.empty()) {
-    fmt::print(stderr, "bitstep record: usage: bitstep record SCENE [--inputs FILE] --steps N -o REPLAY\n");
+    fmt::print(stderr,
+               "bitstep record: usage: bitstep record SCENE [--inputs FILE] [--settings JSON] --steps N -o REPLAY\n");
     return 2;
   }
   auto loaded = load_scene_file(scene_path);
@@ -67,12 +70,23 @@ int record_command(int argc, char** argv, const char* engine_version) {
       fmt::print(stderr, "bitstep record: {}\n", error->message());
       return 1;
     }
-    replay.inputs = std::move(std::get<std::vector<Input>>(inputs));
+    replay.inputs = std::move(std::get<InputsFile>(inputs).inputs);
+    replay.settings_override = std::get<InputsFile>(inputs).settings_override;
     if (!replay.inputs.empty() && replay.inputs.back().step > steps) {
       fmt::print(stderr, "bitstep record: {}: {}.step: after the last step ({})\n", inputs_path,
                  replay.inputs.back().source.path, steps);
       return 1;
     }
+  }
+  // --settings replaces the settings override of a replay given as --inputs.
+  if (!settings_text.empty()) replay.settings_override = settings_text;
+  if (!replay.settings_override.empty()) {
+    auto applied = apply_settings_text(replay.settings_override, "--settings", replay.scene.settings);
+    if (const SceneError* error = std::get_if<SceneError>(&applied)) {
+      fmt::print(stderr, "bitstep record: {}\n", error->message());
+      return 2;
+    }
+    replay.settings_override = std::get<std::string>(applied);
   }
   // The scene as the replay will name it: relative to the replay's folder.
   const std::filesystem::path out_dir = std::filesystem::absolute(output).parent_path();

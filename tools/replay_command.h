@@ -1,4 +1,4 @@
-// `bitstep record SCENE [--inputs FILE] --steps N -o REPLAY` and
+// `bitstep record SCENE [--inputs FILE] [--settings JSON] --steps N -o REPLAY` and
 // `bitstep verify REPLAY... [--dump-at STEP FILE]` and `bitstep diff A B`.
 #pragma once
 

@@ -31,6 +31,7 @@ struct RunOptions {
   long long snapshot_at = -1;   // write a snapshot after this step
   std::string snapshot_path;
   std::string restore_path;     // continue from this snapshot instead of the scene's start
+  std::string settings;         // JSON object of "settings" keys over the scene's
 };
 
 double to_double(Fixed f) { return static_cast<double>(f.raw()) * 0x1p-32; }
@@ -63,6 +64,8 @@ std::string parse_options(int argc, char** argv, RunOptions& o) {
       o.snapshot_path = argv[++i];
     } else if (arg == "--restore" && has_value) {
       o.restore_path = argv[++i];
+    } else if (arg == "--settings" && has_value) {
+      o.settings = argv[++i];
     } else if (!arg.empty() && arg[0] != '-' && o.scene_path.empty()) {
       o.scene_path = arg;
     } else {
@@ -107,7 +110,14 @@ int run_scene_command(int argc, char** argv) {
     fmt::print(stderr, "bitstep run: {}\n", error->message());
     return 1;
   }
-  const Scene& scene = std::get<Scene>(loaded);
+  Scene& scene = std::get<Scene>(loaded);
+  if (!options.settings.empty()) {
+    auto applied = apply_settings_text(options.settings, "--settings", scene.settings);
+    if (const SceneError* error = std::get_if<SceneError>(&applied)) {
+      fmt::print(stderr, "bitstep run: {}\n", error->message());
+      return 2;
+    }
+  }
   World world(scene.settings);
   std::string reason;
   if (!build_world(scene, world, reason)) {

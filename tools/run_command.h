@@ -1,4 +1,5 @@
-// `bitstep run SCENE [--steps N] [--seconds S] [--hash-every K] [--json]`.
+// `bitstep run SCENE [--steps N] [--seconds S] [--hash-every K] [--json]
+// [--snapshot-at K FILE] [--restore FILE] [--settings JSON]`.
 #pragma once
 
 namespace bitstep {
