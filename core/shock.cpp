@@ -124,7 +124,7 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
   const std::vector<ManifoldRow>& manifold_rows = scratch.manifolds;
   if (manifold_rows.empty()) return;  // nothing awake touches anything
   std::vector<uint32_t>& level = scratch.levels;
-  support_levels(bodies, contacts, settings.gravity, level);
+  support_levels(bodies, contacts, settings.gravity, settings.penetration_slop, level);
   // Manifolds between supported bodies, by (level of the higher body,
   // order): those within a level (both bodies movable), and those through
   // which the lower level holds the higher one up. A contact between levels
@@ -136,6 +136,9 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
   for (uint32_t i = 0; i < manifold_rows.size(); ++i) {
     const ManifoldRow& m = manifold_rows[i];
     if (level[m.a] == not_supported || level[m.b] == not_supported) continue;
+    // Apart by more than the slop: a speculative contact, for the
+    // iterations (gluing it would stop a falling body in the air).
+    if (!touches(*m.manifold, settings.penetration_slop)) continue;
     if (level[m.a] != level[m.b]) {
       const Vec3 normal = m.manifold->normal;  // from a to b
       const Vec3 lower_to_upper = level[m.a] < level[m.b] ? normal : -normal;

@@ -7,8 +7,15 @@ bool is_support(Vec3 normal, Vec3 gravity) {
   return dot(normal, -gravity) > length(gravity) / 2.0_fx;
 }
 
+bool touches(const Manifold& m, Fixed touch_distance) {
+  for (int i = 0; i < m.point_count; ++i) {
+    if (m.points[static_cast<size_t>(i)].depth >= -touch_distance) return true;
+  }
+  return false;
+}
+
 void support_levels(const std::vector<Body>& bodies, const std::vector<Contact>& contacts, Vec3 gravity,
-                    std::vector<uint32_t>& level) {
+                    Fixed touch_distance, std::vector<uint32_t>& level) {
   level.assign(bodies.size(), not_supported);
   if (gravity == Vec3{}) return;
 
@@ -19,7 +26,7 @@ void support_levels(const std::vector<Body>& bodies, const std::vector<Contact>&
   };
   std::vector<Edge> edges;
   for (const Contact& c : contacts) {
-    if (c.manifold.point_count == 0) continue;
+    if (!touches(c.manifold, touch_distance)) continue;
     // The normal points from a to b.
     if (is_support(c.manifold.normal, gravity)) edges.push_back({c.key.body_a, c.key.body_b});
     if (is_support(-c.manifold.normal, gravity)) edges.push_back({c.key.body_b, c.key.body_a});

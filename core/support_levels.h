@@ -17,14 +17,19 @@ inline constexpr uint32_t not_supported = UINT32_MAX;
 // first hold the second up: within 60 degrees of up = -gravity.
 bool is_support(Vec3 normal, Vec3 gravity);
 
-// Level per body slot: 0 for static and kinematic bodies; a dynamic body
+// Level per body slot: 0 for static, kinematic and sleeping bodies; an awake body
 // resting on a body of level k is at most k + 1, where "resting on" means a
 // contact whose normal, from the supporter to it, lies within 60 degrees of
 // up = -gravity. Breadth-first from level 0 (ties by slot order), so a
 // body's level is the fewest supports between it and the ground. Dynamic
 // bodies with no such path (falling, or only leaning sideways on others),
-// dead slots, and every body when gravity is zero are not_supported.
+// dead slots, and every body when gravity is zero are not_supported. Only
+// contacts that touch count: a point within `touch_distance` (m); a
+// speculative contact further apart holds nothing up yet.
 void support_levels(const std::vector<Body>& bodies, const std::vector<Contact>& contacts, Vec3 gravity,
-                    std::vector<uint32_t>& level);
+                    Fixed touch_distance, std::vector<uint32_t>& level);
+
+// A point of the manifold within touch_distance (m): depth >= -touch_distance.
+bool touches(const Manifold& m, Fixed touch_distance);
 
 }  // namespace bitstep
