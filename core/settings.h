@@ -29,6 +29,13 @@ enum class SleepMethod : uint8_t {
   still,   // second seed: the pose stays within tolerances of a reference pose for sleep_time
 };
 
+// The order of a step (core/world.cpp).
+enum class Pipeline : uint8_t {
+  standard,    // forces, contacts, one solve (restitution placed at the moment of impact), positions
+  guendelman,  // second seed: contacts where forces would take the bodies, a collision pass with
+               // restitution on the current velocities, forces, an inelastic contact pass, positions
+};
+
 struct Settings {
   Fixed dt = "1/60"_fx;                              // s, the fixed time step
   Vec3 gravity{Fixed{}, -9.81_fx, Fixed{}};          // m/s^2
@@ -46,6 +53,7 @@ struct Settings {
   bool warm_starting = true;                         // start each step from last step's impulses
   bool shock_propagation = true;                     // second seed: a last pass upward from the ground, lower bodies immovable
   int shock_iterations = 2;                          // passes over each support level in the shock step
+  Pipeline pipeline = Pipeline::standard;            // the order of the step
   SleepMethod sleep_method = SleepMethod::off;       // islands at rest stop costing anything
   Fixed sleep_epsilon = 0.05_fx;                     // m^2/s^2 (v.v + w.w), motion: sleepy below it, wakes a
                                                      // sleeping body it touches above 2x, capped at 10x

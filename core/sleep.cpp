@@ -121,7 +121,7 @@ void reset_sleep(const Settings& settings, Body& body) {
 }
 
 int wake_islands(const Settings& settings, std::vector<Body>& bodies, const std::vector<Contact>& contacts,
-                 SleepScratch& scratch) {
+                 SleepScratch& scratch, bool forces_done) {
   const Fixed touch_distance = settings.penetration_slop;
   Islands& islands = scratch.islands;
   build_islands(bodies, contacts, touch_distance, islands);
@@ -158,7 +158,7 @@ int wake_islands(const Settings& settings, std::vector<Body>& bodies, const std:
       Body& body = bodies[islands.members[m]];
       if (!body.asleep) continue;
       wake(settings, body);
-      integrate_velocity(settings, body);
+      if (forces_done) integrate_velocity(settings, body);
       ++woken;
     }
   }

@@ -40,9 +40,10 @@ void reset_sleep(const Settings& settings, Body& body);
 
 // After the narrowphase: builds the islands and wakes each sleeping island
 // that a fast body touches or that rests on nothing. Woken bodies get this
-// step's forces (they skipped integrate_velocities). Returns the number woken.
+// step's forces when the others already have (`forces_done`: they skipped
+// integrate_velocities). Returns the number woken.
 int wake_islands(const Settings& settings, std::vector<Body>& bodies, const std::vector<Contact>& contacts,
-                 SleepScratch& scratch);
+                 SleepScratch& scratch, bool forces_done = true);
 
 // After the positions: updates each awake body's measure and puts to sleep
 // the islands found by wake_islands whose awake bodies are all sleepy.

@@ -61,6 +61,23 @@ ManifoldRow::Rocking make_rocking(const SolverBody& a, const SolverBody& b, cons
   return r;
 }
 
+// The collision pass solves only the manifolds where something hits: a
+// point that meets this step approaching faster than the restitution
+// threshold. Resting contacts wait for the contact pass.
+bool impacts(const Settings& settings, const Body& body_a, const Body& body_b, const SolverBody& a,
+             const SolverBody& b, const Manifold& m) {
+  for (int i = 0; i < m.point_count; ++i) {
+    const ContactPoint& p = m.points[static_cast<size_t>(i)];
+    const Vec3 ra = p.position - body_a.pose.position, rb = p.position - body_b.pose.position;
+    const Vec3 relative = b.velocity.linear + cross(b.velocity.angular, rb) - a.velocity.linear -
+                          cross(a.velocity.angular, ra);
+    const Fixed approach = -dot(relative, m.normal);
+    const bool meets = p.depth >= Fixed{} || approach * settings.dt >= -p.depth;
+    if (meets && approach > settings.restitution_threshold) return true;
+  }
+  return false;
+}
+
 void gather_bodies(const std::vector<Body>& bodies, std::vector<SolverBody>& out) {
   out.assign(bodies.size(), SolverBody{});
   for (size_t i = 0; i < bodies.size(); ++i) {
@@ -72,7 +89,7 @@ void gather_bodies(const std::vector<Body>& bodies, std::vector<SolverBody>& out
 
 void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
                   const std::vector<SolverBody>& solver_bodies, const std::vector<BodyRates>& start_velocities,
-                  std::vector<Contact>& contacts, std::vector<PointRow>& rows,
+                  std::vector<Contact>& contacts, SolvePass pass, std::vector<PointRow>& rows,
                   std::vector<ManifoldRow>& manifold_rows) {
   rows.clear();
   manifold_rows.clear();
@@ -91,6 +108,7 @@ void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
     const Fixed mu_s = sqrt(body_a.material.static_friction * body_b.material.static_friction);
     const Fixed mu_d = sqrt(body_a.material.dynamic_friction * body_b.material.dynamic_friction);
     const Fixed restitution = max(body_a.material.restitution, body_b.material.restitution);
+    if (pass == SolvePass::collision && !impacts(settings, body_a, body_b, a, b, m)) continue;
     const size_t first = rows.size();
     Vec3 centroid;
     Fixed target;
@@ -116,7 +134,18 @@ void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
       // the impact fell.
       const Fixed start_speed = -relative_rate(start_velocities[ia], start_velocities[ib], row.normal);
       const bool meets = p.depth >= Fixed{} || -approach * settings.dt >= -p.depth;
-      if (meets && start_speed > settings.restitution_threshold && approach < Fixed{}) {
+      if (pass == SolvePass::collision) {
+        // The second seed's collision pass: a point that meets this step
+        // leaves at e times its approach speed (the velocities have no
+        // forces yet); nothing is pushed apart.
+        if (meets && -approach > settings.restitution_threshold) row.velocity_target = -approach * restitution;
+        centroid += p.position;
+        target += row.velocity_target;
+        rows.push_back(row);
+        continue;
+      }
+      if (pass == SolvePass::standard && meets && start_speed > settings.restitution_threshold &&
+          approach < Fixed{}) {
         const Fixed acceleration = (approach + start_speed) * inverse_dt;
         const Fixed impact_time = -min(p.depth / start_speed, settings.dt);  // t, at least -dt
         const Fixed after = settings.dt - impact_time;                          // tau
@@ -191,16 +220,49 @@ void sweep(std::vector<SolverBody>& bodies, const std::vector<PointRow>& rows, i
   }
 }
 
+
+// The manifolds' accumulated impulses, in contact order (the collision pass
+// keeps its own and puts these back).
+void save_impulses(const std::vector<Contact>& contacts, std::vector<Fixed>& out) {
+  out.clear();
+  for (const Contact& c : contacts) {
+    const Manifold& m = c.manifold;
+    out.insert(out.end(), {m.friction_impulse[0], m.friction_impulse[1], m.twist_impulse});
+    for (int i = 0; i < m.point_count; ++i) out.push_back(m.points[static_cast<size_t>(i)].normal_impulse);
+  }
+}
+
+void restore_impulses(const std::vector<Fixed>& saved, std::vector<Contact>& contacts) {
+  size_t k = 0;
+  for (Contact& c : contacts) {
+    Manifold& m = c.manifold;
+    m.friction_impulse[0] = saved[k++];
+    m.friction_impulse[1] = saved[k++];
+    m.twist_impulse = saved[k++];
+    for (int i = 0; i < m.point_count; ++i) m.points[static_cast<size_t>(i)].normal_impulse = saved[k++];
+  }
+}
+
+void write_velocities(const std::vector<SolverBody>& solver_bodies, std::vector<Body>& bodies) {
+  for (size_t i = 0; i < bodies.size(); ++i) {
+    Body& body = bodies[i];
+    if (!is_awake_dynamic(body)) continue;
+    body.linear_velocity = solver_bodies[i].velocity.linear;
+    body.angular_velocity = solver_bodies[i].velocity.angular;
+  }
+}
+
 }  // namespace
 
 void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::vector<Contact>& contacts,
-                    PushVelocities& push, SolverScratch& scratch) {
+                    PushVelocities& push, SolverScratch& scratch, SolvePass kind) {
   std::vector<SolverBody>& solver_bodies = scratch.bodies;
   std::vector<PointRow>& rows = scratch.rows;
   std::vector<ManifoldRow>& manifold_rows = scratch.manifolds;
   gather_bodies(bodies, solver_bodies);
-  prepare_rows(settings, bodies, solver_bodies, scratch.start_velocities, contacts, rows, manifold_rows);
-  if (settings.warm_starting) {
+  if (kind == SolvePass::collision) save_impulses(contacts, scratch.saved_impulses);
+  prepare_rows(settings, bodies, solver_bodies, scratch.start_velocities, contacts, kind, rows, manifold_rows);
+  if (settings.warm_starting && kind != SolvePass::collision) {
     warm_start(solver_bodies, rows, manifold_rows);
   } else {
     for (const PointRow& row : rows) row.point->normal_impulse = Fixed{};
@@ -216,17 +278,20 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
       if (!row.in_resting_face) solve_normal(a, b, row);
     });
   }
+  if (kind == SolvePass::collision) {
+    restore_impulses(scratch.saved_impulses, contacts);
+    write_velocities(solver_bodies, bodies);
+    return;
+  }
   if (settings.shock_propagation) propagate_shock(settings, bodies, contacts, scratch);
   if (!settings.baumgarte) {
     for (int pass = 0; pass < settings.position_iterations; ++pass) sweep(solver_bodies, rows, pass, solve_push);
   }
   push.linear.assign(bodies.size(), Vec3{});
   push.angular.assign(bodies.size(), Vec3{});
+  write_velocities(solver_bodies, bodies);
   for (size_t i = 0; i < bodies.size(); ++i) {
-    Body& body = bodies[i];
-    if (!is_awake_dynamic(body)) continue;
-    body.linear_velocity = solver_bodies[i].velocity.linear;
-    body.angular_velocity = solver_bodies[i].velocity.angular;
+    if (!is_awake_dynamic(bodies[i])) continue;
     push.linear[i] = solver_bodies[i].push.linear;
     push.angular[i] = solver_bodies[i].push.angular;
   }

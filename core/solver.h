@@ -20,7 +20,15 @@ struct PushVelocities {
   std::vector<Vec3> angular;
 };
 
+// What a solve does (the pipelines of Settings::pipeline).
+enum class SolvePass : uint8_t {
+  standard,   // restitution at the moment of impact, resting contact, split impulse, shock step
+  collision,  // guendelman: restitution on the velocities before this step's forces; impulses of
+              // its own (the contact pass warm-starts from last step's contact pass)
+  contact,    // guendelman: inelastic after the forces, split impulse, shock step
+};
+
 void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::vector<Contact>& contacts,
-                    PushVelocities& push, SolverScratch& scratch);
+                    PushVelocities& push, SolverScratch& scratch, SolvePass pass = SolvePass::standard);
 
 }  // namespace bitstep

@@ -157,6 +157,7 @@ struct SolverScratch {
   std::vector<Manifold> accumulated;
   std::vector<uint32_t> frozen_bodies;
   std::vector<Fixed> saved_inverse_mass;
+  std::vector<Fixed> saved_impulses;  // the contact pass's, kept aside during the collision pass
 };
 
 // Friction (tangents and twist) at the centroid of a manifold, within the

@@ -163,14 +163,60 @@ void World::step() {
   std::vector<BodyRates>& start = solver_scratch_.start_velocities;
   start.resize(bodies_.size());
   for (size_t i = 0; i < bodies_.size(); ++i) start[i] = {bodies_[i].linear_velocity, bodies_[i].angular_velocity};
+  if (settings_.pipeline == Pipeline::guendelman) {
+    step_guendelman();
+  } else {
+    step_standard();
+  }
+  bitstep::integrate_positions(settings_, bodies_, push_, solver_scratch_.start_velocities, contacts_, touching_);
+  if (settings_.sleep_method != SleepMethod::off) sleep_islands(settings_, bodies_, sleep_scratch_);
+  ++step_count_;
+}
+
+void World::step_standard() {
   bitstep::integrate_velocities(settings_, bodies_);
   find_contacts();
-  const bool sleeping = settings_.sleep_method != SleepMethod::off;
-  if (sleeping) wake_islands(settings_, bodies_, contacts_, sleep_scratch_);
+  if (settings_.sleep_method != SleepMethod::off) wake_islands(settings_, bodies_, contacts_, sleep_scratch_);
   solve_contacts();
-  bitstep::integrate_positions(settings_, bodies_, push_, solver_scratch_.start_velocities, contacts_, touching_);
-  if (sleeping) sleep_islands(settings_, bodies_, sleep_scratch_);
-  ++step_count_;
+}
+
+// The second seed's order. Contacts are found where this step's forces and
+// velocities would take the bodies (then the bodies go back); a collision
+// pass gives restitution on the velocities before the forces; the forces
+// come in; an inelastic contact pass and the shock step stop what they
+// would push through. A sphere resting on a plane: the prediction finds the
+// contact, the collision pass has nothing to do (no approach), gravity
+// gives -g dt, the contact pass takes it away, and the sphere does not move.
+void World::step_guendelman() {
+  before_prediction_.resize(bodies_.size());
+  for (size_t i = 0; i < bodies_.size(); ++i) {
+    Body& body = bodies_[i];
+    if (!is_awake_dynamic(body)) continue;
+    before_prediction_[i] = {body.pose, body.linear_velocity, body.angular_velocity, body.force, body.torque};
+    integrate_velocity(settings_, body);
+    body.pose.position = mul_add(body.linear_velocity, settings_.dt, body.pose.position);
+    if (body.angular_velocity != Vec3{}) {
+      body.pose.orientation = integrate(body.pose.orientation, body.angular_velocity, settings_.dt);
+    }
+  }
+  find_contacts();
+  for (size_t i = 0; i < bodies_.size(); ++i) {
+    Body& body = bodies_[i];
+    if (!is_awake_dynamic(body)) continue;
+    const SavedMotion& saved = before_prediction_[i];
+    body.pose = saved.pose;
+    body.linear_velocity = saved.linear_velocity;
+    body.angular_velocity = saved.angular_velocity;
+    body.force = saved.force;
+    body.torque = saved.torque;
+    // The world inverse inertia of the pose the step starts from.
+    const Mat33 r = rotation(body.pose.orientation);
+    body.inverse_inertia_world = r * body.inverse_inertia_local * transpose(r);
+  }
+  if (settings_.sleep_method != SleepMethod::off) wake_islands(settings_, bodies_, contacts_, sleep_scratch_, false);
+  bitstep::solve_contacts(settings_, bodies_, contacts_, push_, solver_scratch_, SolvePass::collision);
+  bitstep::integrate_velocities(settings_, bodies_);
+  bitstep::solve_contacts(settings_, bodies_, contacts_, push_, solver_scratch_, SolvePass::contact);
 }
 
 void World::find_contacts() {

@@ -64,6 +64,8 @@ class World {
   StepStats stats() const;
 
  private:
+  void step_standard();
+  void step_guendelman();
   void find_contacts();
   void solve_contacts();
   void wake_islands_of(const std::vector<uint32_t>& slots);
@@ -81,6 +83,12 @@ class World {
   SolverScratch solver_scratch_;
   std::vector<uint8_t> touching_;
   SleepScratch sleep_scratch_;
+  // guendelman: each body's motion before the prediction moved it.
+  struct SavedMotion {
+    Pose pose;
+    Vec3 linear_velocity, angular_velocity, force, torque;
+  };
+  std::vector<SavedMotion> before_prediction_;
 };
 
 }  // namespace bitstep

@@ -323,6 +323,10 @@ void read_settings_onto(const Node& node, Settings& s) {
   read_optional(reader, "warm_starting", s.warm_starting);
   read_optional(reader, "shock_propagation", s.shock_propagation);
   read_optional(reader, "shock_iterations", s.shock_iterations, 1, 1000);
+  if (const Node* pipeline = reader.find("pipeline")) {
+    static constexpr Pipeline pipelines[] = {Pipeline::standard, Pipeline::guendelman};
+    s.pipeline = pipelines[read_choice(*pipeline, {"standard", "guendelman"})];
+  }
   if (const Node* sleep = reader.find("sleep")) {
     static constexpr SleepMethod methods[] = {SleepMethod::off, SleepMethod::motion, SleepMethod::still};
     s.sleep_method = methods[read_choice(*sleep, {"off", "motion", "still"})];

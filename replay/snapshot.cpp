@@ -86,10 +86,11 @@ Settings read_settings(Reader& r) {
                    &s.restitution_threshold, &s.speculative_distance, &s.max_linear_speed, &s.max_angular_speed}) {
     *f = r.fixed();
   }
-  const uint8_t flags = static_cast<uint8_t>(r.within(r.u8(), 0, 15, "settings flags"));
+  const uint8_t flags = static_cast<uint8_t>(r.within(r.u8(), 0, 31, "settings flags"));
   s.baumgarte = (flags & 1) != 0;
   s.warm_starting = (flags & 2) != 0;
   s.shock_propagation = (flags & 4) != 0;
+  s.pipeline = (flags & 16) != 0 ? Pipeline::guendelman : Pipeline::standard;
   s.shock_iterations = static_cast<int>(r.within(r.u32(), 1, max_iterations, "shock_iterations"));
   if ((flags & 8) != 0) {
     s.sleep_method = static_cast<SleepMethod>(r.within(r.u8(), 1, 2, "sleep method"));

@@ -45,10 +45,10 @@ void serialize_state(const World& world, std::vector<uint8_t>& out) {
     w.fixed(f);
   }
   // Sleep adds its block only when on (flag 8), so a world without sleep
-  // serialises as it did before sleep existed.
+  // serialises as it did before sleep existed; flag 16: the guendelman pipeline.
   const bool sleep = s.sleep_method != SleepMethod::off;
   w.u8(static_cast<uint8_t>((s.baumgarte ? 1 : 0) | (s.warm_starting ? 2 : 0) | (s.shock_propagation ? 4 : 0) |
-                            (sleep ? 8 : 0)));
+                            (sleep ? 8 : 0) | (s.pipeline == Pipeline::guendelman ? 16 : 0)));
   w.u32(static_cast<uint32_t>(s.shock_iterations));
   if (sleep) {
     w.u8(static_cast<uint8_t>(s.sleep_method));

@@ -1,6 +1,6 @@
 // Friction against the analytic answers: a block on an incline (holds below
 // its friction angle, slides at g (sin - mu_d cos) above it) and a block
-// sliding to a stop in v0^2 / (2 mu_d g).
+// sliding to a stop in v0^2 / (2 mu_d g). Each under both pipelines.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -18,13 +18,21 @@ using bitstep::test::to_double;
 constexpr double g = 9.81;
 constexpr double pi = 3.14159265358979323846;
 
+Settings with_pipeline(Pipeline pipeline) {
+  Settings settings;
+  settings.pipeline = pipeline;
+  return settings;
+}
+
+const char* name_of(Pipeline pipeline) { return pipeline == Pipeline::standard ? "standard" : "guendelman"; }
+
 struct Incline {
   TestWorld t;
   BodyId block;
   Vec3 down_slope;  // unit, along the surface, downhill
 
   // A static ramp tilted by `degrees` about z and a 1 m cube resting on it.
-  Incline(int degrees, Material material) {
+  Incline(int degrees, Material material, Pipeline pipeline) : t(with_pipeline(pipeline)) {
     const Fixed angle = mul_div(Fixed::from_int(degrees), "raw:3243f6a89"_fx, 180.0_fx);
     const Quat tilt = from_axis_angle({Fixed{}, Fixed{}, Fixed::one()}, angle);
     BodyDef ramp;
@@ -55,17 +63,21 @@ Material friction(Fixed mu_s, Fixed mu_d) {
 }  // namespace
 
 TEST_CASE("a block on a 30 degree incline with mu_s 0.6 holds within 1 mm over 5 s", "[physics][friction]") {
-  Incline incline(30, friction(0.6_fx, 0.6_fx));
+  const Pipeline pipeline = GENERATE(Pipeline::standard, Pipeline::guendelman);
+  INFO(name_of(pipeline));
+  Incline incline(30, friction(0.6_fx, 0.6_fx), pipeline);
   const double start = incline.position_along_slope();
   incline.t.simulate_steps(300);
   INFO("moved " << incline.position_along_slope() - start << " m down the slope");
   CHECK(std::abs(incline.position_along_slope() - start) < 0.001);
-  WARN("incline mu_s 0.6: moved " << incline.position_along_slope() - start << " m in 5 s");
+  WARN(name_of(pipeline) << " incline mu_s 0.6: moved " << incline.position_along_slope() - start << " m in 5 s");
 }
 
 TEST_CASE("a block on a 30 degree incline with mu_s 0.5, mu_d 0.4 slides at g (sin - mu_d cos)",
           "[physics][friction]") {
-  Incline incline(30, friction(0.5_fx, 0.4_fx));
+  const Pipeline pipeline = GENERATE(Pipeline::standard, Pipeline::guendelman);
+  INFO(name_of(pipeline));
+  Incline incline(30, friction(0.5_fx, 0.4_fx), pipeline);
   incline.t.simulate_steps(60);  // 1 s: sliding is established
   const double v1 = incline.speed_along_slope();
   incline.t.simulate_steps(60);
@@ -75,11 +87,13 @@ TEST_CASE("a block on a 30 degree incline with mu_s 0.5, mu_d 0.4 slides at g (s
   const double expected = g * (std::sin(theta) - 0.4 * std::cos(theta));  // 1.5068 m/s^2
   INFO("acceleration " << measured << " m/s^2, expected " << expected);
   CHECK(std::abs(measured - expected) < 0.02 * expected);
-  WARN("incline mu_d 0.4: " << measured << " m/s^2, expected " << expected);
+  WARN(name_of(pipeline) << " incline mu_d 0.4: " << measured << " m/s^2, expected " << expected);
 }
 
 TEST_CASE("a block sliding at 5 m/s with mu_d 0.5 stops within v0^2 / (2 mu_d g)", "[physics][friction]") {
-  TestWorld t;
+  const Pipeline pipeline = GENERATE(Pipeline::standard, Pipeline::guendelman);
+  INFO(name_of(pipeline));
+  TestWorld t(with_pipeline(pipeline));
   const Material material = friction(0.5_fx, 0.5_fx);
   t.add_ground(material);
   BodyDef def;
@@ -95,5 +109,5 @@ TEST_CASE("a block sliding at 5 m/s with mu_d 0.5 stops within v0^2 / (2 mu_d g)
                         << to_double(t.body(block).linear_velocity.x));
   CHECK(std::abs(to_double(t.body(block).linear_velocity.x)) < 1e-3);
   CHECK(std::abs(distance - expected) < 0.02 * expected);
-  WARN("slide stop: " << distance << " m, expected " << expected);
+  WARN(name_of(pipeline) << " slide stop: " << distance << " m, expected " << expected);
 }

@@ -119,3 +119,25 @@ TEST_CASE("snapshotting a world does not change its future", "[snapshot]") {
   CHECK(bytes > 0);
   CHECK(state_hash(a) == state_hash(b));
 }
+
+TEST_CASE("a guendelman world with sleep restores its pipeline and sleep settings and continues identically",
+          "[snapshot]") {
+  auto loaded = load_scene_file(std::string(BITSTEP_SOURCE_DIR) + "/scenes/stack20.json");
+  REQUIRE(std::holds_alternative<Scene>(loaded));
+  Scene scene = std::get<Scene>(loaded);
+  scene.settings.pipeline = Pipeline::guendelman;
+  scene.settings.sleep_method = SleepMethod::still;
+  World world(scene.settings);
+  std::string reason;
+  REQUIRE(build_world(scene, world, reason));
+  for (int s = 0; s < 20; ++s) world.step();
+  World copy;
+  REQUIRE_FALSE(restore(snapshot(world), copy).has_value());
+  CHECK(copy.settings().pipeline == Pipeline::guendelman);
+  CHECK(copy.settings().sleep_method == SleepMethod::still);
+  for (int s = 0; s < 60; ++s) {
+    world.step();
+    copy.step();
+    REQUIRE(state_hash(copy) == state_hash(world));
+  }
+}

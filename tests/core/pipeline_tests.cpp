@@ -1,0 +1,76 @@
+// The second seed's pipeline (Settings::pipeline = guendelman): a body at
+// rest stays exactly at rest, restitution comes from the collision pass.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+
+#include "tests/core/test_world.h"
+#include "tests/test_support.h"
+
+using namespace bitstep;
+using bitstep::test::TestWorld;
+using bitstep::test::to_double;
+
+namespace {
+
+Settings guendelman() {
+  Settings settings;
+  settings.pipeline = Pipeline::guendelman;
+  return settings;
+}
+
+}  // namespace
+
+// The seed's worked example: the prediction finds the contact, the
+// collision pass has nothing to do, gravity gives -g dt, the inelastic
+// contact pass takes exactly that away, so the sphere never moves.
+TEST_CASE("guendelman: a sphere resting on a plane keeps exactly zero velocity and its position", "[pipeline]") {
+  TestWorld t(guendelman());
+  t.add_ground();
+  const BodyId sphere = t.add_sphere({Fixed{}, 0.5_fx, Fixed{}}, 0.5_fx);
+  const Vec3 start = t.body(sphere).pose.position;
+  for (int step = 1; step <= 600; ++step) {
+    t.world.step();
+    INFO("step " << step);
+    REQUIRE(t.body(sphere).linear_velocity == Vec3{});
+    REQUIRE(t.body(sphere).angular_velocity == Vec3{});
+    REQUIRE(t.body(sphere).pose.position == start);
+  }
+}
+
+// The collision pass bounces a body at the start of the step in which its
+// contact is predicted, up to one step before the surfaces meet, so the
+// rebound overshoots by about a step's fall; it converges to e^2 = 0.25 as
+// dt shrinks. (The standard pipeline places the bounce at the moment of
+// impact: 0.2498 at 60 Hz, tests/replay/scene_run_tests.cpp.)
+TEST_CASE("guendelman: a cube with restitution 0.5 rebounds toward a quarter of its drop as dt shrinks",
+          "[pipeline]") {
+  double previous_error = 1.0;
+  for (int hz : {60, 240}) {
+    Settings settings = guendelman();
+    settings.dt = Fixed::from_ratio(1, hz);
+    TestWorld t(settings);
+    Material bouncy;
+    bouncy.restitution = 0.5_fx;
+    t.add_ground(bouncy);
+    const BodyId cube = t.add_box({Fixed{}, 2.5_fx, Fixed{}}, {0.5_fx, 0.5_fx, 0.5_fx}, bouncy);
+    // Fall 2 m; the highest point after the first impact.
+    double apex = 0;
+    bool bounced = false;
+    for (int step = 0; step < 3 * hz; ++step) {
+      t.world.step();
+      const double v = to_double(t.body(cube).linear_velocity.y);
+      if (v > 0) bounced = true;
+      if (bounced) apex = std::max(apex, to_double(t.body(cube).pose.position.y) - 0.5);
+      if (bounced && v < 0) break;
+    }
+    REQUIRE(bounced);
+    const double ratio = apex / 2.0;
+    INFO(hz << " Hz: rebound ratio " << ratio);
+    CHECK(ratio > 0.25);
+    CHECK(ratio - 0.25 < previous_error);
+    previous_error = ratio - 0.25;
+    WARN("guendelman bounce ratio at " << hz << " Hz: " << ratio);
+  }
+  CHECK(previous_error < 0.015);
+}
