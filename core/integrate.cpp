@@ -16,10 +16,14 @@ Fixed damping_factor(Fixed dt, Fixed damping) { return Fixed::one() / (Fixed::on
 
 }  // namespace
 
-void integrate_velocity(const Settings& settings, Body& body) {
-  const Fixed dt = settings.dt;
+void refresh_inverse_inertia(Body& body) {
   const Mat33 r = rotation(body.pose.orientation);
   body.inverse_inertia_world = r * body.inverse_inertia_local * transpose(r);
+}
+
+void integrate_velocity(const Settings& settings, Body& body) {
+  const Fixed dt = settings.dt;
+  refresh_inverse_inertia(body);
   body.linear_velocity += (settings.gravity + body.force * body.inverse_mass) * dt;
   body.angular_velocity += body.inverse_inertia_world * body.torque * dt;
   if (body.linear_damping > Fixed{}) body.linear_velocity *= damping_factor(dt, body.linear_damping);

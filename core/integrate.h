@@ -14,6 +14,8 @@ namespace bitstep {
 // Sleeping bodies are skipped; integrate_velocity is one awake dynamic body.
 void integrate_velocities(const Settings& settings, std::vector<Body>& bodies);
 void integrate_velocity(const Settings& settings, Body& body);
+// R I^-1 R^T of the body's current pose (from the body-frame inverse).
+void refresh_inverse_inertia(Body& body);
 
 // x += dt (v + v_push) for bodies with contact points, x += dt (v_start + v) / 2
 // for bodies in free flight (exact under constant force; v_start is the

@@ -25,13 +25,6 @@ void unite(std::vector<uint32_t>& parent, uint32_t a, uint32_t b) {
   }
 }
 
-bool touching(const Manifold& m, Fixed touch_distance) {
-  for (int i = 0; i < m.point_count; ++i) {
-    if (m.points[static_cast<size_t>(i)].depth >= -touch_distance) return true;
-  }
-  return false;
-}
-
 }  // namespace
 
 void build_islands(const std::vector<Body>& bodies, const std::vector<Contact>& contacts, Fixed touch_distance,
@@ -41,7 +34,7 @@ void build_islands(const std::vector<Body>& bodies, const std::vector<Contact>& 
   std::vector<uint32_t> parent(n);
   for (uint32_t i = 0; i < n; ++i) parent[i] = i;
   for (const Contact& c : contacts) {
-    if (dynamic(c.key.body_a) && dynamic(c.key.body_b) && touching(c.manifold, touch_distance)) {
+    if (dynamic(c.key.body_a) && dynamic(c.key.body_b) && touches(c.manifold, touch_distance)) {
       unite(parent, c.key.body_a, c.key.body_b);
     }
   }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 
 #include "fixed/vec3.h"
@@ -35,5 +36,15 @@ struct Manifold {
   Fixed friction_impulse[2];
   Fixed twist_impulse;
 };
+
+// A point of the manifold lies within touch_distance (m): depth >= -touch_distance.
+// Islands, sleep and the shock step count such a contact as touching; one
+// further apart is only speculative.
+inline bool touches(const Manifold& m, Fixed touch_distance) {
+  for (int i = 0; i < m.point_count; ++i) {
+    if (m.points[static_cast<size_t>(i)].depth >= -touch_distance) return true;
+  }
+  return false;
+}
 
 }  // namespace bitstep

@@ -23,13 +23,6 @@ uint32_t steps_for(Fixed time, Fixed dt) {
 // v.v + w.w (m^2/s^2 and rad^2/s^2 added as numbers, as the first seed does).
 Fixed motion_of(const Body& body) { return length_sq(body.linear_velocity) + length_sq(body.angular_velocity); }
 
-bool touching(const Manifold& m, Fixed touch_distance) {
-  for (int i = 0; i < m.point_count; ++i) {
-    if (m.points[static_cast<size_t>(i)].depth >= -touch_distance) return true;
-  }
-  return false;
-}
-
 // The fastest speed (m/s) at which `toucher` closes in on the sleeping body
 // of contact m at one of its points; `normal` points from the toucher to it.
 Fixed closing_speed(const Body& toucher, const Manifold& m, Vec3 normal) {
@@ -49,13 +42,13 @@ Fixed closing_speed(const Body& toucher, const Manifold& m, Vec3 normal) {
 bool wakes_on_touch(const Settings& settings, const Body& toucher, const Manifold& m, Vec3 normal) {
   if (toucher.type == BodyType::kinematic) return moves(toucher);
   if (!is_awake_dynamic(toucher)) return false;
-  const bool touches = touching(m, settings.penetration_slop);
+  const bool touching = touches(m, settings.penetration_slop);
   const Fixed closing = closing_speed(toucher, m, normal);
   if (settings.sleep_method == SleepMethod::motion) {
-    return motion_of(toucher) > settings.sleep_epsilon * 2.0_fx && (touches || closing > Fixed{});
+    return motion_of(toucher) > settings.sleep_epsilon * 2.0_fx && (touching || closing > Fixed{});
   }
   const Fixed slow = settings.sleep_linear_tolerance / max(settings.sleep_time, settings.dt);
-  return closing > slow || (touches && toucher.sleepy_steps == 0);
+  return closing > slow || (touching && toucher.sleepy_steps == 0);
 }
 
 void wake(const Settings& settings, Body& body) {
@@ -141,8 +134,8 @@ int wake_islands(const Settings& settings, std::vector<Body>& bodies, const std:
     // Resting on something that does not move.
     const bool holds_a = a.type != BodyType::dynamic && !moves(a);
     const bool holds_b = b.type != BodyType::dynamic && !moves(b);
-    if (holds_a && island_b != no_island && touching(c.manifold, touch_distance)) flags[island_b] |= island_supported;
-    if (holds_b && island_a != no_island && touching(c.manifold, touch_distance)) flags[island_a] |= island_supported;
+    if (holds_a && island_b != no_island && touches(c.manifold, touch_distance)) flags[island_b] |= island_supported;
+    if (holds_b && island_a != no_island && touches(c.manifold, touch_distance)) flags[island_a] |= island_supported;
     // A body touching a sleeping one (a speculative contact counts: it is
     // closing in this step).
     const Vec3 n = c.manifold.normal;  // from a to b

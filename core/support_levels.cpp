@@ -7,13 +7,6 @@ bool is_support(Vec3 normal, Vec3 gravity) {
   return dot(normal, -gravity) > length(gravity) / 2.0_fx;
 }
 
-bool touches(const Manifold& m, Fixed touch_distance) {
-  for (int i = 0; i < m.point_count; ++i) {
-    if (m.points[static_cast<size_t>(i)].depth >= -touch_distance) return true;
-  }
-  return false;
-}
-
 void support_levels(const std::vector<Body>& bodies, const std::vector<Contact>& contacts, Vec3 gravity,
                     Fixed touch_distance, std::vector<uint32_t>& level) {
   level.assign(bodies.size(), not_supported);

@@ -29,7 +29,4 @@ bool is_support(Vec3 normal, Vec3 gravity);
 void support_levels(const std::vector<Body>& bodies, const std::vector<Contact>& contacts, Vec3 gravity,
                     Fixed touch_distance, std::vector<uint32_t>& level);
 
-// A point of the manifold within touch_distance (m): depth >= -touch_distance.
-bool touches(const Manifold& m, Fixed touch_distance);
-
 }  // namespace bitstep

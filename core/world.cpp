@@ -209,9 +209,7 @@ void World::step_guendelman() {
     body.angular_velocity = saved.angular_velocity;
     body.force = saved.force;
     body.torque = saved.torque;
-    // The world inverse inertia of the pose the step starts from.
-    const Mat33 r = rotation(body.pose.orientation);
-    body.inverse_inertia_world = r * body.inverse_inertia_local * transpose(r);
+    refresh_inverse_inertia(body);  // of the pose the step starts from
   }
   if (settings_.sleep_method != SleepMethod::off) wake_islands(settings_, bodies_, contacts_, sleep_scratch_, false);
   bitstep::solve_contacts(settings_, bodies_, contacts_, push_, solver_scratch_, SolvePass::collision);
