@@ -123,27 +123,35 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
   const std::vector<PointRow>& rows = scratch.rows;
   const std::vector<ManifoldRow>& manifold_rows = scratch.manifolds;
   if (manifold_rows.empty()) return;  // nothing awake touches anything
-  std::vector<uint32_t>& level = scratch.levels;
-  support_levels(bodies, contacts, settings.gravity, settings.penetration_slop, level);
-  // Manifolds between supported bodies, by (level of the higher body,
-  // order): those within a level (both bodies movable), and those through
-  // which the lower level holds the higher one up. A contact between levels
-  // that is not such a support (a tumbling body touching another from
-  // below or the side) is left to the iterations: freezing the wrong side
-  // would squeeze the body between two immovable ones.
+  ShockLevels& levels = scratch.levels;
+  shock_levels(bodies, contacts, settings.gravity, settings.penetration_slop, levels);
+  const std::vector<uint32_t>& level = levels.rank;
+  const std::vector<uint32_t>& height = levels.height;
+  // Whether the lower-ranked body of a manifold between ranks holds the
+  // other up (the normal points from a to b).
+  const auto holds_up = [&](const ManifoldRow& m) {
+    return is_support(level[m.a] < level[m.b] ? m.manifold->normal : -m.manifold->normal, settings.gravity);
+  };
+  // Manifolds between ranked bodies, by (rank of the higher body, order):
+  // those within a rank (both bodies movable); between ranks, those
+  // against an immovable body, those along a sideways chain within a
+  // height, and those through which a lower height holds a higher one up.
+  // Any other contact between heights (a tumbling body touching another
+  // from below or the side) is left to the iterations: freezing the wrong
+  // side would squeeze the body between two immovable ones.
   std::vector<ShockEntry>& order = scratch.order;
   order.clear();
   for (uint32_t i = 0; i < manifold_rows.size(); ++i) {
     const ManifoldRow& m = manifold_rows[i];
     if (level[m.a] == not_supported || level[m.b] == not_supported) continue;
+    const bool between_heights = level[m.a] != 0 && level[m.b] != 0 && height[m.a] != height[m.b] &&
+                                 height[m.a] != not_supported && height[m.b] != not_supported;
+    const bool sideways = level[m.a] != level[m.b] && !between_heights && !holds_up(m);
+    if (between_heights && !holds_up(m)) continue;
     // Apart by more than the slop: a speculative contact, for the
-    // iterations (gluing it would stop a falling body in the air).
-    if (!touches(*m.manifold, settings.penetration_slop)) continue;
-    if (level[m.a] != level[m.b]) {
-      const Vec3 normal = m.manifold->normal;  // from a to b
-      const Vec3 lower_to_upper = level[m.a] < level[m.b] ? normal : -normal;
-      if (!is_support(lower_to_upper, settings.gravity)) continue;
-    }
+    // iterations (gluing it would stop a falling body in the air), unless
+    // sideways, where it is solved one-sided up to touching and no more.
+    if (!sideways && !touches(*m.manifold, settings.penetration_slop)) continue;
     order.push_back({std::max(level[m.a], level[m.b]), i});
   }
   std::sort(order.begin(), order.end(),
@@ -154,14 +162,16 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
   // contact alone) is left as the iterations left it: solved against each
   // support in turn, one-sided, it is driven toward whichever rises fastest
   // and, through the rotation that gives it, the bodies above it faster
-  // still (that launched the top bricks of wall128 at 90 m/s).
+  // still (that launched the top bricks of wall128 at 90 m/s). Sideways
+  // contacts are not supports: a body pressed against a wall or a frozen
+  // neighbour is solved against it one-sided.
   std::vector<uint32_t>& first_support = scratch.first_support;
   std::vector<uint8_t>& several_supports = scratch.several_supports;
   first_support.assign(bodies.size(), not_supported);
   several_supports.assign(bodies.size(), 0);
   for (const ShockEntry& e : order) {
     const ManifoldRow& m = manifold_rows[e.index];
-    if (level[m.a] == level[m.b]) continue;
+    if (level[m.a] == level[m.b] || !holds_up(m)) continue;
     const bool mover_is_b = level[m.a] < level[m.b];
     const uint32_t mover = mover_is_b ? m.b : m.a, support = mover_is_b ? m.a : m.b;
     if (first_support[mover] == not_supported) {
@@ -195,7 +205,7 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
     shock_manifolds.push_back(m);
   }
 
-  // Level by level; once a level is done its bodies become immovable
+  // Rank by rank; once a rank is done its bodies become immovable
   // (inverse mass 0; the frozen rows already carry no turn for them).
   std::vector<Fixed>& saved_inverse_mass = scratch.saved_inverse_mass;
   std::vector<uint32_t>& frozen_bodies = scratch.frozen_bodies;
@@ -211,11 +221,13 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
         if (level[m.a] != level[m.b]) {
           const bool mover_is_b = level[m.a] < level[m.b];
           const uint32_t mover = mover_is_b ? m.b : m.a;
-          if (glue(solver_bodies[mover], solver_bodies[mover_is_b ? m.a : m.b], bodies[mover], mover_is_b, m,
-                   shock_rows)) {
-            continue;
+          if (holds_up(m)) {
+            if (glue(solver_bodies[mover], solver_bodies[mover_is_b ? m.a : m.b], bodies[mover], mover_is_b, m,
+                     shock_rows)) {
+              continue;
+            }
+            if (several_supports[mover]) continue;
           }
-          if (several_supports[mover]) continue;
           if (!m.one_sided) make_one_sided(m, shock_rows, solver_bodies[m.a], solver_bodies[m.b], mover_is_b);
         }
         solve_manifold(solver_bodies, shock_rows, m, pass);

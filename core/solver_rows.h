@@ -7,6 +7,7 @@
 
 #include "core/body.h"
 #include "core/manifold.h"
+#include "core/support_levels.h"
 
 namespace bitstep {
 
@@ -148,7 +149,7 @@ struct SolverScratch {
   std::vector<PointRow> rows;
   std::vector<ManifoldRow> manifolds;
   // The shock step (shock.cpp).
-  std::vector<uint32_t> levels;
+  ShockLevels levels;
   std::vector<ShockEntry> order;
   std::vector<uint32_t> first_support;    // per slot
   std::vector<uint8_t> several_supports;  // per slot

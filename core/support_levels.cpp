@@ -1,5 +1,7 @@
 #include "core/support_levels.h"
 
+#include <algorithm>
+
 namespace bitstep {
 
 bool is_support(Vec3 normal, Vec3 gravity) {
@@ -7,44 +9,119 @@ bool is_support(Vec3 normal, Vec3 gravity) {
   return dot(normal, -gravity) > length(gravity) / 2.0_fx;
 }
 
-void support_levels(const std::vector<Body>& bodies, const std::vector<Contact>& contacts, Vec3 gravity,
-                    Fixed touch_distance, std::vector<uint32_t>& level) {
-  level.assign(bodies.size(), not_supported);
-  if (gravity == Vec3{}) return;
+namespace {
 
-  // Support edges supporter -> supported, grouped by supporter (counting
-  // sort over the contacts, which are in (a, b) order: deterministic).
-  struct Edge {
-    uint32_t from, to;
-  };
-  std::vector<Edge> edges;
-  for (const Contact& c : contacts) {
-    if (!touches(c.manifold, touch_distance)) continue;
-    // The normal points from a to b.
-    if (is_support(c.manifold.normal, gravity)) edges.push_back({c.key.body_a, c.key.body_b});
-    if (is_support(-c.manifold.normal, gravity)) edges.push_back({c.key.body_b, c.key.body_a});
-  }
-  std::vector<uint32_t> first(bodies.size() + 1, 0);
-  for (const Edge& e : edges) ++first[e.from + 1];
-  for (size_t i = 1; i < first.size(); ++i) first[i] += first[i - 1];
-  std::vector<uint32_t> supported(edges.size());
-  std::vector<uint32_t> fill(first.begin(), first.end() - 1);
-  for (const Edge& e : edges) supported[fill[e.from]++] = e.to;
+struct Edge {
+  uint32_t from, to;
+};
 
-  std::vector<uint32_t> queue;
-  for (uint32_t i = 0; i < bodies.size(); ++i) {
-    if (bodies[i].alive && !is_awake_dynamic(bodies[i])) {  // static, kinematic or asleep
-      level[i] = 0;
-      queue.push_back(i);
-    }
+// Edges grouped by `from` (a counting sort, stable: deterministic):
+// the neighbours of body i are to[first[i] .. first[i + 1]).
+struct Adjacency {
+  std::vector<uint32_t> first, to;
+
+  Adjacency(const std::vector<Edge>& edges, size_t body_count) : first(body_count + 1, 0), to(edges.size()) {
+    for (const Edge& e : edges) ++first[e.from + 1];
+    for (size_t i = 1; i < first.size(); ++i) first[i] += first[i - 1];
+    std::vector<uint32_t> fill(first.begin(), first.end() - 1);
+    for (const Edge& e : edges) to[fill[e.from]++] = e.to;
   }
+};
+
+// Breadth-first distances from the bodies already in `queue` (distance set)
+// along the edges, to bodies `reachable` allows.
+template <typename Reachable>
+void breadth_first(const Adjacency& adjacency, std::vector<uint32_t>& queue, std::vector<uint32_t>& distance,
+                   Reachable reachable) {
   for (size_t head = 0; head < queue.size(); ++head) {
     const uint32_t from = queue[head];
-    for (uint32_t k = first[from]; k < first[from + 1]; ++k) {
-      const uint32_t to = supported[k];
-      if (level[to] != not_supported || !is_awake_dynamic(bodies[to])) continue;
-      level[to] = level[from] + 1;
+    for (uint32_t k = adjacency.first[from]; k < adjacency.first[from + 1]; ++k) {
+      const uint32_t to = adjacency.to[k];
+      if (distance[to] != not_supported || !reachable(to)) continue;
+      distance[to] = distance[from] + 1;
       queue.push_back(to);
+    }
+  }
+}
+
+}  // namespace
+
+void shock_levels(const std::vector<Body>& bodies, const std::vector<Contact>& contacts, Vec3 gravity,
+                  Fixed touch_distance, ShockLevels& levels) {
+  const size_t count = bodies.size();
+  std::vector<uint32_t>& height = levels.height;
+  std::vector<uint32_t>& rank = levels.rank;
+  height.assign(count, not_supported);
+  rank.assign(count, not_supported);
+  const auto immovable = [&](uint32_t i) { return bodies[i].alive && !is_awake_dynamic(bodies[i]); };
+  const auto movable = [&](uint32_t i) { return is_awake_dynamic(bodies[i]); };
+
+  // Heights: supporter -> supported edges (the normal points from a to b).
+  std::vector<Edge> supports;
+  if (gravity != Vec3{}) {
+    for (const Contact& c : contacts) {
+      if (!touches(c.manifold, touch_distance)) continue;
+      if (is_support(c.manifold.normal, gravity)) supports.push_back({c.key.body_a, c.key.body_b});
+      if (is_support(-c.manifold.normal, gravity)) supports.push_back({c.key.body_b, c.key.body_a});
+    }
+  }
+  std::vector<uint32_t> queue;
+  for (uint32_t i = 0; i < count; ++i) {
+    if (!immovable(i)) continue;
+    height[i] = 0;
+    queue.push_back(i);
+  }
+  breadth_first(Adjacency(supports, count), queue, height, movable);
+
+  // Sideways: seeds are movable bodies in contact with an immovable one
+  // through a contact that does not hold them up; the chains run through
+  // contacts between movable bodies of the same height, and on into bodies
+  // of no height (a car that hops on hitting the pinned box stays pinned). Speculative
+  // contacts count: a body closing in on a pinned one this step is solved
+  // against it (only up to touching: nothing is glued sideways).
+  std::vector<Edge> sideways;
+  std::vector<uint8_t> seed(count, 0);
+  for (const Contact& c : contacts) {
+    const uint32_t a = c.key.body_a, b = c.key.body_b;
+    if (movable(a) && movable(b)) {
+      if (height[a] != height[b] && height[a] != not_supported && height[b] != not_supported) continue;
+      sideways.push_back({a, b});
+      sideways.push_back({b, a});
+    } else if (immovable(a) && movable(b) && !is_support(c.manifold.normal, gravity)) {
+      seed[b] = 1;
+    } else if (immovable(b) && movable(a) && !is_support(-c.manifold.normal, gravity)) {
+      seed[a] = 1;
+    }
+  }
+  std::vector<uint32_t> sideways_distance(count, not_supported);
+  queue.clear();
+  for (uint32_t i = 0; i < count; ++i) {
+    if (!seed[i]) continue;
+    sideways_distance[i] = 0;
+    queue.push_back(i);
+  }
+  breadth_first(Adjacency(sideways, count), queue, sideways_distance, movable);
+
+  // Ranks: (height, sideways distance) in lexicographic order, numbered
+  // consecutively from 1 for height 1; "no height" comes after the highest.
+  uint32_t top = 0;
+  for (uint32_t h : height) {
+    if (h != not_supported) top = std::max(top, h);
+  }
+  std::vector<uint32_t> deepest(size_t{top} + 1, 0);  // per height, the longest sideways chain
+  for (uint32_t i = 0; i < count; ++i) {
+    if (height[i] == not_supported || sideways_distance[i] == not_supported) continue;
+    deepest[height[i]] = std::max(deepest[height[i]], sideways_distance[i]);
+  }
+  std::vector<uint32_t> first(size_t{top} + 2, 0);  // the rank of (height h, distance 0)
+  first[1] = 1;
+  for (uint32_t h = 1; h <= top; ++h) first[h + 1] = first[h] + deepest[h] + 1;
+  for (uint32_t i = 0; i < count; ++i) {
+    const uint32_t distance = sideways_distance[i] == not_supported ? 0 : sideways_distance[i];
+    if (height[i] != not_supported) {
+      rank[i] = height[i] == 0 ? 0 : first[height[i]] + distance;
+    } else if (sideways_distance[i] != not_supported) {
+      rank[i] = first[top + 1] + distance;
     }
   }
 }

@@ -1,6 +1,9 @@
-// Support levels for shock propagation (the second seed, after Guendelman,
-// Bridson and Fedkiw): which body rests on which, counted upward from the
-// static and kinematic bodies along the direction opposite gravity.
+// Shock levels (the second seed, after Guendelman, Bridson and Fedkiw):
+// the order in which the shock step makes bodies immovable. Upward from
+// the static, kinematic and sleeping bodies along the direction opposite
+// gravity, and sideways from anything immovable a body is pressed against,
+// so that bodies "stack in any direction": a light box between a wall and
+// a car is held by the wall for the car.
 #pragma once
 
 #include <cstdint>
@@ -17,16 +20,28 @@ inline constexpr uint32_t not_supported = UINT32_MAX;
 // first hold the second up: within 60 degrees of up = -gravity.
 bool is_support(Vec3 normal, Vec3 gravity);
 
-// Level per body slot: 0 for static, kinematic and sleeping bodies; an awake body
-// resting on a body of level k is at most k + 1, where "resting on" means a
-// contact whose normal, from the supporter to it, lies within 60 degrees of
-// up = -gravity. Breadth-first from level 0 (ties by slot order), so a
-// body's level is the fewest supports between it and the ground. Dynamic
-// bodies with no such path (falling, or only leaning sideways on others),
-// dead slots, and every body when gravity is zero are not_supported. Only
-// contacts that touch count: a point within `touch_distance` (m); a
-// speculative contact further apart holds nothing up yet.
-void support_levels(const std::vector<Body>& bodies, const std::vector<Contact>& contacts, Vec3 gravity,
-                    Fixed touch_distance, std::vector<uint32_t>& level);
+struct ShockLevels {
+  // Per body slot. Height: 0 for static, kinematic and sleeping bodies; an
+  // awake body resting on a body of height k is at most k + 1 ("resting
+  // on": a contact whose normal, from the supporter to it, lies within 60
+  // degrees of up). Breadth-first from height 0 (ties by slot order), so a
+  // height is the fewest supports between a body and the ground.
+  // not_supported: no such path (falling, leaning sideways on others, a
+  // dead slot, or any body when gravity is zero).
+  std::vector<uint32_t> height;
+  // The shock step's order: 0 for height 0, then by height, and within a
+  // height by the fewest contacts to a body of that height in contact with
+  // an immovable one sideways (a contact that is not a support; a body
+  // with none counts as 0). Bodies of no height come last, ranked the same
+  // way when such a chain reaches them (from any height), else
+  // not_supported (left out).
+  std::vector<uint32_t> rank;
+};
+
+// Only contacts that touch hold a body up: a point within `touch_distance`
+// (m); a speculative contact further apart holds nothing yet. Sideways
+// chains run through speculative contacts too.
+void shock_levels(const std::vector<Body>& bodies, const std::vector<Contact>& contacts, Vec3 gravity,
+                  Fixed touch_distance, ShockLevels& levels);
 
 }  // namespace bitstep
