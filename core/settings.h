@@ -52,7 +52,7 @@ struct Settings {
   Fixed max_angular_speed = envelope::max_angular_speed;  // rad/s, world envelope
   bool warm_starting = true;                         // start each step from last step's impulses
   bool shock_propagation = true;                     // second seed: a last pass upward from the ground, lower bodies immovable
-  int shock_iterations = 2;                          // passes over each support level in the shock step
+  int shock_iterations = 32;                         // most passes over each shock level (until nothing changes)
   Pipeline pipeline = Pipeline::standard;            // the order of the step
   SleepMethod sleep_method = SleepMethod::off;       // islands at rest stop costing anything
   Fixed sleep_epsilon = 0.05_fx;                     // m^2/s^2 (v.v + w.w), motion: sleepy below it, wakes a

@@ -215,15 +215,20 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
   while (begin < order.size()) {
     size_t end = begin;
     while (end < order.size() && order[end].level == order[begin].level) ++end;
+    // Passes over the rank until one changes no velocity (exactly: the
+    // arithmetic is fixed point), at most shock_iterations.
     for (int pass = 0; pass < settings.shock_iterations; ++pass) {
+      bool changed = false;
       for (size_t i = begin; i < end; ++i) {
         ManifoldRow& m = shock_manifolds[i];
+        const BodyRates before_a = solver_bodies[m.a].velocity, before_b = solver_bodies[m.b].velocity;
         if (level[m.a] != level[m.b]) {
           const bool mover_is_b = level[m.a] < level[m.b];
           const uint32_t mover = mover_is_b ? m.b : m.a;
           if (holds_up(m)) {
             if (glue(solver_bodies[mover], solver_bodies[mover_is_b ? m.a : m.b], bodies[mover], mover_is_b, m,
                      shock_rows)) {
+              changed = changed || !(solver_bodies[mover].velocity == (mover_is_b ? before_b : before_a));
               continue;
             }
             if (several_supports[mover]) continue;
@@ -231,7 +236,9 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
           if (!m.one_sided) make_one_sided(m, shock_rows, solver_bodies[m.a], solver_bodies[m.b], mover_is_b);
         }
         solve_manifold(solver_bodies, shock_rows, m, pass);
+        changed = changed || !(solver_bodies[m.a].velocity == before_a) || !(solver_bodies[m.b].velocity == before_b);
       }
+      if (!changed) break;
     }
     for (size_t i = begin; i < end; ++i) {
       for (uint32_t body : {shock_manifolds[i].a, shock_manifolds[i].b}) {

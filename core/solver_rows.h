@@ -15,6 +15,7 @@ namespace bitstep {
 // split-impulse pseudo-velocity.
 struct BodyRates {
   Vec3 linear, angular;
+  friend bool operator==(const BodyRates&, const BodyRates&) = default;
 };
 
 // The hot state of one body during the solve (STYLE rule 5): velocities,

@@ -88,21 +88,46 @@ TEST_CASE("a 50-cube stack stands 30 s at 60 Hz and 10 iterations", "[physics][s
 
 TEST_CASE("the shock step does not make a stack rigid: remove a middle box and the ones above fall",
           "[physics][stacking]") {
-  TestWorld t;
+  // A 20-cube column, resting (sleep off) or asleep, under both pipelines;
+  // box 10 is removed.
+  const Pipeline pipeline = GENERATE(Pipeline::standard, Pipeline::guendelman);
+  const SleepMethod sleep = GENERATE(SleepMethod::off, SleepMethod::motion);
+  Settings settings;
+  settings.pipeline = pipeline;
+  settings.sleep_method = sleep;
+  TestWorld t(settings);
   t.add_ground();
-  const std::vector<BodyId> boxes = add_stack(t, 10);
-  t.simulate_steps(60);
-  const double top_before = to_double(t.body(boxes[9]).pose.position.y);
-  REQUIRE(t.world.remove_body(boxes[4]));
-  // Free fall for 1 m takes sqrt(2 / 9.81) = 0.45 s; after 1 s the boxes
-  // above the gap rest one box lower (within the slop of each of the nine
-  // contacts below them), and the ones below the gap stay.
-  t.simulate_steps(60);
-  const double top_after = to_double(t.body(boxes[9]).pose.position.y);
+  const std::vector<BodyId> boxes = add_stack(t, 20);
+  t.simulate_steps(120);
+  if (sleep != SleepMethod::off) REQUIRE(t.body(boxes[19]).asleep);
+  std::vector<double> before;
+  for (BodyId id : boxes) before.push_back(to_double(t.body(id).pose.position.y));
+  REQUIRE(t.world.remove_body(boxes[10]));
+  // 20 steps on (1 m of free fall takes 27), every box above the gap has
+  // dropped about as far as a free body (0.572 m after 20 steps of this
+  // integrator); the lower boxes of the falling column drop faster, up to
+  // 0.69 m (see the README's known issues), none slower than 0.45 m.
+  t.simulate_steps(20);
+  for (size_t i = 11; i < boxes.size(); ++i) {
+    const double drop = before[i] - to_double(t.body(boxes[i]).pose.position.y);
+    INFO("box " << i << " dropped " << drop << " m in 20 steps");
+    CHECK(drop > 0.45);
+    CHECK(drop < 0.75);
+  }
+  // After 2 s the boxes above the gap rest one box lower (within the slop of
+  // each contact below them), still a column, and the ones below the gap
+  // stayed where they were.
+  t.simulate_steps(100);
   const double slop = to_double(t.world.settings().penetration_slop);
-  INFO("top box from " << top_before << " m to " << top_after << " m");
-  CHECK(std::abs(top_after - (top_before - 1.0)) < 9 * slop);
-  CHECK(to_double(t.body(boxes[5]).pose.position.y) < 4.5 + 5 * slop);
-  CHECK(std::abs(to_double(t.body(boxes[3]).pose.position.y) - 3.5) < 4 * slop);
-  CHECK(to_double(length(t.body(boxes[9]).linear_velocity)) < 0.05);
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    if (i == 10) continue;
+    const Vec3 p = t.body(boxes[i]).pose.position;
+    const double expected = i < 10 ? before[i] : before[i] - 1.0;
+    INFO("box " << i << " at (" << to_double(p.x) << ", " << to_double(p.y) << ", " << to_double(p.z)
+                << "), expected height " << expected);
+    CHECK(std::abs(to_double(p.y) - expected) < 20 * slop);
+    CHECK(std::abs(to_double(p.x)) < 0.05);
+    CHECK(std::abs(to_double(p.z)) < 0.05);
+  }
+  CHECK(to_double(length(t.body(boxes[19]).linear_velocity)) < 0.05);
 }

@@ -133,20 +133,21 @@ TEST_CASE("tables: five stacked compound tables stand 20 s with drift under 1 cm
   CHECK(m.largest_drift < 0.01);
 }
 
-// wall128 (8,256 bricks) is not required to stand yet (issue 6): 600 steps
-// must run with no brick through the ground or out of the world. Its ms/step
-// is reported by `bitstep run scenes/wall128.json --steps 600`, not here.
-TEST_CASE("wall128 runs 600 steps: no brick through the ground", "[scene-run][slow]") {
+// The walls (issue 6): no brick moves more than 1 cm. wall64 (2,080 bricks)
+// for 2,000 steps; wall128 (8,256, ~0.2 s a step) for 600 here, its
+// 2,000-step run is measured by the bench (it stands about 1,770 steps).
+TEST_CASE("wall64 stands 2,000 steps: no brick moves 1 cm", "[scene-run][slow]") {
+  World world = load_world("wall64.json");
+  const SceneMotion m = run(world, 2000);
+  INFO("largest drift " << m.largest_drift << " m, largest move " << m.largest_move << " m, deepest " << m.deepest);
+  CHECK(m.largest_move < 0.01);
+}
+
+TEST_CASE("wall128 stands 600 steps: no brick moves 1 cm", "[scene-run][slow]") {
   World world = load_world("wall128.json");
-  for (int i = 0; i < 600; ++i) world.step();
-  const double slop = to_double(world.settings().penetration_slop);
-  double lowest = 1e9;
-  for (const Body& body : world.bodies()) {
-    if (body.type != BodyType::dynamic) continue;
-    lowest = std::min(lowest, to_double(body.pose.position.y));
-  }
-  INFO("lowest brick centre at " << lowest << " m (half height 0.125 m)");
-  CHECK(lowest > 0.125 - 2 * slop);
+  const SceneMotion m = run(world, 600);
+  INFO("largest drift " << m.largest_drift << " m, largest move " << m.largest_move << " m, deepest " << m.deepest);
+  CHECK(m.largest_move < 0.01);
 }
 
 // In the checked build any overflow, saturation or division by zero aborts
