@@ -1,10 +1,10 @@
 // Shock propagation (Guendelman, Bridson and Fedkiw), the last pass of the
-// velocity solve: level by level upward from the ground (support_levels.h),
-// every body below the level being solved is immovable (infinite mass), so
-// each body is stopped against its supports exactly instead of sharing the
-// correction with them, and a stack's column of contacts converges in one
-// pass however tall it is. Bodies without support are left as the
-// iterations left them. Internal to core/.
+// velocity solve: rank by rank upward from the ground and sideways from
+// walls (support_levels.h), every body ranked below is immovable (infinite
+// mass), so each body is stopped against its supports exactly instead of
+// sharing the correction with them, and a stack's column of contacts
+// converges in one pass however tall it is. Bodies without support are
+// left as the iterations left them. Internal to core/.
 #pragma once
 
 #include <vector>
