@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "core/support_levels.h"
+#include "core/shock_levels.h"
 
 namespace bitstep {
 
@@ -146,13 +146,14 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
     if (level[m.a] == not_supported || level[m.b] == not_supported) continue;
     const bool between_heights = level[m.a] != 0 && level[m.b] != 0 && height[m.a] != height[m.b] &&
                                  height[m.a] != not_supported && height[m.b] != not_supported;
-    const bool sideways = level[m.a] != level[m.b] && !between_heights && !holds_up(m);
-    if (between_heights && !holds_up(m)) continue;
+    const bool support = level[m.a] != level[m.b] && holds_up(m);
+    const bool sideways = level[m.a] != level[m.b] && !between_heights && !support;
+    if (between_heights && !support) continue;
     // Apart by more than the slop: a speculative contact, for the
     // iterations (gluing it would stop a falling body in the air), unless
     // sideways, where it is solved one-sided up to touching and no more.
     if (!sideways && !touches(*m.manifold, settings.penetration_slop)) continue;
-    order.push_back({std::max(level[m.a], level[m.b]), i});
+    order.push_back({std::max(level[m.a], level[m.b]), i, support});
   }
   std::sort(order.begin(), order.end(),
             [](ShockEntry x, ShockEntry y) { return x.level != y.level ? x.level < y.level : x.index < y.index; });
@@ -170,8 +171,8 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
   first_support.assign(bodies.size(), not_supported);
   several_supports.assign(bodies.size(), 0);
   for (const ShockEntry& e : order) {
+    if (!e.holds_up) continue;
     const ManifoldRow& m = manifold_rows[e.index];
-    if (level[m.a] == level[m.b] || !holds_up(m)) continue;
     const bool mover_is_b = level[m.a] < level[m.b];
     const uint32_t mover = mover_is_b ? m.b : m.a, support = mover_is_b ? m.a : m.b;
     if (first_support[mover] == not_supported) {
@@ -225,7 +226,7 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
         if (level[m.a] != level[m.b]) {
           const bool mover_is_b = level[m.a] < level[m.b];
           const uint32_t mover = mover_is_b ? m.b : m.a;
-          if (holds_up(m)) {
+          if (order[i].holds_up) {
             if (glue(solver_bodies[mover], solver_bodies[mover_is_b ? m.a : m.b], bodies[mover], mover_is_b, m,
                      shock_rows)) {
               changed = changed || !(solver_bodies[mover].velocity == (mover_is_b ? before_b : before_a));

@@ -1,6 +1,6 @@
 // Shock propagation (Guendelman, Bridson and Fedkiw), the last pass of the
 // velocity solve: rank by rank upward from the ground and sideways from
-// walls (support_levels.h), every body ranked below is immovable (infinite
+// walls (shock_levels.h), every body ranked below is immovable (infinite
 // mass), so each body is stopped against its supports exactly instead of
 // sharing the correction with them, and a stack's column of contacts
 // converges in one pass however tall it is. Bodies without support are

@@ -7,7 +7,7 @@
 
 #include "core/body.h"
 #include "core/manifold.h"
-#include "core/support_levels.h"
+#include "core/shock_levels.h"
 
 namespace bitstep {
 
@@ -139,6 +139,7 @@ inline void solve_push(SolverBody& a, SolverBody& b, const PointRow& row) {
 struct ShockEntry {
   uint32_t level;
   uint32_t index;
+  bool holds_up;  // between ranks: the lower body holds the other up against gravity
 };
 
 // The solve's working memory, kept by the world between steps so that a

@@ -1,4 +1,4 @@
-#include "core/support_levels.h"
+#include "core/shock_levels.h"
 
 #include <algorithm>
 
