@@ -1,16 +1,19 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages bitstep needs, only those missing.
 #   tools/install_deps.sh build   compiler, cmake and the libraries
-#   tools/install_deps.sh test    build + clang and the cross toolchains with qemu-user
+#   tools/install_deps.sh bench   build + gnuplot (the bench's plots) and Bullet (its optional peer)
+#   tools/install_deps.sh test    bench + clang and the cross toolchains with qemu-user
 set -euo pipefail
 
 build_packages=(cmake make g++ catch2 libfmt-dev nlohmann-json3-dev libxxhash-dev)
+bench_packages=(gnuplot-nox libbullet-dev)
 test_packages=(clang g++-i686-linux-gnu g++-aarch64-linux-gnu g++-s390x-linux-gnu qemu-user)
 
 case "${1:-build}" in
   build) wanted=("${build_packages[@]}") ;;
-  test) wanted=("${build_packages[@]}" "${test_packages[@]}") ;;
-  *) echo "install_deps.sh: unknown set '$1' (expected build or test)" >&2; exit 2 ;;
+  bench) wanted=("${build_packages[@]}" "${bench_packages[@]}") ;;
+  test) wanted=("${build_packages[@]}" "${bench_packages[@]}" "${test_packages[@]}") ;;
+  *) echo "install_deps.sh: unknown set '$1' (expected build, bench or test)" >&2; exit 2 ;;
 esac
 
 missing=()

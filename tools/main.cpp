@@ -6,6 +6,7 @@
 
 #include "fixed/checked.h"
 #include "fixed/u128.h"
+#include "tools/bench_command.h"
 #include "tools/bench_fixed.h"
 #include "tools/bench_sleep.h"
 #include "tools/fixed_accuracy.h"
@@ -30,6 +31,10 @@ constexpr const char* usage =
     "                           --dump-at writes the full state after STEP as exact JSON\n"
     "  diff DUMP_A DUMP_B       the first body, contact or field where two dumps differ\n"
     "  selftest [--samples N]   fixed-point known-answer hash and accuracy table\n"
+    "  bench [--quick | --full] [--out DIR] [--sections LIST] [--only EXPERIMENTS] [--no-peer] [--scenes DIR]\n"
+    "                           the suite: accuracy and stability experiments on bitstep's variants and\n"
+    "                           Bullet, work-precision sweeps, scale; writes CSV, summary.md and plots to\n"
+    "                           DIR (default bench-report); sections: results,sweep,scale,determinism\n"
     "  bench fixed [--quick]    ns/op of fixed-point operations next to float and double\n"
     "  bench sleep [--quick] [--still] [--scenes DIR]\n"
     "                           ms/step of scenes awake and asleep (sleep motion, or still)\n"
@@ -87,6 +92,7 @@ int main(int argc, char** argv) {
   if (command == "bench" && argc >= 3 && std::string_view(argv[2]) == "sleep") {
     return bitstep::run_bench_sleep(argc - 3, argv + 3);
   }
+  if (command == "bench") return bitstep::run_bench_suite(argc - 2, argv + 2);
   if (command == "version") {
     fmt::print("bitstep {} (Q32.32, {} 128-bit arithmetic{})\n", BITSTEP_VERSION, bitstep::wide_backend_name,
                bitstep::checked_build ? ", checked" : "");

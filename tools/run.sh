@@ -5,7 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-tools/install_deps.sh build
+tools/install_deps.sh bench
 cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release -DBITSTEP_TESTS=OFF >/dev/null
 cmake --build build/release -j"$(nproc)" --target bitstep
 if [[ $# -eq 0 ]]; then

@@ -1,0 +1,100 @@
+#include "tools/bench_bitstep_engine.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "core/world.h"
+#include "replay/state_hash.h"
+
+namespace bitstep::bench {
+
+int64_t to_raw(double value) { return std::llround(std::ldexp(value, 32)); }
+double to_double(Fixed value) { return std::ldexp(static_cast<double>(value.raw()), -32); }
+V3 to_double(Vec3 v) { return {to_double(v.x), to_double(v.y), to_double(v.z)}; }
+Q4 to_double(Quat q) { return {to_double(q.w), to_double(q.x), to_double(q.y), to_double(q.z)}; }
+
+namespace {
+
+Fixed fx(double value) { return Fixed::from_raw(to_raw(value)); }
+Vec3 fx(const V3& v) { return {fx(v[0]), fx(v[1]), fx(v[2])}; }
+Quat fx(const Q4& q) { return normalize(Quat{fx(q[0]), fx(q[1]), fx(q[2]), fx(q[3])}); }
+
+Shape to_shape(const ShapeSpec& spec) {
+  Shape shape;
+  switch (spec.kind) {
+    case ShapeKind::box: shape.type = ShapeType::box; break;
+    case ShapeKind::sphere: shape.type = ShapeType::sphere; break;
+    case ShapeKind::capsule: shape.type = ShapeType::capsule; break;
+  }
+  shape.half_extents = fx(spec.half_extents);
+  shape.radius = fx(spec.radius);
+  shape.half_height = fx(spec.half_height);
+  shape.local = {fx(spec.local_position), fx(spec.local_orientation)};
+  return shape;
+}
+
+class BitstepEngine final : public Engine {
+ public:
+  explicit BitstepEngine(const Settings& settings) : world_(settings) {}
+
+  int add_body(const BodySpec& spec) override {
+    BodyDef def;
+    def.type = spec.is_static ? BodyType::static_body : BodyType::dynamic;
+    def.pose = {fx(spec.position), fx(spec.orientation)};
+    def.linear_velocity = fx(spec.linear_velocity);
+    def.angular_velocity = fx(spec.angular_velocity);
+    for (const ShapeSpec& s : spec.shapes) def.shapes.push_back(to_shape(s));
+    if (!spec.is_static) def.mass = fx(spec.mass);
+    def.material = {fx(spec.static_friction), fx(spec.dynamic_friction), fx(spec.restitution)};
+    const CreateResult created = world_.create_body(def);
+    // Experiments build bodies inside the envelope; one outside is a bug in the experiment.
+    if (!created.ok()) throw std::runtime_error("bench body outside the world envelope");
+    ids_.push_back(created.id);
+    return static_cast<int>(ids_.size()) - 1;
+  }
+
+  void step() override { world_.step(); }
+
+  BodyState state(int body) const override {
+    const Body& b = world_.body(ids_[static_cast<size_t>(body)]);
+    return {to_double(b.pose.position), to_double(b.pose.orientation), to_double(b.linear_velocity),
+            to_double(b.angular_velocity)};
+  }
+
+  double max_penetration() const override { return to_double(world_.stats().max_penetration); }
+
+  uint64_t state_hash() const override { return bitstep::state_hash(world_); }
+
+ private:
+  World world_;
+  std::vector<BodyId> ids_;
+};
+
+Settings settings_for(const StepConfig& config, Pipeline pipeline, bool shock) {
+  Settings settings;
+  settings.dt = fx(config.dt);
+  settings.velocity_iterations = config.iterations;
+  settings.gravity = fx(config.gravity);
+  settings.pipeline = pipeline;
+  settings.shock_propagation = shock;
+  return settings;
+}
+
+template <Pipeline pipeline, bool shock>
+std::unique_ptr<Engine> make(const StepConfig& config) {
+  return std::make_unique<BitstepEngine>(settings_for(config, pipeline, shock));
+}
+
+}  // namespace
+
+const std::vector<Variant>& bitstep_variants() {
+  static const std::vector<Variant> variants = {
+      {"standard", make<Pipeline::standard, false>},
+      {"standard+shock", make<Pipeline::standard, true>},
+      {"guendelman", make<Pipeline::guendelman, false>},
+      {"guendelman+shock", make<Pipeline::guendelman, true>},
+  };
+  return variants;
+}
+
+}  // namespace bitstep::bench

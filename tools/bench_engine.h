@@ -1,0 +1,77 @@
+// What a benchmark experiment needs from a physics engine, in doubles, so
+// that bitstep and a peer (Bullet) are built, stepped and measured by the
+// same experiment code (tools/bench_experiments.cpp). Reports may use
+// floating point; bitstep's simulation behind this interface never does.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace bitstep::bench {
+
+using V3 = std::array<double, 3>;
+using Q4 = std::array<double, 4>;  // w, x, y, z
+
+enum class ShapeKind { box, sphere, capsule };
+
+struct ShapeSpec {
+  ShapeKind kind = ShapeKind::box;
+  V3 half_extents{0.5, 0.5, 0.5};  // m, box
+  double radius = 0.5;             // m, sphere and capsule
+  double half_height = 0.5;        // m, capsule: half its inner segment, along local y
+  V3 local_position{0, 0, 0};      // in the body frame
+  Q4 local_orientation{1, 0, 0, 0};
+};
+
+struct BodySpec {
+  bool is_static = false;
+  std::vector<ShapeSpec> shapes;
+  double mass = 1.0;  // kg (dynamic); inertia from the shapes at uniform density
+  V3 position{0, 0, 0};              // of the body frame the shapes are given in
+  Q4 orientation{1, 0, 0, 0};
+  V3 linear_velocity{0, 0, 0};       // m/s
+  V3 angular_velocity{0, 0, 0};      // rad/s, world frame
+  double static_friction = 0.5;      // pairs combine by sqrt(mu_a mu_b)
+  double dynamic_friction = 0.5;     // (an engine with one coefficient uses this one)
+  double restitution = 0.0;          // pairs combine by max(e_a, e_b)
+};
+
+// Of the centre of mass (which for a compound body is not the body frame).
+struct BodyState {
+  V3 position{0, 0, 0};
+  Q4 orientation{1, 0, 0, 0};
+  V3 linear_velocity{0, 0, 0};
+  V3 angular_velocity{0, 0, 0};
+};
+
+// The step every engine is given: the same dt, iteration count and gravity.
+struct StepConfig {
+  double dt = 1.0 / 60.0;  // s
+  int iterations = 10;     // velocity iterations
+  V3 gravity{0, -9.81, 0};
+};
+
+class Engine {
+ public:
+  virtual ~Engine() = default;
+  // Index of the new body, 0, 1, ... in creation order.
+  virtual int add_body(const BodySpec& spec) = 0;
+  virtual void step() = 0;
+  virtual BodyState state(int body) const = 0;
+  // The deepest overlap among the engine's current contact points, m (>= 0).
+  virtual double max_penetration() const = 0;
+  // A 64-bit hash over the exact bits of every body's state (determinism check).
+  virtual uint64_t state_hash() const = 0;
+};
+
+// A named way to build an engine: "standard", "standard+shock", "guendelman",
+// "guendelman+shock" (bitstep), "bullet" (the peer program).
+struct Variant {
+  std::string name;
+  std::unique_ptr<Engine> (*make)(const StepConfig& config);
+};
+
+}  // namespace bitstep::bench

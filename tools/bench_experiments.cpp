@@ -1,0 +1,624 @@
+// The experiments of `bitstep bench`. Each builds its bodies through the
+// Engine interface, steps them with the given dt and iteration count, and
+// measures one error against an analytic answer (accuracy) or one stability
+// figure on a hard case (stability), with the wall-clock time spent stepping.
+#include "tools/bench_experiments.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <stdexcept>
+
+#include "replay/generators.h"
+#include "tools/bench_scene_specs.h"
+
+namespace bitstep::bench {
+
+namespace {
+
+constexpr double g = 9.81;  // m/s^2, every experiment's gravity magnitude
+constexpr double pi = 3.14159265358979323846;
+
+// --- small vector algebra on doubles --------------------------------------
+
+V3 sub(const V3& a, const V3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+double dot(const V3& a, const V3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+double length(const V3& a) { return std::sqrt(dot(a, a)); }
+V3 scale(const V3& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
+
+// Rotation matrix of a unit quaternion (w, x, y, z), row-major.
+std::array<V3, 3> matrix(const Q4& q) {
+  const double w = q[0], x = q[1], y = q[2], z = q[3];
+  return {{{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)},
+           {2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)},
+           {2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}}};
+}
+
+Q4 about_z(double angle) { return {std::cos(angle / 2), 0, 0, std::sin(angle / 2)}; }
+
+// --- bodies ------------------------------------------------------------------
+
+BodySpec ground(double friction = 0.5, double restitution = 0.0) {
+  BodySpec body;
+  body.is_static = true;
+  body.shapes.push_back({ShapeKind::box, {50, 1, 50}});
+  body.position = {0, -1, 0};  // top face at y = 0
+  body.static_friction = body.dynamic_friction = friction;
+  body.restitution = restitution;
+  return body;
+}
+
+BodySpec box(const V3& half_extents, const V3& position, double mass, double friction = 0.5) {
+  BodySpec body;
+  body.shapes.push_back({ShapeKind::box, half_extents});
+  body.position = position;
+  body.mass = mass;
+  body.static_friction = body.dynamic_friction = friction;
+  return body;
+}
+
+BodySpec sphere(double radius, const V3& position, double mass, double friction = 0.5) {
+  BodySpec body;
+  ShapeSpec shape;
+  shape.kind = ShapeKind::sphere;
+  shape.radius = radius;
+  body.shapes.push_back(shape);
+  body.position = position;
+  body.mass = mass;
+  body.static_friction = body.dynamic_friction = friction;
+  return body;
+}
+
+// --- running an engine, timing only its steps -----------------------------
+
+struct Run {
+  std::unique_ptr<Engine> engine;
+  StepConfig config;
+  ExperimentResult result;
+  std::vector<V3> start;     // each body's starting centre of mass
+  std::vector<bool> moving;  // dynamic bodies
+
+  Run(const Variant& variant, const StepConfig& step_config) : engine(variant.make(step_config)), config(step_config) {}
+
+  int add(const BodySpec& spec) {
+    start.push_back(spec.position);
+    moving.push_back(!spec.is_static);
+    return engine->add_body(spec);
+  }
+  // Builds a whole body list (a scene) and records where each starts.
+  void add_all(const std::vector<BodySpec>& specs) {
+    for (const BodySpec& spec : specs) {
+      const int id = add(spec);
+      start[static_cast<size_t>(id)] = engine->state(id).position;
+    }
+  }
+
+  void step() {
+    const auto before = std::chrono::steady_clock::now();
+    engine->step();
+    const std::chrono::duration<double, std::milli> spent = std::chrono::steady_clock::now() - before;
+    result.wall_ms += spent.count();
+    result.simulated_s += config.dt;
+  }
+  // Whole steps covering `seconds` (at least one).
+  int steps_for(double seconds) const { return std::max(1, static_cast<int>(std::lround(seconds / config.dt))); }
+
+  // The largest distance any dynamic body has moved from its start, m.
+  double max_drift() const {
+    double drift = 0;
+    for (size_t i = 0; i < start.size(); ++i) {
+      if (moving[i]) drift = std::max(drift, length(sub(engine->state(static_cast<int>(i)).position, start[i])));
+    }
+    return drift;
+  }
+  void metric(const std::string& name, double value) { result.metrics.emplace_back(name, value); }
+};
+
+StepConfig without_gravity(StepConfig config) {
+  config.gravity = {0, 0, 0};
+  return config;
+}
+
+// --- accuracy ----------------------------------------------------------------
+
+// Free fall from rest for 2 s, no ground. Exact: y0 - g t^2 / 2. Also
+// against the recurrence of symplectic Euler (v += g dt, then y += v dt:
+// y0 - g dt^2 n (n + 1) / 2 after n steps), the integrator of most engines
+// (Bullet's); bitstep moves a body in free flight by the mean of the step's
+// start and end velocities, whose recurrence is the exact parabola.
+ExperimentResult free_fall(const Variant& variant, const StepConfig& config, const RunOptions&) {
+  Run run(variant, config);
+  const double y0 = 100;
+  const int body = run.add(sphere(0.5, {0, y0, 0}, 1));
+  const int n = run.steps_for(2.0);
+  for (int i = 0; i < n; ++i) run.step();
+  const double t = n * config.dt;
+  const double y = run.engine->state(body).position[1];
+  run.result.error = std::abs(y - (y0 - g * t * t / 2));
+  run.metric("error_vs_euler_recurrence_m", std::abs(y - (y0 - g * config.dt * config.dt * n * (n + 1) / 2)));
+  return run.result;
+}
+
+// A projectile launched at 20 m/s, 45 degrees up, flies 2 s, no ground.
+ExperimentResult projectile(const Variant& variant, const StepConfig& config, const RunOptions&) {
+  Run run(variant, config);
+  const V3 p0{0, 100, 0};
+  const double v = 20 / std::sqrt(2.0);
+  BodySpec ball = sphere(0.5, p0, 1);
+  ball.linear_velocity = {v, v, 0};
+  const int body = run.add(ball);
+  const int n = run.steps_for(2.0);
+  for (int i = 0; i < n; ++i) run.step();
+  const double t = n * config.dt;
+  const V3 p = run.engine->state(body).position;
+  const V3 exact{v * t, p0[1] + v * t - g * t * t / 2, 0};
+  const V3 recurrence{v * t, p0[1] + v * t - g * config.dt * config.dt * n * (n + 1) / 2, 0};
+  run.result.error = length(sub(p, exact));
+  run.metric("error_vs_euler_recurrence_m", length(sub(p, recurrence)));
+  return run.result;
+}
+
+// A 0.5 m cube on a static slope at 30 degrees about z, exactly touching.
+// Returns the slope's downhill unit vector.
+V3 build_incline(Run& run, double friction, int& block) {
+  const double angle = pi / 6;
+  const Q4 tilt = about_z(angle);
+  const V3 normal{-std::sin(angle), std::cos(angle), 0};
+  BodySpec slope;
+  slope.is_static = true;
+  slope.shapes.push_back({ShapeKind::box, {10, 0.5, 2}});
+  slope.position = scale(normal, -0.5);  // top face through the origin
+  slope.orientation = tilt;
+  slope.static_friction = slope.dynamic_friction = friction;
+  run.add(slope);
+  BodySpec cube = box({0.25, 0.25, 0.25}, scale(normal, 0.25), 1, friction);
+  cube.orientation = tilt;
+  block = run.add(cube);
+  return {-std::cos(angle), -std::sin(angle), 0};
+}
+
+// mu 0.6 > tan 30 = 0.577: static friction must hold the block for 5 s.
+ExperimentResult incline_hold(const Variant& variant, const StepConfig& config, const RunOptions& options) {
+  Run run(variant, config);
+  int block = 0;
+  build_incline(run, 0.6, block);
+  const int n = run.steps_for(options.quick ? 2.0 : 5.0);
+  for (int i = 0; i < n; ++i) run.step();
+  run.result.error = run.max_drift();
+  return run.result;
+}
+
+// mu 0.4 < tan 30: the block slides at a = g (sin 30 - mu cos 30) = 1.507
+// m/s^2; after 2 s it has gone a t^2 / 2 downhill.
+ExperimentResult incline_slide(const Variant& variant, const StepConfig& config, const RunOptions&) {
+  Run run(variant, config);
+  int block = 0;
+  const double mu = 0.4;
+  const V3 downhill = build_incline(run, mu, block);
+  const int n = run.steps_for(2.0);
+  for (int i = 0; i < n; ++i) run.step();
+  const double t = n * config.dt;
+  const double a = g * (std::sin(pi / 6) - mu * std::cos(pi / 6));
+  const double exact = a * t * t / 2;
+  const double travelled = dot(sub(run.engine->state(block).position, run.start[static_cast<size_t>(block)]), downhill);
+  run.result.error = std::abs(travelled - exact) / exact;
+  run.metric("travelled_m", travelled);
+  run.metric("exact_m", exact);
+  return run.result;
+}
+
+// A 0.5 m cube sliding at 5 m/s on the ground with mu 0.5 stops after
+// v0^2 / (2 mu g) = 2.548 m.
+ExperimentResult stop_distance(const Variant& variant, const StepConfig& config, const RunOptions&) {
+  Run run(variant, config);
+  const double mu = 0.5, v0 = 5;
+  run.add(ground(mu));
+  BodySpec cube = box({0.25, 0.25, 0.25}, {0, 0.25, 0}, 1, mu);
+  cube.linear_velocity = {v0, 0, 0};
+  const int block = run.add(cube);
+  const int n = run.steps_for(2.0);
+  for (int i = 0; i < n; ++i) run.step();
+  const double exact = v0 * v0 / (2 * mu * g);
+  const double travelled = run.engine->state(block).position[0];
+  run.result.error = std::abs(travelled - exact) / exact;
+  run.metric("travelled_m", travelled);
+  run.metric("exact_m", exact);
+  return run.result;
+}
+
+// A ball with restitution 0.5 dropped from 1 m (its bottom above the
+// ground) rises to e^2 h = 0.25 m.
+ExperimentResult bounce(const Variant& variant, const StepConfig& config, const RunOptions&) {
+  Run run(variant, config);
+  const double e = 0.5, r = 0.5, h = 1.0;
+  run.add(ground(0.5, e));
+  BodySpec ball = sphere(r, {0, r + h, 0}, 1);
+  ball.restitution = e;
+  const int body = run.add(ball);
+  bool rising = false;
+  double peak = 0;
+  const int n = run.steps_for(1.5);
+  for (int i = 0; i < n; ++i) {
+    run.step();
+    const BodyState s = run.engine->state(body);
+    if (s.linear_velocity[1] > 0) rising = true;
+    if (rising) {
+      if (s.linear_velocity[1] <= 0 && peak > 0) break;
+      peak = std::max(peak, s.position[1] - r);
+    }
+  }
+  const double exact = e * e * h;
+  run.result.error = std::abs(peak - exact) / exact;
+  run.metric("rebound_m", peak);
+  return run.result;
+}
+
+// A 0.8 x 0.4 x 0.2 m box spinning free of gravity, mostly about its axis
+// of largest inertia (stable): angular momentum L = R I R^T w and energy
+// w.L / 2 are constant; the error is their worst relative drift over 20 s.
+ExperimentResult tumbling(const Variant& variant, const StepConfig& config, const RunOptions& options) {
+  Run run(variant, without_gravity(config));
+  const V3 h{0.4, 0.2, 0.1};
+  const double m = 1;
+  const V3 inertia{m / 3 * (h[1] * h[1] + h[2] * h[2]), m / 3 * (h[0] * h[0] + h[2] * h[2]),
+                   m / 3 * (h[0] * h[0] + h[1] * h[1])};
+  BodySpec spinner = box(h, {0, 0, 0}, m);
+  spinner.angular_velocity = {0.5, 0.5, 5.0};
+  const int body = run.add(spinner);
+  auto momentum_and_energy = [&](V3& L, double& E) {
+    const BodyState s = run.engine->state(body);
+    const auto R = matrix(s.orientation);
+    V3 local{};  // R^T w, then I R^T w, then L = R I R^T w
+    for (size_t i = 0; i < 3; ++i) {
+      local[i] = inertia[i] * (R[0][i] * s.angular_velocity[0] + R[1][i] * s.angular_velocity[1] +
+                               R[2][i] * s.angular_velocity[2]);
+    }
+    for (size_t i = 0; i < 3; ++i) L[i] = dot(R[i], local);
+    E = dot(s.angular_velocity, L) / 2;
+  };
+  V3 L0{};
+  double E0 = 0;
+  momentum_and_energy(L0, E0);
+  double worst_L = 0, worst_E = 0;
+  const int n = run.steps_for(options.quick ? 5.0 : 20.0);
+  for (int i = 0; i < n; ++i) {
+    run.step();
+    V3 L{};
+    double E = 0;
+    momentum_and_energy(L, E);
+    worst_L = std::max(worst_L, length(sub(L, L0)) / length(L0));
+    worst_E = std::max(worst_E, std::abs(E - E0) / E0);
+  }
+  run.result.error = std::max(worst_L, worst_E);
+  run.metric("momentum_drift", worst_L);
+  run.metric("energy_drift", worst_E);
+  return run.result;
+}
+
+// A ball launched sliding at 5 m/s without spin, mu 0.3: friction slows it
+// and spins it up until it rolls at t = 2 v0 / (7 mu g) = 0.485 s, then
+// rolls at 5/7 v0 for good.
+ExperimentResult rolling_sphere(const Variant& variant, const StepConfig& config, const RunOptions&) {
+  Run run(variant, config);
+  const double mu = 0.3, v0 = 5, r = 0.5;
+  run.add(ground(mu));
+  BodySpec ball = sphere(r, {0, r, 0}, 1, mu);
+  ball.linear_velocity = {v0, 0, 0};
+  const int body = run.add(ball);
+  double slip_end = -1;
+  const int n = run.steps_for(2.0);
+  for (int i = 0; i < n; ++i) {
+    run.step();
+    const BodyState s = run.engine->state(body);
+    // Velocity of the contact point: v + w x (0, -r, 0), along x: v_x + w_z r.
+    const double slip = s.linear_velocity[0] + s.angular_velocity[2] * r;
+    if (slip_end < 0 && std::abs(slip) < 0.01 * v0) slip_end = run.result.simulated_s;
+  }
+  const double exact_v = 5.0 / 7.0 * v0;
+  const double v = run.engine->state(body).linear_velocity[0];
+  run.result.error = std::abs(v - exact_v) / exact_v;
+  run.metric("final_speed_m_per_s", v);
+  run.metric("slip_end_s", slip_end);
+  run.metric("slip_end_exact_s", 2 * v0 / (7 * mu * g));
+  return run.result;
+}
+
+// --- stability -----------------------------------------------------------------
+
+constexpr double fallen = 0.10;  // m: a body that moved this far means the structure fell
+
+// Steps a built structure for `seconds`, sampling drift and penetration about
+// 200 times; error = the largest drift seen. With stop_when_fallen the run
+// ends at the first step a body has moved 10 cm (wall: steps until it falls).
+void watch(Run& run, double seconds, bool stop_when_fallen = false) {
+  run.result.columns = {"t_s", "max_drift_m", "max_penetration_m"};
+  const int n = run.steps_for(seconds);
+  const int every = std::max(1, n / 200);
+  double worst_drift = 0, worst_penetration = 0;
+  int fell_at = -1;
+  for (int i = 1; i <= n; ++i) {
+    run.step();
+    const bool sample = i % every == 0 || i == n;
+    if (!sample && !stop_when_fallen) continue;
+    const double drift = run.max_drift();
+    const double penetration = run.engine->max_penetration();
+    worst_drift = std::max(worst_drift, drift);
+    worst_penetration = std::max(worst_penetration, penetration);
+    if (sample) run.result.rows.push_back({i * run.config.dt, drift, penetration});
+    if (drift > fallen && fell_at < 0) {
+      fell_at = i;
+      if (stop_when_fallen) {
+        run.result.rows.push_back({i * run.config.dt, drift, penetration});
+        break;
+      }
+    }
+  }
+  run.result.error = worst_drift;
+  run.result.failed = fell_at >= 0;
+  run.metric("max_penetration_m", worst_penetration);
+  run.metric("steps_standing", fell_at < 0 ? n : fell_at - 1);
+}
+
+ExperimentResult scene_file(const Variant& variant, const StepConfig& config, const RunOptions& options,
+                            const std::string& file, double seconds, bool stop_when_fallen = false) {
+  Run run(variant, config);
+  std::vector<BodySpec> specs;
+  std::string reason;
+  if (!specs_from_scene_file(options.scenes_dir + "/" + file, specs, reason)) {
+    throw std::runtime_error(reason);
+  }
+  run.add_all(specs);
+  watch(run, seconds, stop_when_fallen);
+  return run.result;
+}
+
+ExperimentResult stack20(const Variant& v, const StepConfig& c, const RunOptions& o) {
+  return scene_file(v, c, o, "stack20.json", o.quick ? 5 : 10);
+}
+ExperimentResult stack50(const Variant& v, const StepConfig& c, const RunOptions& o) {
+  return scene_file(v, c, o, "stack50.json", o.quick ? 5 : 30);
+}
+ExperimentResult pyramid20(const Variant& v, const StepConfig& c, const RunOptions& o) {
+  return scene_file(v, c, o, "pyramid20.json", o.quick ? 5 : 20);
+}
+ExperimentResult jenga(const Variant& v, const StepConfig& c, const RunOptions& o) {
+  return scene_file(v, c, o, "jenga.json", o.quick ? 5 : 30);
+}
+ExperimentResult tables(const Variant& v, const StepConfig& c, const RunOptions& o) {
+  return scene_file(v, c, o, "tables.json", o.quick ? 5 : 20);
+}
+// Walls run until a brick moves 10 cm, at most 2,000 steps at 60 Hz.
+ExperimentResult wall64(const Variant& v, const StepConfig& c, const RunOptions& o) {
+  return scene_file(v, c, o, "wall64.json", (o.quick ? 300 : 2000) / 60.0, true);
+}
+ExperimentResult wall128(const Variant& v, const StepConfig& c, const RunOptions& o) {
+  return scene_file(v, c, o, "wall128.json", 2000 / 60.0, true);
+}
+
+// A 1 kg unit cube under a cube `ratio` times heavier, on the ground,
+// exactly touching, for 2 s: error = the deepest overlap in the last second.
+ExperimentResult light_under_heavy(const Variant& variant, const StepConfig& config, double ratio) {
+  Run run(variant, config);
+  run.add(ground());
+  const int light = run.add(box({0.5, 0.5, 0.5}, {0, 0.5, 0}, 1));
+  run.add(box({0.5, 0.5, 0.5}, {0, 1.5, 0}, ratio));
+  const int n = run.steps_for(2.0);
+  double worst = 0;
+  for (int i = 1; i <= n; ++i) {
+    run.step();
+    if (i > n / 2) worst = std::max(worst, run.engine->max_penetration());
+  }
+  run.result.error = worst;
+  run.metric("light_sink_m", run.start[static_cast<size_t>(light)][1] - run.engine->state(light).position[1]);
+  run.result.failed = run.engine->state(light).position[1] < 0.25;
+  return run.result;
+}
+ExperimentResult light_under_heavy_100(const Variant& v, const StepConfig& c, const RunOptions&) {
+  return light_under_heavy(v, c, 100);
+}
+ExperimentResult light_under_heavy_1000(const Variant& v, const StepConfig& c, const RunOptions&) {
+  return light_under_heavy(v, c, 1000);
+}
+
+// A 1,000 kg unit cube dropped from 1 m onto a 1 kg unit cube resting on
+// the ground: error = the deepest overlap at any time.
+ExperimentResult heavy_on_light(const Variant& variant, const StepConfig& config, const RunOptions&) {
+  Run run(variant, config);
+  run.add(ground());
+  const int light = run.add(box({0.5, 0.5, 0.5}, {0, 0.5, 0}, 1));
+  run.add(box({0.5, 0.5, 0.5}, {0, 2.5, 0}, 1000));
+  const int n = run.steps_for(2.0);
+  double worst = 0;
+  for (int i = 0; i < n; ++i) {
+    run.step();
+    worst = std::max(worst, run.engine->max_penetration());
+  }
+  run.result.error = worst;
+  run.metric("final_penetration_m", run.engine->max_penetration());
+  run.metric("light_sink_m", run.start[static_cast<size_t>(light)][1] - run.engine->state(light).position[1]);
+  run.result.failed = run.engine->state(light).position[1] < 0.25;
+  return run.result;
+}
+
+// Five unit cubes in a column, each starting 25% inside the one below (the
+// lowest 25% inside the ground): error = the time until every overlap is
+// under 1 cm (3 s when never); the push-out speed is the fastest body.
+ExperimentResult overlap_recovery(const Variant& variant, const StepConfig& config, const RunOptions&) {
+  Run run(variant, config);
+  run.add(ground());
+  std::vector<int> cubes;
+  for (int i = 0; i < 5; ++i) cubes.push_back(run.add(box({0.5, 0.5, 0.5}, {0, 0.25 + 0.75 * i, 0}, 1)));
+  const double limit = 3.0;
+  double recovered = -1, fastest = 0;
+  const int n = run.steps_for(limit);
+  for (int i = 0; i < n; ++i) {
+    run.step();
+    for (int c : cubes) fastest = std::max(fastest, length(run.engine->state(c).linear_velocity));
+    if (recovered < 0 && run.engine->max_penetration() < 0.01) recovered = run.result.simulated_s;
+  }
+  run.result.failed = recovered < 0;
+  run.result.error = recovered < 0 ? limit : recovered;
+  run.metric("push_out_speed_m_per_s", fastest);
+  run.metric("final_penetration_m", run.engine->max_penetration());
+  return run.result;
+}
+
+// 50 cubes of 0.5 m thrown at 20 m/s at the ground from a 6 x 4 x 6 m
+// region 5 m up (seeded): error = how far any cube's lowest corner ever got
+// below the ground's top, m; also how many end with their centre below it.
+ExperimentResult thrown(const Variant& variant, const StepConfig& config, const RunOptions&) {
+  Run run(variant, config);
+  Scene scene;
+  ThrowParams params;
+  params.count = 50;
+  params.seed = 20261121;
+  params.position = {Fixed{}, 5.0_fx, Fixed{}};
+  params.spread = {3.0_fx, 2.0_fx, 3.0_fx};
+  params.speed = 20.0_fx;
+  scene.bodies = generate_throw(params).bodies;
+  std::vector<BodySpec> specs{ground()};
+  std::vector<BodySpec> thrown_specs;
+  std::string reason;
+  if (!specs_from_scene(scene, "thrown cubes", thrown_specs, reason)) throw std::runtime_error(reason);
+  specs.insert(specs.end(), thrown_specs.begin(), thrown_specs.end());
+  run.add_all(specs);
+  const double half = 0.25;
+  double deepest = 0;
+  int below_at_end = 0;
+  const int n = run.steps_for(3.0);
+  for (int i = 1; i <= n; ++i) {
+    run.step();
+    for (size_t b = 1; b < specs.size(); ++b) {
+      const BodyState s = run.engine->state(static_cast<int>(b));
+      const auto R = matrix(s.orientation);
+      // Lowest corner: centre y minus the box's half extents projected on y.
+      const double reach = half * (std::abs(R[1][0]) + std::abs(R[1][1]) + std::abs(R[1][2]));
+      deepest = std::max(deepest, -(s.position[1] - reach));
+      if (i == n && s.position[1] < 0) ++below_at_end;
+    }
+  }
+  run.result.error = deepest;
+  run.result.failed = below_at_end > 0;
+  run.metric("below_ground_at_end", below_at_end);
+  return run.result;
+}
+
+}  // namespace
+
+const std::vector<Experiment>& experiments() {
+  static const std::vector<Experiment> list = {
+      {"free_fall", "accuracy", "abs(y - exact) after 2 s (m)", "free fall from rest, 2 s", true, free_fall},
+      {"projectile", "accuracy", "distance to the exact point after 2 s (m)", "launched at 20 m/s, 45 degrees, 2 s", true, projectile},
+      {"incline_hold", "accuracy", "drift (m)", "cube on a 30 degree slope, mu 0.6 > tan 30: must hold 5 s", true,
+       incline_hold},
+      {"incline_slide", "accuracy", "relative error of the distance slid", "30 degree slope, mu 0.4: a = g (sin - mu cos)",
+       true, incline_slide},
+      {"stop_distance", "accuracy", "relative error of the stop distance", "sliding at 5 m/s, mu 0.5: v0^2 / (2 mu g)",
+       true, stop_distance},
+      {"bounce", "accuracy", "relative error of the rebound height", "ball, restitution 0.5, from 1 m: rises e^2 h",
+       true, bounce},
+      {"tumbling", "accuracy", "relative drift of L or energy", "torque-free box spinning 20 s without gravity", true,
+       tumbling},
+      {"rolling_sphere", "accuracy", "relative error of the rolling speed",
+       "ball sliding at 5 m/s, mu 0.3: rolls at 5/7 v0 after 2 v0 / (7 mu g)", true, rolling_sphere},
+      {"stack20", "stability", "max drift (m)", "20 unit cubes", true, stack20},
+      {"stack50", "stability", "max drift (m)", "50 unit cubes", false, stack50},
+      {"pyramid20", "stability", "max drift (m)", "2D pyramid, 20 at the base (210 cubes)", false, pyramid20},
+      {"jenga", "stability", "max drift (m)", "18 levels of 3 blocks", false, jenga},
+      {"tables", "stability", "max drift (m)", "5 compound tables stacked", false, tables},
+      {"wall64", "stability", "max drift (m)", "running-bond wall, 64 at the base (2,080 bricks)", false,
+       wall64},
+      {"wall128", "stability", "max drift (m)", "running-bond wall, 128 at the base (8,256 bricks)", false,
+       wall128},
+      {"light_under_heavy_100", "stability", "max penetration, last second (m)", "1 kg cube under 100 kg, 2 s", true,
+       light_under_heavy_100},
+      {"light_under_heavy_1000", "stability", "max penetration, last second (m)", "1 kg cube under 1,000 kg, 2 s",
+       true, light_under_heavy_1000},
+      {"heavy_on_light", "stability", "max penetration (m)", "1,000 kg cube dropped 1 m on a 1 kg cube", true,
+       heavy_on_light},
+      {"overlap_recovery", "stability", "time until every overlap < 1 cm (s)",
+       "5 cubes starting 25% inside each other", true, overlap_recovery},
+      {"thrown", "stability", "deepest corner below the ground (m)", "50 cubes thrown at the ground at 20 m/s", true,
+       thrown},
+  };
+  return list;
+}
+
+const Experiment* find_experiment(const std::string& name) {
+  for (const Experiment& e : experiments()) {
+    if (e.name == name) return &e;
+  }
+  return nullptr;
+}
+
+std::string serialize(const ExperimentResult& r) {
+  std::ostringstream out;
+  out.precision(17);
+  out << "error " << r.error << "\nfailed " << (r.failed ? 1 : 0) << "\nwall_ms " << r.wall_ms << "\nsimulated_s "
+      << r.simulated_s << "\n";
+  for (const auto& [name, value] : r.metrics) out << "metric " << name << " " << value << "\n";
+  if (!r.columns.empty()) {
+    out << "columns";
+    for (const std::string& c : r.columns) out << " " << c;
+    out << "\n";
+  }
+  for (const auto& row : r.rows) {
+    out << "row";
+    for (double v : row) out << " " << v;
+    out << "\n";
+  }
+  return out.str();
+}
+
+bool parse_result(const std::string& text, ExperimentResult& r, std::string& reason) {
+  r = {};
+  std::istringstream in(text);
+  std::string line;
+  int line_number = 0;
+  bool has_error = false;
+  while (std::getline(in, line)) {
+    ++line_number;
+    std::istringstream fields(line);
+    std::string key;
+    fields >> key;
+    bool ok = true;
+    if (key == "error") {
+      ok = static_cast<bool>(fields >> r.error);
+      has_error = ok;
+    } else if (key == "failed") {
+      int failed = 0;
+      ok = static_cast<bool>(fields >> failed);
+      r.failed = failed != 0;
+    } else if (key == "wall_ms") {
+      ok = static_cast<bool>(fields >> r.wall_ms);
+    } else if (key == "simulated_s") {
+      ok = static_cast<bool>(fields >> r.simulated_s);
+    } else if (key == "metric") {
+      std::string name;
+      double value = 0;
+      ok = static_cast<bool>(fields >> name >> value);
+      r.metrics.emplace_back(name, value);
+    } else if (key == "columns") {
+      std::string c;
+      while (fields >> c) r.columns.push_back(c);
+    } else if (key == "row") {
+      std::vector<double> row;
+      double v = 0;
+      while (fields >> v) row.push_back(v);
+      ok = row.size() == r.columns.size();
+      r.rows.push_back(row);
+    } else {
+      ok = false;
+    }
+    if (!ok) {
+      reason = "line " + std::to_string(line_number) + ": cannot read '" + line + "'";
+      return false;
+    }
+  }
+  if (!has_error) reason = "no 'error' line";
+  return has_error;
+}
+
+}  // namespace bitstep::bench

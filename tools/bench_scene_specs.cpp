@@ -1,0 +1,75 @@
+#include "tools/bench_scene_specs.h"
+
+#include <cmath>
+#include <variant>
+
+#include "core/world.h"
+#include "replay/replay.h"
+#include "replay/scene.h"
+#include "tools/bench_bitstep_engine.h"
+
+namespace bitstep::bench {
+
+namespace {
+
+ShapeSpec to_spec(const Shape& shape) {
+  ShapeSpec spec;
+  switch (shape.type) {
+    case ShapeType::box: spec.kind = ShapeKind::box; break;
+    case ShapeType::sphere: spec.kind = ShapeKind::sphere; break;
+    case ShapeType::capsule: spec.kind = ShapeKind::capsule; break;
+    case ShapeType::plane: break;  // refused by the caller
+  }
+  spec.half_extents = to_double(shape.half_extents);
+  spec.radius = to_double(shape.radius);
+  spec.half_height = to_double(shape.half_height);
+  spec.local_position = to_double(shape.local.position);
+  spec.local_orientation = to_double(shape.local.orientation);
+  return spec;
+}
+
+}  // namespace
+
+bool specs_from_scene_file(const std::string& path, std::vector<BodySpec>& specs, std::string& reason) {
+  auto loaded = load_scene_file(path);
+  if (const SceneError* error = std::get_if<SceneError>(&loaded)) {
+    reason = error->message();
+    return false;
+  }
+  return specs_from_scene(std::get<Scene>(loaded), path, specs, reason);
+}
+
+bool specs_from_scene(const Scene& scene, const std::string& path, std::vector<BodySpec>& specs,
+                      std::string& reason) {
+  World world(scene.settings);
+  if (!build_world(scene, world, reason)) return false;
+  specs.clear();
+  for (const Body& body : world.bodies()) {
+    if (!body.alive) continue;
+    if (body.type == BodyType::kinematic) {
+      reason = path + ": kinematic bodies are not part of the benchmark's body specs";
+      return false;
+    }
+    BodySpec spec;
+    spec.is_static = body.type == BodyType::static_body;
+    for (const Shape& shape : body.shapes) {
+      if (shape.type == ShapeType::plane) {
+        reason = path + ": planes are not part of the benchmark's body specs (use a ground box)";
+        return false;
+      }
+      spec.shapes.push_back(to_spec(shape));
+    }
+    spec.mass = spec.is_static ? 0.0 : 1.0 / to_double(body.inverse_mass);
+    spec.position = to_double(body.pose.position);
+    spec.orientation = to_double(body.pose.orientation);
+    spec.linear_velocity = to_double(body.linear_velocity);
+    spec.angular_velocity = to_double(body.angular_velocity);
+    spec.static_friction = to_double(body.material.static_friction);
+    spec.dynamic_friction = to_double(body.material.dynamic_friction);
+    spec.restitution = to_double(body.material.restitution);
+    specs.push_back(spec);
+  }
+  return true;
+}
+
+}  // namespace bitstep::bench
