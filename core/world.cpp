@@ -192,7 +192,7 @@ void World::step_guendelman() {
   for (size_t i = 0; i < bodies_.size(); ++i) {
     Body& body = bodies_[i];
     if (!is_awake_dynamic(body)) continue;
-    before_prediction_[i] = {body.pose, body.linear_velocity, body.angular_velocity, body.force, body.torque};
+    before_prediction_[i] = {body.pose, body.linear_velocity, body.angular_velocity, body.force, body.torque, Vec3{}};
     integrate_velocity(settings_, body);
     body.pose.position = mul_add(body.linear_velocity, settings_.dt, body.pose.position);
     if (body.angular_velocity != Vec3{}) {
@@ -203,7 +203,8 @@ void World::step_guendelman() {
   for (size_t i = 0; i < bodies_.size(); ++i) {
     Body& body = bodies_[i];
     if (!is_awake_dynamic(body)) continue;
-    const SavedMotion& saved = before_prediction_[i];
+    SavedMotion& saved = before_prediction_[i];
+    saved.predicted_shift = body.pose.position - saved.pose.position;
     body.pose = saved.pose;
     body.linear_velocity = saved.linear_velocity;
     body.angular_velocity = saved.angular_velocity;
@@ -211,10 +212,34 @@ void World::step_guendelman() {
     body.torque = saved.torque;
     refresh_inverse_inertia(body);  // of the pose the step starts from
   }
+  move_contacts_back();
   if (settings_.sleep_method != SleepMethod::off) wake_islands(settings_, bodies_, contacts_, sleep_scratch_, false);
   bitstep::solve_contacts(settings_, bodies_, contacts_, push_, solver_scratch_, SolvePass::collision);
   bitstep::integrate_velocities(settings_, bodies_);
   bitstep::solve_contacts(settings_, bodies_, contacts_, push_, solver_scratch_, SolvePass::contact);
+}
+
+// The contact points were found at the predicted poses; the impulses act on
+// the bodies where they are. A point keeps its place relative to the bodies
+// that moved: shifted back by the prediction's translation of the moving
+// body (the mean of the two when both moved). Otherwise a ball rolling at v
+// would be pushed up at a point v dt ahead of its centre, a lever that
+// brakes the rolling (measured: 5/7 v0 fell to 0.43 v0 at 60 Hz).
+void World::move_contacts_back() {
+  for (Contact& c : contacts_) {
+    const bool a_moved = is_awake_dynamic(bodies_[c.key.body_a]);
+    const bool b_moved = is_awake_dynamic(bodies_[c.key.body_b]);
+    Vec3 shift;
+    if (a_moved && b_moved) {
+      shift = (before_prediction_[c.key.body_a].predicted_shift + before_prediction_[c.key.body_b].predicted_shift) /
+              2.0_fx;
+    } else if (a_moved) {
+      shift = before_prediction_[c.key.body_a].predicted_shift;
+    } else if (b_moved) {
+      shift = before_prediction_[c.key.body_b].predicted_shift;
+    }
+    for (int i = 0; i < c.manifold.point_count; ++i) c.manifold.points[static_cast<size_t>(i)].position -= shift;
+  }
 }
 
 void World::find_contacts() {

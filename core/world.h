@@ -87,8 +87,10 @@ class World {
   struct SavedMotion {
     Pose pose;
     Vec3 linear_velocity, angular_velocity, force, torque;
+    Vec3 predicted_shift;  // how far the prediction moved the centre of mass
   };
   std::vector<SavedMotion> before_prediction_;
+  void move_contacts_back();
 };
 
 }  // namespace bitstep
