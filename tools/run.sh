@@ -7,7 +7,8 @@ cd "$(dirname "$0")/.."
 
 tools/install_deps.sh bench
 cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release -DBITSTEP_TESTS=OFF >/dev/null
-cmake --build build/release -j"$(nproc)" --target bitstep
+# bitstep, and the bench's peer programs when Bullet is installed (bitstep bench).
+cmake --build build/release -j"$(nproc)"
 if [[ $# -eq 0 ]]; then
   set -- scenes/playground.json
 fi

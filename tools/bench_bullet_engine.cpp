@@ -1,0 +1,286 @@
+// The peer engine: Bullet's btDiscreteDynamicsWorld behind tools/bench_engine.h,
+// single-threaded, with Bullet's defaults except where the benchmark needs the
+// same model as bitstep (noted below).
+//
+// Precision: Debian's `bullet` pkg-config module is single precision (btScalar
+// is float; the double build is the separate `bullet-float64` module, which
+// defines BT_USE_DOUBLE_PRECISION). The libraries' symbols carry the scalar
+// type (stepSimulation(float, int, float)), so headers and library agree.
+//
+// Bullet defaults kept (btContactSolverInfo, Bullet 3.24):
+//   - contacts push overlap out at m_erp2 = 0.2 per step (m_erp is for
+//     joints), no slop (m_linearSlop = 0), m_globalCfm = 0; split impulse is
+//     on but only for overlaps deeper than 4 cm
+//     (m_splitImpulsePenetrationThreshold = -0.04): a shallower overlap is
+//     pushed out by Baumgarte on the real velocity, which adds energy (a
+//     bouncing ball rebounds higher than restitution alone gives);
+//   - warm starting with factor 0.85; solver mode SOLVER_USE_WARMSTARTING |
+//     SOLVER_SIMD: ONE friction row per contact point, along the sliding
+//     direction (an arbitrary tangent when not sliding), not two;
+//   - restitution only above 0.2 m/s approach (m_restitutionVelocityThreshold);
+//   - collision margins: sphere and capsule use their radius as the margin (no
+//     inflation); btBoxShape keeps its margin (0.04 m, or 10% of the smallest
+//     half extent if less) INSIDE the given half extents, so the box's
+//     geometry is exactly the half extents (box-box and box-sphere use the
+//     sharp box; GJK pairs such as box-capsule round its edges by the margin);
+//   - contact points persist until they separate beyond the contact-breaking
+//     threshold, up to 4 per manifold; no CCD; the implicit gyroscopic term
+//     (BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY) on every body.
+// Set here: iterations, gravity, zero damping, zero rolling/spinning friction,
+// no deactivation (the benchmark runs without sleep), and the pair rules.
+#include <btBulletDynamicsCommon.h>
+
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <vector>
+
+#include "tools/bench_bitstep_engine.h"
+#include "tools/bench_peer.h"
+
+namespace bitstep::bench {
+
+namespace {
+
+btScalar bt(double value) { return static_cast<btScalar>(value); }
+btVector3 bt(const V3& v) { return {bt(v[0]), bt(v[1]), bt(v[2])}; }
+btQuaternion bt(const Q4& q) { return btQuaternion(bt(q[1]), bt(q[2]), bt(q[3]), bt(q[0])).normalized(); }
+double dbl(btScalar value) { return static_cast<double>(value); }
+V3 dbl(const btVector3& v) { return {dbl(v.x()), dbl(v.y()), dbl(v.z())}; }
+
+// bitstep's pair rules (core/body.h): friction sqrt(mu_a mu_b), restitution
+// max(e_a, e_b). Bullet's defaults are the products. Bullet calls these when
+// a contact point is added to a manifold.
+btScalar combined_friction(const btCollisionObject* a, const btCollisionObject* b) {
+  return btSqrt(a->getFriction() * b->getFriction());
+}
+btScalar combined_restitution(const btCollisionObject* a, const btCollisionObject* b) {
+  return btMax(a->getRestitution(), b->getRestitution());
+}
+
+// A shape's volume and its inertia per unit mass about its own centre, in its
+// own axes: the formulas of core/mass.cpp. (Bullet's own calculateLocalInertia
+// is exact for boxes and spheres but takes the bounding box for capsules and
+// compounds, which would give Bullet different bodies than bitstep's.)
+struct ShapeMass {
+  double volume;
+  V3 inertia_per_kg;
+};
+
+ShapeMass shape_mass(const ShapeSpec& s) {
+  constexpr double pi = 3.14159265358979323846;
+  switch (s.kind) {
+    case ShapeKind::box: {
+      const double x = s.half_extents[0] * s.half_extents[0];
+      const double y = s.half_extents[1] * s.half_extents[1];
+      const double z = s.half_extents[2] * s.half_extents[2];
+      return {8 * s.half_extents[0] * s.half_extents[1] * s.half_extents[2], {(y + z) / 3, (x + z) / 3, (x + y) / 3}};
+    }
+    case ShapeKind::sphere: {
+      const double i = 0.4 * s.radius * s.radius;
+      return {4 * pi / 3 * s.radius * s.radius * s.radius, {i, i, i}};
+    }
+    case ShapeKind::capsule: {
+      // A cylinder of length 2h and two hemispheres, along y.
+      const double r = s.radius, h = s.half_height, r2 = r * r;
+      const double cylinder = pi * r2 * 2 * h, spheres = 4 * pi / 3 * r2 * r, v = cylinder + spheres;
+      const double i_yy = cylinder * r2 / 2 + spheres * r2 * 0.4;
+      const double i_xx = cylinder * (r2 / 4 + h * h / 3) + spheres * (r2 * 0.4 + h * h + h * r * 0.75);
+      return {v, {i_xx / v, i_yy / v, i_xx / v}};
+    }
+  }
+  return {0, {0, 0, 0}};
+}
+
+std::unique_ptr<btCollisionShape> make_shape(const ShapeSpec& s) {
+  switch (s.kind) {
+    case ShapeKind::box: return std::make_unique<btBoxShape>(bt(s.half_extents));
+    case ShapeKind::sphere: return std::make_unique<btSphereShape>(bt(s.radius));
+    // btCapsuleShape(radius, height): height is the inner segment, along local y.
+    case ShapeKind::capsule: return std::make_unique<btCapsuleShape>(bt(s.radius), bt(2 * s.half_height));
+  }
+  return nullptr;
+}
+
+bool is_identity(const ShapeSpec& s) {
+  return s.local_position == V3{0, 0, 0} && s.local_orientation == Q4{1, 0, 0, 0};
+}
+
+class BulletEngine final : public Engine {
+ public:
+  explicit BulletEngine(const StepConfig& config)
+      : dispatcher_(&collision_config_),
+        world_(&dispatcher_, &broadphase_, &solver_, &collision_config_) {
+    gCalculateCombinedFrictionCallback = combined_friction;
+    gCalculateCombinedRestitutionCallback = combined_restitution;
+    world_.setGravity(bt(config.gravity));
+    world_.getSolverInfo().m_numIterations = config.iterations;
+    dt_ = bt(config.dt);
+  }
+
+  BulletEngine(const BulletEngine&) = delete;
+  BulletEngine& operator=(const BulletEngine&) = delete;
+
+  ~BulletEngine() override {
+    // The world refers to the bodies (and they to the shapes): take them out
+    // before anything is destroyed.
+    for (auto it = bodies_.rbegin(); it != bodies_.rend(); ++it) world_.removeRigidBody(it->rigid.get());
+  }
+
+  int add_body(const BodySpec& spec) override {
+    // Bullet's rigid body frame must be the centre of mass on principal axes
+    // (it stores a diagonal inertia). Compute bitstep's mass properties from
+    // the shapes at uniform density, then re-base the shapes onto that frame,
+    // principal = (rotation from principal to body axes, centre of mass in the
+    // body frame). Specs from scenes are already centred (bench_scene_specs),
+    // and for one shape at the body origin or a symmetric compound the
+    // rotation is identity, so most bodies are created exactly as specified.
+    // (The tensor is summed in btScalar: float, like everything Bullet does.)
+    double volume = 0;
+    btVector3 weighted_centre(0, 0, 0);
+    for (const ShapeSpec& s : spec.shapes) {
+      const double v = shape_mass(s).volume;
+      volume += v;
+      weighted_centre += bt(s.local_position) * bt(v);
+    }
+    btTransform principal = btTransform::getIdentity();
+    btVector3 inertia(0, 0, 0);
+    if (!spec.is_static && volume > 0) {
+      principal.setOrigin(weighted_centre / bt(volume));
+      // I = sum of R_i diag(I_i) R_i^T + m_i (|d|^2 E - d d^T), d = c_i - c.
+      btMatrix3x3 tensor(0, 0, 0, 0, 0, 0, 0, 0, 0);
+      for (const ShapeSpec& s : spec.shapes) {
+        const ShapeMass sm = shape_mass(s);
+        const double m = spec.mass * sm.volume / volume;
+        const btMatrix3x3 r(bt(s.local_orientation));
+        const btVector3 part = bt(sm.inertia_per_kg) * bt(m);
+        const btVector3 d = bt(s.local_position) - principal.getOrigin();
+        btMatrix3x3 shift(-d.x() * d.x(), -d.x() * d.y(), -d.x() * d.z(), -d.y() * d.x(), -d.y() * d.y(),
+                          -d.y() * d.z(), -d.z() * d.x(), -d.z() * d.y(), -d.z() * d.z());
+        for (int k = 0; k < 3; ++k) shift[k][k] += d.length2();
+        tensor = tensor + r.scaled(part) * r.transpose() + shift.scaled(btVector3(bt(m), bt(m), bt(m)));
+      }
+      btMatrix3x3 rotation;
+      tensor.diagonalize(rotation, btScalar(1e-5), 20);  // tensor = rotation diag rotation^T
+      principal.setBasis(rotation);
+      inertia.setValue(tensor[0][0], tensor[1][1], tensor[2][2]);
+    }
+
+    Body body;
+    body.principal_rotation = principal.getBasis();
+    btCollisionShape* shape = nullptr;
+    if (spec.shapes.size() == 1 && is_identity(spec.shapes[0]) && principal == btTransform::getIdentity()) {
+      shape = own(make_shape(spec.shapes[0]));
+    } else {
+      auto compound = std::make_unique<btCompoundShape>();
+      for (const ShapeSpec& s : spec.shapes) {
+        const btTransform local(bt(s.local_orientation), bt(s.local_position));
+        compound->addChildShape(principal.inverse() * local, own(make_shape(s)));
+      }
+      shape = own(std::move(compound));
+    }
+
+    const btScalar mass = spec.is_static ? btScalar(0) : bt(spec.mass);
+    btRigidBody::btRigidBodyConstructionInfo info(mass, nullptr, shape, spec.is_static ? btVector3(0, 0, 0) : inertia);
+    info.m_startWorldTransform = btTransform(bt(spec.orientation), bt(spec.position)) * principal;
+    info.m_friction = bt(spec.dynamic_friction);  // Bullet has one coefficient
+    info.m_restitution = bt(spec.restitution);
+    info.m_rollingFriction = 0;
+    info.m_spinningFriction = 0;
+    info.m_linearDamping = 0;
+    info.m_angularDamping = 0;
+    body.rigid = std::make_unique<btRigidBody>(info);
+    if (!spec.is_static) {
+      body.rigid->setLinearVelocity(bt(spec.linear_velocity));
+      body.rigid->setAngularVelocity(bt(spec.angular_velocity));  // world frame, as the spec
+      body.rigid->setActivationState(DISABLE_DEACTIVATION);
+    }
+    world_.addRigidBody(body.rigid.get());
+    bodies_.push_back(std::move(body));
+    return static_cast<int>(bodies_.size()) - 1;
+  }
+
+  // maxSubSteps = 0 is Bullet's variable-step mode: exactly one internal step
+  // of dt (no fixed-step accumulator, no interpolation).
+  void step() override { world_.stepSimulation(dt_, 0); }
+
+  BodyState state(int index) const override {
+    const Body& body = bodies_[static_cast<size_t>(index)];
+    const btTransform& t = body.rigid->getCenterOfMassTransform();
+    // The spec's body axes: Bullet's principal axes turned back.
+    btQuaternion q;
+    (t.getBasis() * body.principal_rotation.transpose()).getRotation(q);
+    return {dbl(t.getOrigin()),
+            {dbl(q.w()), dbl(q.x()), dbl(q.y()), dbl(q.z())},
+            dbl(body.rigid->getLinearVelocity()),
+            dbl(body.rigid->getAngularVelocity())};
+  }
+
+  double max_penetration() const override {
+    double deepest = 0;
+    for (int m = 0; m < dispatcher_.getNumManifolds(); ++m) {
+      const btPersistentManifold* manifold = dispatcher_.getManifoldByIndexInternal(m);
+      for (int c = 0; c < manifold->getNumContacts(); ++c) {
+        deepest = std::fmax(deepest, -dbl(manifold->getContactPoint(c).getDistance()));
+      }
+    }
+    return deepest;
+  }
+
+  // FNV-1a 64 over the btScalars Bullet keeps: centre of mass, rotation
+  // matrix (Bullet stores a matrix, not a quaternion), linear and angular
+  // velocity, body by body in creation order.
+  uint64_t state_hash() const override {
+    uint64_t hash = 0xcbf29ce484222325ull;
+    const auto add = [&hash](btScalar value) {
+      unsigned char bytes[sizeof value];
+      std::memcpy(bytes, &value, sizeof value);
+      for (unsigned char byte : bytes) hash = (hash ^ byte) * 0x100000001b3ull;
+    };
+    const auto add3 = [&add](const btVector3& v) {
+      for (int k = 0; k < 3; ++k) add(v[k]);
+    };
+    for (const Body& body : bodies_) {
+      const btTransform& t = body.rigid->getCenterOfMassTransform();
+      add3(t.getOrigin());
+      for (int row = 0; row < 3; ++row) add3(t.getBasis()[row]);
+      add3(body.rigid->getLinearVelocity());
+      add3(body.rigid->getAngularVelocity());
+    }
+    return hash;
+  }
+
+ private:
+  struct Body {
+    std::unique_ptr<btRigidBody> rigid;
+    btMatrix3x3 principal_rotation;  // principal axes -> spec body axes
+  };
+
+  btCollisionShape* own(std::unique_ptr<btCollisionShape> shape) {
+    shapes_.push_back(std::move(shape));
+    return shapes_.back().get();
+  }
+
+  // Declaration order is construction order; destruction runs backwards,
+  // bodies and shapes before the world and what it was built from.
+  btDefaultCollisionConfiguration collision_config_;
+  btCollisionDispatcher dispatcher_;
+  btDbvtBroadphase broadphase_;
+  btSequentialImpulseConstraintSolver solver_;
+  btDiscreteDynamicsWorld world_;
+  std::vector<std::unique_ptr<btCollisionShape>> shapes_;
+  std::vector<Body> bodies_;
+  btScalar dt_ = 0;
+};
+
+std::unique_ptr<Engine> make_bullet(const StepConfig& config) { return std::make_unique<BulletEngine>(config); }
+
+}  // namespace
+
+std::vector<Variant> peer_variants() {
+  std::vector<Variant> variants = {{"bullet", make_bullet}};
+  for (const Variant& v : bitstep_variants()) variants.push_back(v);
+  return variants;
+}
+
+}  // namespace bitstep::bench
