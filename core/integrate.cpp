@@ -31,9 +31,14 @@ Vec3 gyroscopic_step(const Body& body, Fixed dt) {
   const Mat33& inverse_inertia = body.inverse_inertia_local;
   const Vec3 momentum = inertia * w;
   const Mat33 m = Mat33::identity() + inverse_inertia * (skew(w) * inertia - skew(momentum)) * dt;
-  if (dot(m.rows[0], cross(m.rows[1], m.rows[2])) < 0.125_fx) return body.angular_velocity;
+  // M^-1 = [c0 c1 c2] / det M with c0 = r1 x r2, c1 = r2 x r0, c2 = r0 x r1
+  // (the rows' cross products): plain Fixed arithmetic suffices, det M >= 1/8.
+  const Vec3 c0 = cross(m.rows[1], m.rows[2]), c1 = cross(m.rows[2], m.rows[0]), c2 = cross(m.rows[0], m.rows[1]);
+  const Fixed det = dot(m.rows[0], c0);
+  if (det < 0.125_fx) return body.angular_velocity;
   const Vec3 residual = inverse_inertia * cross(w, momentum) * dt;
-  return rotate(q, w - inverse(m) * residual);
+  const Vec3 correction = (c0 * residual.x + c1 * residual.y + c2 * residual.z) / det;
+  return rotate(q, w - correction);
 }
 
 }  // namespace
