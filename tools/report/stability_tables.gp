@@ -1,0 +1,21 @@
+# Draws stability_tables.svg and stability_tables.png from the CSV files beside it: gnuplot stability_tables.gp
+set datafile separator ','
+set terminal svg size 900,560 dynamic font 'sans,12'
+set output 'stability_tables.svg'
+max(a, b) = a > b ? a : b
+set title 'tables: 5 compound tables stacked (60 Hz, 10 iterations)' noenhanced
+set xlabel 'simulated time (s)'
+set ylabel 'largest drift of any body from its start (m)'
+set logscale y
+set format y '10^{%L}'
+set key left top noenhanced
+set grid
+set label 1 'drift below 1 um is drawn at 1 um' at graph 0.98, graph 0.04 right font ',9'
+plot 'series_tables.csv' using (strcol(1) eq 'standard' ? $2 : NaN):(max($3, 1e-6)) with lines lw 2 title 'standard', \
+     'series_tables.csv' using (strcol(1) eq 'standard+shock' ? $2 : NaN):(max($3, 1e-6)) with lines lw 2 title 'standard+shock', \
+     'series_tables.csv' using (strcol(1) eq 'guendelman' ? $2 : NaN):(max($3, 1e-6)) with lines lw 2 title 'guendelman', \
+     'series_tables.csv' using (strcol(1) eq 'guendelman+shock' ? $2 : NaN):(max($3, 1e-6)) with lines lw 2 title 'guendelman+shock', \
+     'series_tables.csv' using (strcol(1) eq 'bullet' ? $2 : NaN):(max($3, 1e-6)) with lines lw 2 title 'bullet'
+set terminal pngcairo size 900,560 font 'sans,10'
+set output 'stability_tables.png'
+replot

@@ -1,0 +1,25 @@
+# Draws wp_thrown.svg and wp_thrown.png from the CSV files beside it: gnuplot wp_thrown.gp
+set datafile separator ','
+set terminal svg size 900,560 dynamic font 'sans,12'
+set output 'wp_thrown.svg'
+max(a, b) = a > b ? a : b
+floor_error = 1e-12
+set title 'thrown: 50 cubes thrown at the ground at 20 m/s' noenhanced
+set xlabel 'cost: wall-clock ms per simulated second'
+set ylabel 'error: deepest corner below the ground (m)'
+set logscale xy
+set format y '10^{%L}'
+set key outside right noenhanced
+set grid
+set label 1 'dt in {1/30 .. 1/240} x iterations in {1, 4, 16}; errors below 1e-12 drawn at 1e-12' at graph 0, graph -0.13 font ',9'
+set bmargin 6
+plot 'wp_thrown.csv' using (strcol(1) eq 'standard' ? $4 : NaN):(max($5, floor_error)) with points pt 5 ps 1.2 title 'standard', \
+     'wp_thrown.csv' using (strcol(1) eq 'standard+shock' ? $4 : NaN):(max($5, floor_error)) with points pt 6 ps 1.2 title 'standard+shock', \
+     'wp_thrown.csv' using (strcol(1) eq 'guendelman' ? $4 : NaN):(max($5, floor_error)) with points pt 7 ps 1.2 title 'guendelman', \
+     'wp_thrown.csv' using (strcol(1) eq 'guendelman+shock' ? $4 : NaN):(max($5, floor_error)) with points pt 8 ps 1.2 title 'guendelman+shock', \
+     'wp_thrown.csv' using (strcol(1) eq 'bullet' ? $4 : NaN):(max($5, floor_error)) with points pt 9 ps 1.2 title 'bullet', \
+     'wp_thrown_front.csv' using 1:(max($2, floor_error)) with lines lw 2 lc 'black' title 'Pareto front', \
+     'wp_thrown_front.csv' using 1:(max($2, floor_error)):3 with labels left offset 0.6,0.3 font ',7' notitle
+set terminal pngcairo size 900,560 font 'sans,10'
+set output 'wp_thrown.png'
+replot
