@@ -95,7 +95,7 @@ TEST_CASE("bench accuracy on bitstep: free flight, sliding, rolling and bouncing
   CHECK(rolling.error < 0.01);
   CHECK(std::abs(metric(rolling, "slip_end_s") - metric(rolling, "slip_end_exact_s")) < 2.0 / 60);
   // guendelman finds contacts at the predicted poses; their points must be
-  // moved back with the ball or the lever v dt brakes it (was 0.61 v0).
+  // moved back with the ball or the lever v dt brakes it (was 0.61 x 5/7 v0).
   const ExperimentResult predicted = run("rolling_sphere", "guendelman+shock");
   CHECK(predicted.error < 0.01);
   CHECK(std::abs(metric(predicted, "slip_end_s") - metric(predicted, "slip_end_exact_s")) < 2.0 / 60);
