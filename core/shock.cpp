@@ -115,6 +115,157 @@ bool glue(SolverBody& mover, const SolverBody& support, const Body& body, bool m
   return true;
 }
 
+
+// A body held up by several supports is glued to all of them at once when
+// they share one rigid motion (within 1 um/s and 1 urad/s: a wall's bricks
+// glued to the ground) and their contacts face the same way (normals within
+// a quarter of a degree): the contacts are taken as one face, as if the
+// supports were one body. Its whole impulse (the iterations' plus the
+// glue's) is rebuilt as a fresh distribution over all the points, which
+// must push at every one, with the friction cone over the sum of the
+// contacts' normal impulses and the twist cone over the points' mean
+// distance from their common centroid. Glued one contact at a time, a
+// running-bond brick had to be held by each half of its base alone (its
+// load's centre lies on the edge between them). The friction found is
+// shared by the contacts in proportion to their normal impulses.
+bool glue_all(SolverBody& mover, const Body& body, const std::vector<SolverBody>& solver_bodies,
+              const std::vector<Body>& bodies, const uint32_t* entries, size_t entry_count,
+              const std::vector<uint32_t>& level, std::vector<ManifoldRow>& manifolds, std::vector<PointRow>& rows) {
+  constexpr Fixed same_motion = 0.000001_fx;  // m/s and rad/s
+  constexpr Fixed same_normal = 0.99999_fx;   // cosine
+  const Vec3 position = body.pose.position;
+  Vec3 n, v, w, centroid;
+  Fixed mu = Fixed::max();
+  int32_t point_count = 0;
+  for (size_t e = 0; e < entry_count; ++e) {
+    const ManifoldRow& m = manifolds[entries[e]];
+    const bool mover_is_b = level[m.a] < level[m.b];
+    const uint32_t support = mover_is_b ? m.a : m.b;
+    const Vec3 up = mover_is_b ? m.manifold->normal : -m.manifold->normal;
+    for (size_t i = 0; i < m.count; ++i) {
+      if (rows[m.first + i].velocity_target > Fixed{}) return false;  // only resting contacts
+      centroid += rows[m.first + i].point->position;
+    }
+    point_count += static_cast<int32_t>(m.count);
+    // The support's rigid motion continued to the mover's centre of mass.
+    const SolverBody& s = solver_bodies[support];
+    const Vec3 w_s = s.velocity.angular;
+    const Vec3 v_s = s.velocity.linear + cross(w_s, position - bodies[support].pose.position);
+    if (e == 0) {
+      n = up;
+      v = v_s;
+      w = w_s;
+    } else {
+      if (dot(up, n) < same_normal) return false;
+      const Vec3 dv = v_s - v, dw = w_s - w;
+      if (max(max(abs(dv.x), abs(dv.y)), abs(dv.z)) > same_motion) return false;
+      if (max(max(abs(dw.x), abs(dw.y)), abs(dw.z)) > same_motion) return false;
+    }
+    mu = min(mu, m.static_friction);
+  }
+  if (point_count < 3) return false;
+  centroid = centroid / Fixed::from_int(point_count);
+  // The glue's impulse on the mover: P through the centroid and an angular
+  // impulse L about it (m dv = P, I dw = r x P + L), as in glue().
+  const Vec3 r_mover = centroid - position;
+  const Vec3 impulse = (v - mover.velocity.linear) * (Fixed::one() / mover.inverse_mass);
+  const Quat q = body.pose.orientation;
+  const Vec3 angular =
+      rotate(q, body.inertia_local * rotate_inverse(q, w - mover.velocity.angular)) - cross(r_mover, impulse);
+  // The whole impulse on the mover: normal, tangential, twist about n at the
+  // centroid and the normal impulses' in-plane moment about it.
+  Fixed total = dot(impulse, n);
+  Vec3 tangential = impulse - n * total;
+  Fixed twist = dot(angular, n);
+  Vec3 moment = angular - n * twist;
+  Fixed radius;
+  for (size_t e = 0; e < entry_count; ++e) {
+    const ManifoldRow& m = manifolds[entries[e]];
+    const Manifold& manifold = *m.manifold;
+    Vec3 middle;
+    for (size_t i = 0; i < m.count; ++i) {
+      const ContactPoint& point = *rows[m.first + i].point;
+      total += point.normal_impulse;
+      moment += cross(point.position - centroid, n) * point.normal_impulse;
+      radius += length(point.position - centroid);
+      middle += point.position;
+    }
+    middle = middle / Fixed::from_int(static_cast<int32_t>(m.count));
+    // An impulse lambda along a row acts +d on b, -d on a; the twist row's
+    // impulse is the same about the mover's up either way.
+    Vec3 friction = m.tangent[0].direction * manifold.friction_impulse[0] +
+                    m.tangent[1].direction * manifold.friction_impulse[1];
+    if (!(level[m.a] < level[m.b])) friction = -friction;
+    tangential += friction;
+    twist += manifold.twist_impulse + dot(cross(middle - centroid, friction), n);
+  }
+  radius = radius / Fixed::from_int(point_count);
+  if (total <= Fixed{}) return false;
+  if (length(tangential) > mu * total) return false;
+  if (abs(twist) > mu * total * radius) return false;
+  // The fresh distribution pi_i = total / k + beta . a_i, a_i = (p_i - c) x n
+  // in the face's plane (e0, e1), with G beta = moment: the least-squares
+  // spread of the points' impulses that gives the moment (sum a_i = 0). The
+  // arms are measured in units of the points' mean distance from c, so G
+  // stays near the point count whatever the size of the face.
+  if (radius < 0.0001_fx) return false;
+  const Fixed inverse_radius = Fixed::one() / radius;
+  const Vec3 axis = abs(n.x) < 0.57735_fx ? Vec3{Fixed::one(), {}, {}} : Vec3{{}, Fixed::one(), {}};
+  const Vec3 e0 = normalize(cross(n, axis));
+  const Vec3 e1 = cross(n, e0);
+  const auto arm = [&](const ContactPoint& point) { return cross((point.position - centroid) * inverse_radius, n); };
+  Fixed g00, g01, g11;
+  for (size_t e = 0; e < entry_count; ++e) {
+    const ManifoldRow& m = manifolds[entries[e]];
+    for (size_t i = 0; i < m.count; ++i) {
+      const Vec3 a = arm(*rows[m.first + i].point);
+      const Fixed a0 = dot(a, e0), a1 = dot(a, e1);
+      g00 += a0 * a0;
+      g01 += a0 * a1;
+      g11 += a1 * a1;
+    }
+  }
+  const Fixed det = g00 * g11 - g01 * g01;
+  if (det < 0.0001_fx) return false;  // the points lie on a line
+  const Fixed b0 = dot(moment, e0) * inverse_radius, b1 = dot(moment, e1) * inverse_radius;
+  const Fixed inverse_det = Fixed::one() / det;
+  const Fixed beta0 = (b0 * g11 - b1 * g01) * inverse_det, beta1 = (b1 * g00 - b0 * g01) * inverse_det;
+  const Fixed share = total / Fixed::from_int(point_count);
+  const auto point_share = [&](const ContactPoint& point) {
+    const Vec3 a = arm(point);
+    return share + beta0 * dot(a, e0) + beta1 * dot(a, e1);
+  };
+  for (size_t e = 0; e < entry_count; ++e) {
+    const ManifoldRow& m = manifolds[entries[e]];
+    for (size_t i = 0; i < m.count; ++i) {
+      if (point_share(*rows[m.first + i].point) < Fixed{}) return false;
+    }
+  }
+  // Held: the points take their shares; each contact the friction in
+  // proportion to its normal impulse, and the twist that keeps the total.
+  for (size_t e = 0; e < entry_count; ++e) {
+    const ManifoldRow& m = manifolds[entries[e]];
+    Manifold& manifold = *m.manifold;
+    Fixed normal;
+    Vec3 middle;
+    for (size_t i = 0; i < m.count; ++i) {
+      ContactPoint& point = *rows[m.first + i].point;
+      point.normal_impulse = point_share(point);
+      normal += point.normal_impulse;
+      middle += point.position;
+    }
+    middle = middle / Fixed::from_int(static_cast<int32_t>(m.count));
+    const Fixed part = normal / total;
+    const Vec3 friction = tangential * part;
+    const Vec3 along = level[m.a] < level[m.b] ? friction : -friction;
+    manifold.friction_impulse[0] = dot(along, m.tangent[0].direction);
+    manifold.friction_impulse[1] = dot(along, m.tangent[1].direction);
+    manifold.twist_impulse = twist * part - dot(cross(middle - centroid, friction), n);
+  }
+  mover.velocity = {v, w};
+  return true;
+}
+
 }  // namespace
 
 void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, const std::vector<Contact>& contacts,
@@ -158,7 +309,8 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
   std::sort(order.begin(), order.end(),
             [](ShockEntry x, ShockEntry y) { return x.level != y.level ? x.level < y.level : x.index < y.index; });
 
-  // Bodies held up by more than one body. One the glue cannot hold (its
+  // Bodies held up by more than one body: glued to all their supports at
+  // once (glue_all), else to one at a time. One neither glue can hold (its
   // supports move differently, or its load's centre lies outside each
   // contact alone) is left as the iterations left it: solved against each
   // support in turn, one-sided, it is driven toward whichever rises fastest
@@ -181,6 +333,30 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
       several_supports[mover] = 1;
     }
   }
+
+  // Each body with several supports: its support manifolds (positions in
+  // `order`), grouped by body (a counting sort: deterministic), in order.
+  std::vector<uint32_t>& support_begin = scratch.support_begin;
+  std::vector<uint32_t>& support_entries = scratch.support_entries;
+  support_begin.assign(bodies.size() + 1, 0);
+  const auto mover_of = [&](const ManifoldRow& m) { return level[m.a] < level[m.b] ? m.b : m.a; };
+  for (const ShockEntry& e : order) {
+    const uint32_t mover = mover_of(manifold_rows[e.index]);
+    if (e.holds_up && several_supports[mover]) ++support_begin[mover + 1];
+  }
+  for (size_t i = 1; i < support_begin.size(); ++i) support_begin[i] += support_begin[i - 1];
+  support_entries.resize(support_begin.back());
+  std::vector<uint32_t>& fill = scratch.support_fill;
+  fill.assign(support_begin.begin(), support_begin.end() - 1);
+  for (uint32_t i = 0; i < order.size(); ++i) {
+    const uint32_t mover = mover_of(manifold_rows[order[i].index]);
+    if (order[i].holds_up && several_supports[mover]) support_entries[fill[mover]++] = i;
+  }
+  // Per body, whether it is glued to all its supports at once in this pass.
+  std::vector<uint8_t>& glued_to_all = scratch.glued_to_all;
+  std::vector<BodyRates>& glued_velocity = scratch.glued_velocity;  // read only where glued_to_all
+  glued_to_all.assign(bodies.size(), 0);
+  glued_velocity.resize(bodies.size());
 
   // Copies of the rows with the lower body's side frozen, accumulating into
   // copies of the manifolds: the shock step corrects this step's velocities
@@ -227,9 +403,27 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
           const bool mover_is_b = level[m.a] < level[m.b];
           const uint32_t mover = mover_is_b ? m.b : m.a;
           if (order[i].holds_up) {
-            if (glue(solver_bodies[mover], solver_bodies[mover_is_b ? m.a : m.b], bodies[mover], mover_is_b, m,
-                     shock_rows)) {
-              changed = changed || !(solver_bodies[mover].velocity == (mover_is_b ? before_b : before_a));
+            const BodyRates before = mover_is_b ? before_b : before_a;
+            if (several_supports[mover]) {
+              // Glued to all its supports at once at its first support manifold.
+              const uint32_t* list = &support_entries[support_begin[mover]];
+              const size_t count = support_begin[mover + 1] - support_begin[mover];
+              // Glued in the last pass and not moved since: its supports are
+              // frozen, so the glue would find the same again.
+              if (list[0] == i && !(glued_to_all[mover] && solver_bodies[mover].velocity == glued_velocity[mover])) {
+                glued_to_all[mover] = glue_all(solver_bodies[mover], bodies[mover], solver_bodies, bodies, list,
+                                               count, level, shock_manifolds, shock_rows);
+                glued_velocity[mover] = solver_bodies[mover].velocity;
+              }
+              if (glued_to_all[mover]) {
+                changed = changed || !(solver_bodies[mover].velocity == before);
+                continue;
+              }
+            }
+            const bool glued = glue(solver_bodies[mover], solver_bodies[mover_is_b ? m.a : m.b], bodies[mover],
+                                    mover_is_b, m, shock_rows);
+            if (glued) {
+              changed = changed || !(solver_bodies[mover].velocity == before);
               continue;
             }
             if (several_supports[mover]) continue;
@@ -252,6 +446,7 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
     begin = end;
   }
   for (size_t i = 0; i < frozen_bodies.size(); ++i) solver_bodies[frozen_bodies[i]].inverse_mass = saved_inverse_mass[i];
+
 }
 
 }  // namespace bitstep

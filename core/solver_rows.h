@@ -155,6 +155,11 @@ struct SolverScratch {
   std::vector<ShockEntry> order;
   std::vector<uint32_t> first_support;    // per slot
   std::vector<uint8_t> several_supports;  // per slot
+  std::vector<uint32_t> support_begin;    // per slot + 1: where a body's support manifolds begin in support_entries
+  std::vector<uint32_t> support_entries;  // positions in `order`, grouped by the body they hold up
+  std::vector<uint32_t> support_fill;     // per slot, while grouping
+  std::vector<uint8_t> glued_to_all;      // per slot
+  std::vector<BodyRates> glued_velocity;  // per slot: the velocity glue_all gave it
   std::vector<PointRow> shock_rows;
   std::vector<ManifoldRow> shock_manifolds;
   std::vector<Manifold> accumulated;

@@ -133,19 +133,13 @@ TEST_CASE("tables: five stacked compound tables stand 20 s with drift under 1 cm
   CHECK(m.largest_drift < 0.01);
 }
 
-// The walls (issue 6): no brick moves more than 1 cm. wall64 (2,080 bricks)
-// for 2,000 steps; wall128 (8,256, ~0.2 s a step) for 600 here, its
-// 2,000-step run is measured by the bench (it stands about 1,770 steps).
-TEST_CASE("wall64 stands 2,000 steps: no brick moves 1 cm", "[scene-run][slow]") {
-  World world = load_world("wall64.json");
-  const SceneMotion m = run(world, 2000);
-  INFO("largest drift " << m.largest_drift << " m, largest move " << m.largest_move << " m, deepest " << m.deepest);
-  CHECK(m.largest_move < 0.01);
-}
-
-TEST_CASE("wall128 stands 600 steps: no brick moves 1 cm", "[scene-run][slow]") {
+// The walls (issue 6): wall128 (8,256 bricks, ~0.24 s a step) stands the
+// 2,000 steps the issue asks for with no brick moving 1 cm (it stood ~1,770
+// before the glue to several supports at once; 3,500 measured, none moving).
+// wall64's 2,000 steps are in the bench (and in this wall's lower rows).
+TEST_CASE("wall128 stands 2,000 steps: no brick moves 1 cm", "[scene-run][slow]") {
   World world = load_world("wall128.json");
-  const SceneMotion m = run(world, 600);
+  const SceneMotion m = run(world, 2000);
   INFO("largest drift " << m.largest_drift << " m, largest move " << m.largest_move << " m, deepest " << m.deepest);
   CHECK(m.largest_move < 0.01);
 }
