@@ -104,6 +104,18 @@ struct Run {
   }
   // Whole steps covering `seconds` (at least one).
   int steps_for(double seconds) const { return std::max(1, static_cast<int>(std::lround(seconds / config.dt))); }
+  // Steps through `seconds`; returns the simulated time actually stepped.
+  double simulate(double seconds) {
+    const int n = steps_for(seconds);
+    for (int i = 0; i < n; ++i) step();
+    return n * config.dt;
+  }
+  // error = |measured - exact| / exact, both kept as figures.
+  void relative_error(const char* measured_name, double measured, double exact) {
+    result.error = std::abs(measured - exact) / exact;
+    metric(measured_name, measured);
+    metric("exact_m", exact);
+  }
 
   // The largest distance any dynamic body has moved from its start, m.
   double max_drift() const {
@@ -132,9 +144,8 @@ ExperimentResult free_fall(const Variant& variant, const StepConfig& config, con
   Run run(variant, config);
   const double y0 = 100;
   const int body = run.add(sphere(0.5, {0, y0, 0}, 1));
-  const int n = run.steps_for(2.0);
-  for (int i = 0; i < n; ++i) run.step();
-  const double t = n * config.dt;
+  const int n = run.steps_for(2.0);  // for the recurrence
+  const double t = run.simulate(2.0);
   const double y = run.engine->state(body).position[1];
   run.result.error = std::abs(y - (y0 - g * t * t / 2));
   run.metric("error_vs_euler_recurrence_m", std::abs(y - (y0 - g * config.dt * config.dt * n * (n + 1) / 2)));
@@ -149,9 +160,8 @@ ExperimentResult projectile(const Variant& variant, const StepConfig& config, co
   BodySpec ball = sphere(0.5, p0, 1);
   ball.linear_velocity = {v, v, 0};
   const int body = run.add(ball);
-  const int n = run.steps_for(2.0);
-  for (int i = 0; i < n; ++i) run.step();
-  const double t = n * config.dt;
+  const int n = run.steps_for(2.0);  // for the recurrence
+  const double t = run.simulate(2.0);
   const V3 p = run.engine->state(body).position;
   const V3 exact{v * t, p0[1] + v * t - g * t * t / 2, 0};
   const V3 recurrence{v * t, p0[1] + v * t - g * config.dt * config.dt * n * (n + 1) / 2, 0};
@@ -184,8 +194,7 @@ ExperimentResult incline_hold(const Variant& variant, const StepConfig& config, 
   Run run(variant, config);
   int block = 0;
   build_incline(run, 0.6, block);
-  const int n = run.steps_for(options.quick ? 2.0 : 5.0);
-  for (int i = 0; i < n; ++i) run.step();
+  run.simulate(options.quick ? 2.0 : 5.0);
   run.result.error = run.max_drift();
   return run.result;
 }
@@ -197,15 +206,10 @@ ExperimentResult incline_slide(const Variant& variant, const StepConfig& config,
   int block = 0;
   const double mu = 0.4;
   const V3 downhill = build_incline(run, mu, block);
-  const int n = run.steps_for(2.0);
-  for (int i = 0; i < n; ++i) run.step();
-  const double t = n * config.dt;
+  const double t = run.simulate(2.0);
   const double a = g * (std::sin(pi / 6) - mu * std::cos(pi / 6));
-  const double exact = a * t * t / 2;
   const double travelled = dot(sub(run.engine->state(block).position, run.start[static_cast<size_t>(block)]), downhill);
-  run.result.error = std::abs(travelled - exact) / exact;
-  run.metric("travelled_m", travelled);
-  run.metric("exact_m", exact);
+  run.relative_error("travelled_m", travelled, a * t * t / 2);
   return run.result;
 }
 
@@ -218,13 +222,8 @@ ExperimentResult stop_distance(const Variant& variant, const StepConfig& config,
   BodySpec cube = box({0.25, 0.25, 0.25}, {0, 0.25, 0}, 1, mu);
   cube.linear_velocity = {v0, 0, 0};
   const int block = run.add(cube);
-  const int n = run.steps_for(2.0);
-  for (int i = 0; i < n; ++i) run.step();
-  const double exact = v0 * v0 / (2 * mu * g);
-  const double travelled = run.engine->state(block).position[0];
-  run.result.error = std::abs(travelled - exact) / exact;
-  run.metric("travelled_m", travelled);
-  run.metric("exact_m", exact);
+  run.simulate(2.0);
+  run.relative_error("travelled_m", run.engine->state(block).position[0], v0 * v0 / (2 * mu * g));
   return run.result;
 }
 
