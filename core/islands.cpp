@@ -27,14 +27,14 @@ void unite(std::vector<uint32_t>& parent, uint32_t a, uint32_t b) {
 
 }  // namespace
 
-void build_islands(const std::vector<Body>& bodies, const std::vector<Contact>& contacts, Fixed touch_distance,
+void build_islands(const std::vector<Body>& bodies, const std::vector<Contact>& contacts,
                    Islands& islands) {
   const auto n = static_cast<uint32_t>(bodies.size());
   auto dynamic = [&](uint32_t i) { return bodies[i].alive && bodies[i].type == BodyType::dynamic; };
   std::vector<uint32_t> parent(n);
   for (uint32_t i = 0; i < n; ++i) parent[i] = i;
   for (const Contact& c : contacts) {
-    if (dynamic(c.key.body_a) && dynamic(c.key.body_b) && touches(c.manifold, touch_distance)) {
+    if (dynamic(c.key.body_a) && dynamic(c.key.body_b) && touches(c.manifold)) {
       unite(parent, c.key.body_a, c.key.body_b);
     }
   }

@@ -24,11 +24,11 @@ struct Islands {
   size_t count() const { return first.empty() ? 0 : first.size() - 1; }
 };
 
-// Builds the islands from the contacts that touch: a manifold with a point at
-// depth >= -touch_distance (m) joins its two bodies when both are dynamic.
+// Builds the islands from the contacts that touch (manifold.h: a point
+// within touch_tolerance) joins its two bodies when both are dynamic.
 // Deterministic: the result depends on slots and contacts only, never on
 // memory addresses or iteration over unordered containers.
-void build_islands(const std::vector<Body>& bodies, const std::vector<Contact>& contacts, Fixed touch_distance,
+void build_islands(const std::vector<Body>& bodies, const std::vector<Contact>& contacts,
                    Islands& islands);
 
 }  // namespace bitstep

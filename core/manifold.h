@@ -6,9 +6,12 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "fixed/decimal.h"
 #include "fixed/vec3.h"
 
 namespace bitstep {
+
+using namespace bitstep::literals;
 
 // A feature id names the pair of features (faces, edges, vertices) that made
 // a contact point, so next step's point with the same id inherits the
@@ -37,12 +40,21 @@ struct Manifold {
   Fixed twist_impulse;
 };
 
-// A point of the manifold lies within touch_distance (m): depth >= -touch_distance.
-// Islands, sleep and the shock step count such a contact as touching; one
-// further apart is only speculative.
-inline bool touches(const Manifold& m, Fixed touch_distance) {
+// How far apart (m) two surfaces may be and still touch: rounding, not
+// physics. A speculative contact lands a falling body exactly (its row lets
+// the gap close by depth / dt, no more), so a body at rest on a support sits
+// at a depth of 0 to the penetration slop, never above it by more than a few
+// ulps. This is NOT the penetration slop (5 mm): counting gaps up to the slop
+// as touching let the shock step hold bodies up in the air (a box released
+// 3 mm above the ground stayed there for ever).
+inline constexpr Fixed touch_tolerance = 0.00001_fx;
+
+// A point of the manifold touches: depth >= -touch_tolerance. Islands, sleep
+// and the shock step count such a contact as touching; one further apart is
+// only speculative (the iterations close it, exactly, when the bodies meet).
+inline bool touches(const Manifold& m) {
   for (int i = 0; i < m.point_count; ++i) {
-    if (m.points[static_cast<size_t>(i)].depth >= -touch_distance) return true;
+    if (m.points[static_cast<size_t>(i)].depth >= -touch_tolerance) return true;
   }
   return false;
 }

@@ -275,7 +275,7 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
   const std::vector<ManifoldRow>& manifold_rows = scratch.manifolds;
   if (manifold_rows.empty()) return;  // nothing awake touches anything
   ShockLevels& levels = scratch.levels;
-  shock_levels(bodies, contacts, settings.gravity, settings.penetration_slop, levels);
+  shock_levels(bodies, contacts, settings.gravity, levels);
   const std::vector<uint32_t>& level = levels.rank;
   const std::vector<uint32_t>& height = levels.height;
   // Whether the lower-ranked body of a manifold between ranks holds the
@@ -300,10 +300,10 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
     const bool support = level[m.a] != level[m.b] && holds_up(m);
     const bool sideways = level[m.a] != level[m.b] && !between_heights && !support;
     if (between_heights && !support) continue;
-    // Apart by more than the slop: a speculative contact, for the
-    // iterations (gluing it would stop a falling body in the air), unless
-    // sideways, where it is solved one-sided up to touching and no more.
-    if (!sideways && !touches(*m.manifold, settings.penetration_slop)) continue;
+    // Apart: a speculative contact, for the iterations (gluing it would
+    // stop a falling body in the air), unless sideways, where it is solved
+    // one-sided up to touching and no more.
+    if (!sideways && !touches(*m.manifold)) continue;
     order.push_back({std::max(level[m.a], level[m.b]), i, support});
   }
   std::sort(order.begin(), order.end(),

@@ -47,7 +47,7 @@ void breadth_first(const Adjacency& adjacency, std::vector<uint32_t>& queue, std
 }  // namespace
 
 void shock_levels(const std::vector<Body>& bodies, const std::vector<Contact>& contacts, Vec3 gravity,
-                  Fixed touch_distance, ShockLevels& levels) {
+                  ShockLevels& levels) {
   const size_t count = bodies.size();
   std::vector<uint32_t>& height = levels.height;
   std::vector<uint32_t>& rank = levels.rank;
@@ -60,7 +60,7 @@ void shock_levels(const std::vector<Body>& bodies, const std::vector<Contact>& c
   std::vector<Edge> supports;
   if (gravity != Vec3{}) {
     for (const Contact& c : contacts) {
-      if (!touches(c.manifold, touch_distance)) continue;
+      if (!touches(c.manifold)) continue;
       if (is_support(c.manifold.normal, gravity)) supports.push_back({c.key.body_a, c.key.body_b});
       if (is_support(-c.manifold.normal, gravity)) supports.push_back({c.key.body_b, c.key.body_a});
     }

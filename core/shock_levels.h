@@ -38,10 +38,10 @@ struct ShockLevels {
   std::vector<uint32_t> rank;
 };
 
-// Only contacts that touch hold a body up: a point within `touch_distance`
-// (m); a speculative contact further apart holds nothing yet. Sideways
+// Only contacts that touch (manifold.h: within touch_tolerance) hold a body
+// up; a speculative contact further apart holds nothing yet. Sideways
 // chains run through speculative contacts too.
 void shock_levels(const std::vector<Body>& bodies, const std::vector<Contact>& contacts, Vec3 gravity,
-                  Fixed touch_distance, ShockLevels& levels);
+                  ShockLevels& levels);
 
 }  // namespace bitstep

@@ -42,7 +42,7 @@ Fixed closing_speed(const Body& toucher, const Manifold& m, Vec3 normal) {
 bool wakes_on_touch(const Settings& settings, const Body& toucher, const Manifold& m, Vec3 normal) {
   if (toucher.type == BodyType::kinematic) return moves(toucher);
   if (!is_awake_dynamic(toucher)) return false;
-  const bool touching = touches(m, settings.penetration_slop);
+  const bool touching = touches(m);
   const Fixed closing = closing_speed(toucher, m, normal);
   if (settings.sleep_method == SleepMethod::motion) {
     return motion_of(toucher) > settings.sleep_epsilon * 2.0_fx && (touching || closing > Fixed{});
@@ -115,9 +115,8 @@ void reset_sleep(const Settings& settings, Body& body) {
 
 int wake_islands(const Settings& settings, std::vector<Body>& bodies, const std::vector<Contact>& contacts,
                  SleepScratch& scratch, bool forces_done) {
-  const Fixed touch_distance = settings.penetration_slop;
   Islands& islands = scratch.islands;
-  build_islands(bodies, contacts, touch_distance, islands);
+  build_islands(bodies, contacts, islands);
   for (Body& body : bodies) {
     if (body.asleep && body.sleepy_steps == 0) body.sleepy_steps = 1;  // created asleep: its contacts are found now
   }
@@ -134,8 +133,8 @@ int wake_islands(const Settings& settings, std::vector<Body>& bodies, const std:
     // Resting on something that does not move.
     const bool holds_a = a.type != BodyType::dynamic && !moves(a);
     const bool holds_b = b.type != BodyType::dynamic && !moves(b);
-    if (holds_a && island_b != no_island && touches(c.manifold, touch_distance)) flags[island_b] |= island_supported;
-    if (holds_b && island_a != no_island && touches(c.manifold, touch_distance)) flags[island_a] |= island_supported;
+    if (holds_a && island_b != no_island && touches(c.manifold)) flags[island_b] |= island_supported;
+    if (holds_b && island_a != no_island && touches(c.manifold)) flags[island_a] |= island_supported;
     // A body touching a sleeping one (a speculative contact counts: it is
     // closing in this step).
     const Vec3 n = c.manifold.normal;  // from a to b
@@ -186,7 +185,7 @@ void wake_islands_of(const Settings& settings, std::vector<Body>& bodies, const 
   for (const uint32_t slot : slots) any = any || (bodies[slot].alive && bodies[slot].asleep);
   if (!any) return;
   Islands islands;
-  build_islands(bodies, contacts, settings.penetration_slop, islands);
+  build_islands(bodies, contacts, islands);
   for (const uint32_t slot : slots) {
     const uint32_t k = islands.island_of[slot];
     if (k == no_island) continue;

@@ -61,6 +61,10 @@ ManifoldRow::Rocking make_rocking(const SolverBody& a, const SolverBody& b, cons
   return r;
 }
 
+// A point at `depth` (m, < 0: a gap) approaching at `speed` (m/s) meets
+// its surface within the step dt: it overlaps already, or covers the gap.
+bool meets_at(Fixed depth, Fixed speed, Fixed dt) { return depth >= Fixed{} || speed * dt >= -depth; }
+
 // The collision pass solves only the manifolds where something hits: a
 // point that meets this step approaching faster than the restitution
 // threshold. Resting contacts wait for the contact pass.
@@ -72,8 +76,7 @@ bool impacts(const Settings& settings, const Body& body_a, const Body& body_b, c
     const Vec3 relative = b.velocity.linear + cross(b.velocity.angular, rb) - a.velocity.linear -
                           cross(a.velocity.angular, ra);
     const Fixed approach = -dot(relative, m.normal);
-    const bool meets = p.depth >= Fixed{} || approach * settings.dt >= -p.depth;
-    if (meets && approach > settings.restitution_threshold) return true;
+    if (meets_at(p.depth, approach, settings.dt) && approach > settings.restitution_threshold) return true;
   }
   return false;
 }
@@ -133,12 +136,15 @@ void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
       // open), so the rebound height does not depend on where in the step
       // the impact fell.
       const Fixed start_speed = -relative_rate(start_velocities[ia], start_velocities[ib], row.normal);
-      const bool meets = p.depth >= Fixed{} || -approach * settings.dt >= -p.depth;
+      const bool meets = meets_at(p.depth, -approach, settings.dt);
       if (pass == SolvePass::collision) {
         // The second seed's collision pass: a point that meets this step
         // leaves at e times its approach speed (the velocities have no
-        // forces yet); nothing is pushed apart.
-        if (meets && -approach > settings.restitution_threshold) row.velocity_target = -approach * restitution;
+        // forces yet); nothing is pushed apart. With e = 0 it only arrives:
+        // a gap closes by depth / dt, as in the iterations.
+        if (meets && -approach > settings.restitution_threshold && restitution > Fixed{}) {
+          row.velocity_target = -approach * restitution;
+        }
         centroid += p.position;
         target += row.velocity_target;
         rows.push_back(row);
@@ -158,6 +164,22 @@ void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
           const Fixed rest = p.depth + leave * (after - settings.dt) + acceleration * after * (after / 2.0_fx - settings.dt);
           row.push_target = rest * inverse_dt;
         }
+      }
+      if (pass == SolvePass::contact && p.depth < Fixed{} && meets_at(p.depth, start_speed, settings.dt) &&
+          start_speed > settings.restitution_threshold && restitution > Fixed{}) {
+        // The collision pass bounced this point from a gap, as if the
+        // surfaces had met at the start of the step: it leaves at
+        // e s from where it is. The bounce belongs to the moment of impact,
+        // t = -depth / s, and by the end of the step the point should be
+        // e s (dt - t) from the surface, not -depth + e s dt: the difference
+        // goes through the split-impulse channel as an exact pull (depth -
+        // e s t) / dt, so the body reaches the surface however fast it came
+        // (it stopped in mid-air up to a step's travel short).
+        // The velocity row holds what the bounce left (no further approach).
+        const Fixed leave = restitution * start_speed;
+        row.velocity_target = Fixed{};
+        row.impact = true;
+        row.push_target = (p.depth - leave * (-p.depth / start_speed)) * inverse_dt;
       }
       const Fixed excess = p.depth - settings.penetration_slop;
       if (excess > Fixed{} && !row.impact) {

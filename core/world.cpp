@@ -19,6 +19,18 @@ Aabb body_bounds(const Body& body) {
   return bounds;
 }
 
+// The farthest any point of the body's shapes lies from its centre of mass (m).
+Fixed body_radius(const Body& body) {
+  Fixed radius;
+  for (const Shape& s : body.shapes) {
+    Fixed extent = s.radius;
+    if (s.type == ShapeType::box) extent = length(s.half_extents);
+    if (s.type == ShapeType::capsule) extent = s.half_height + s.radius;
+    radius = max(radius, length(s.local.position) + extent);
+  }
+  return radius;
+}
+
 }  // namespace
 
 World::World(const Settings& settings) : settings_(settings) {}
@@ -187,24 +199,31 @@ void World::step_standard() {
 // would push through. A sphere resting on a plane: the prediction finds the
 // contact, the collision pass has nothing to do (no approach), gravity
 // gives -g dt, the contact pass takes it away, and the sphere does not move.
+//
+// A fast body is not moved for the prediction: its contacts are found where
+// it is, kept up to its whole step's motion apart (speculative, as in the
+// standard pipeline). Moved a long way, it would be looked for on the far
+// side of a thin wall (or past it, finding nothing) and go through.
 void World::step_guendelman() {
   before_prediction_.resize(bodies_.size());
   for (size_t i = 0; i < bodies_.size(); ++i) {
     Body& body = bodies_[i];
     if (!is_awake_dynamic(body)) continue;
-    before_prediction_[i] = {body.pose, body.linear_velocity, body.angular_velocity, body.force, body.torque, Vec3{}};
+    SavedMotion& saved = before_prediction_[i];
+    saved = {body.pose, body.linear_velocity, body.angular_velocity, body.force, body.torque, body.pose};
     integrate_velocity(settings_, body);
+    if (moves_far(body)) continue;
     body.pose.position = mul_add(body.linear_velocity, settings_.dt, body.pose.position);
     if (body.angular_velocity != Vec3{}) {
       body.pose.orientation = integrate(body.pose.orientation, body.angular_velocity, settings_.dt);
     }
+    saved.predicted = body.pose;
   }
   find_contacts();
   for (size_t i = 0; i < bodies_.size(); ++i) {
     Body& body = bodies_[i];
     if (!is_awake_dynamic(body)) continue;
-    SavedMotion& saved = before_prediction_[i];
-    saved.predicted_shift = body.pose.position - saved.pose.position;
+    const SavedMotion& saved = before_prediction_[i];
     body.pose = saved.pose;
     body.linear_velocity = saved.linear_velocity;
     body.angular_velocity = saved.angular_velocity;
@@ -219,26 +238,60 @@ void World::step_guendelman() {
   bitstep::solve_contacts(settings_, bodies_, contacts_, push_, solver_scratch_, SolvePass::contact);
 }
 
-// The contact points were found at the predicted poses; the impulses act on
-// the bodies where they are. A point keeps its place relative to the bodies
-// that moved: shifted back by the prediction's translation of the moving
-// body (the mean of the two when both moved). Otherwise a ball rolling at v
-// would be pushed up at a point v dt ahead of its centre, a lever that
-// brakes the rolling (measured: 5/7 v0 fell to 0.43 v0 at 60 Hz).
+// Whether a body's motion this step (its centre's, and its farthest point's
+// turn) reaches past the envelope's smallest half-size: a prediction that
+// far could look for its contacts beyond the far face of the thinnest body
+// it may meet (0.02 m thick), where the nearest separating axis points the
+// wrong way.
+bool World::moves_far(const Body& body) const {
+  const Fixed reach = envelope::min_size;
+  const Vec3 v = body.linear_velocity, w = body.angular_velocity;
+  const Fixed step_speed = length(v) + length(w) * body_radius(body);
+  return step_speed * settings_.dt > reach;
+}
+
+// The contact points and depths were found at the predicted poses; the
+// impulses act on the bodies where they are.
+// - A point keeps its place relative to the bodies that moved: shifted back
+//   by the prediction's translation of the moving body (the mean of the two
+//   when both moved). Otherwise a ball rolling at v would be pushed up at a
+//   point v dt ahead of its centre, a lever that brakes the rolling
+//   (measured: 5/7 v0 fell to 0.43 v0 at 60 Hz).
+// - The depth is the depth at the poses the step starts from. With d_a, d_b
+//   the displacement the prediction gave each body's material point at p
+//   (d = p - P (P'^-1 p) for start pose P and predicted pose P', rotation
+//   included), the overlap along n (from a to b) grew by (d_a - d_b) . n, so
+//   depth = depth' - (d_a - d_b) . n. Left at the predicted depth, a body at
+//   rest read g dt^2 of overlap it did not have and came to rest that far
+//   above its support, and a fast body stopped a step's travel short.
 void World::move_contacts_back() {
+  const auto displacement = [&](uint32_t slot, Vec3 point) {
+    if (!is_awake_dynamic(bodies_[slot])) return Vec3{};
+    const SavedMotion& saved = before_prediction_[slot];
+    if (saved.predicted == saved.pose) return Vec3{};
+    return point - saved.pose.apply(saved.predicted.apply_inverse(point));
+  };
+  const auto shift_of = [&](uint32_t slot) {
+    return before_prediction_[slot].predicted.position - before_prediction_[slot].pose.position;
+  };
   for (Contact& c : contacts_) {
     const bool a_moved = is_awake_dynamic(bodies_[c.key.body_a]);
     const bool b_moved = is_awake_dynamic(bodies_[c.key.body_b]);
     Vec3 shift;
     if (a_moved && b_moved) {
-      shift = (before_prediction_[c.key.body_a].predicted_shift + before_prediction_[c.key.body_b].predicted_shift) /
-              2.0_fx;
+      shift = (shift_of(c.key.body_a) + shift_of(c.key.body_b)) / 2.0_fx;
     } else if (a_moved) {
-      shift = before_prediction_[c.key.body_a].predicted_shift;
+      shift = shift_of(c.key.body_a);
     } else if (b_moved) {
-      shift = before_prediction_[c.key.body_b].predicted_shift;
+      shift = shift_of(c.key.body_b);
     }
-    for (int i = 0; i < c.manifold.point_count; ++i) c.manifold.points[static_cast<size_t>(i)].position -= shift;
+    Manifold& m = c.manifold;
+    for (int i = 0; i < m.point_count; ++i) {
+      ContactPoint& p = m.points[static_cast<size_t>(i)];
+      const Vec3 closing = displacement(c.key.body_a, p.position) - displacement(c.key.body_b, p.position);
+      p.depth -= dot(closing, m.normal);
+      p.position -= shift;
+    }
   }
 }
 

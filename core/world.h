@@ -87,9 +87,10 @@ class World {
   struct SavedMotion {
     Pose pose;
     Vec3 linear_velocity, angular_velocity, force, torque;
-    Vec3 predicted_shift;  // how far the prediction moved the centre of mass
+    Pose predicted;  // where contacts were found: the prediction, or the pose itself for a fast body
   };
   std::vector<SavedMotion> before_prediction_;
+  bool moves_far(const Body& body) const;
   void move_contacts_back();
 };
 
