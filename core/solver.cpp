@@ -41,18 +41,19 @@ Jacobian make_twist(const SolverBody& a, const SolverBody& b, Vec3 n) {
 // and to the angular impulse lambda u, u = sum alpha_i (d_i x n); the row
 // measures (w_b - w_a) . u. Solving it resolves a face's tilt in one step
 // where the point rows alone need many passes (a tall stack's rocking mode).
-ManifoldRow::Rocking make_rocking(const SolverBody& a, const SolverBody& b, const Manifold& m, Vec3 centroid, Vec3 e) {
+ManifoldRow::Rocking make_rocking(const SolverBody& a, const SolverBody& b, const Manifold& m, int count,
+                                  Vec3 centroid, Vec3 e) {
   ManifoldRow::Rocking r;
   Vec3 arms[max_manifold_points];
   Fixed s;
-  for (int i = 0; i < m.point_count; ++i) {
+  for (int i = 0; i < count; ++i) {
     arms[i] = cross(m.points[static_cast<size_t>(i)].position - centroid, m.normal);
     const Fixed along = dot(arms[i], e);
     s += along * along;
   }
   if (s < 0.0001_fx) return r;  // the points lie on a line along e: no lever about it
   Vec3 u;
-  for (int i = 0; i < m.point_count; ++i) {
+  for (int i = 0; i < count; ++i) {
     r.alpha[i] = dot(arms[i], e) / s;
     u += arms[i] * r.alpha[i];
   }
@@ -79,6 +80,20 @@ bool impacts(const Settings& settings, const Body& body_a, const Body& body_b, c
     if (meets_at(p.depth, approach, settings.dt) && approach > settings.restitution_threshold) return true;
   }
   return false;
+}
+
+// Orders a manifold's points so that those that touch come first and
+// returns how many: the manifold's own rows (centroid, rocking, friction,
+// the shock step's block) stand on these alone. A point still apart is a
+// speculative row of its own: shared into the centroid row it was pushed
+// where nothing touches, and the rows that then took the push back from it
+// tilted the body (a leaning plate's foot: the point pairs of its two bottom
+// edges, one touching, one 7 mm up). All of them when none touches.
+int hold_touching_first(Manifold& m) {
+  auto begin = m.points.begin(), end = m.points.begin() + m.point_count;
+  const auto touching = std::stable_partition(begin, end, [](const ContactPoint& p) { return p.depth >= -touch_tolerance; });
+  const int held = static_cast<int>(touching - begin);
+  return held > 0 ? held : m.point_count;
 }
 
 void gather_bodies(const std::vector<Body>& bodies, std::vector<SolverBody>& out) {
@@ -113,6 +128,7 @@ void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
     const Fixed restitution = max(body_a.material.restitution, body_b.material.restitution);
     if (pass == SolvePass::collision && !impacts(settings, body_a, body_b, a, b, m)) continue;
     const size_t first = rows.size();
+    const int held = hold_touching_first(m);
     Vec3 centroid;
     Fixed target;
     for (int i = 0; i < m.point_count; ++i) {
@@ -192,30 +208,34 @@ void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
         }
       }
       p.split_impulse = Fixed{};
-      centroid += p.position;
-      target += row.velocity_target;
+      if (i < held) {
+        centroid += p.position;
+        target += row.velocity_target;
+      }
       rows.push_back(row);
     }
-    const Fixed count = Fixed::from_int(m.point_count);
+    const Fixed count = Fixed::from_int(held);
     centroid = centroid / count;
     Fixed radius;
-    for (int i = 0; i < m.point_count; ++i) radius += length(m.points[static_cast<size_t>(i)].position - centroid);
+    for (int i = 0; i < held; ++i) radius += length(m.points[static_cast<size_t>(i)].position - centroid);
     const Vec3 ra = centroid - body_a.pose.position, rb = centroid - body_b.pose.position;
-    manifold_rows.push_back({ia, ib, first, static_cast<size_t>(m.point_count), make_jacobian(a, b, ra, rb, m.normal),
+    manifold_rows.push_back({ia, ib, first, static_cast<size_t>(held), make_jacobian(a, b, ra, rb, m.normal),
                              {make_jacobian(a, b, ra, rb, t1), make_jacobian(a, b, ra, rb, t2)},
                              make_twist(a, b, m.normal), ra, rb, target / count, radius / count, mu_s, mu_d, &m,
-                             {make_rocking(a, b, m, centroid, t1), make_rocking(a, b, m, centroid, t2)}, {}, false});
+                             {make_rocking(a, b, m, held, centroid, t1), make_rocking(a, b, m, held, centroid, t2)},
+                             {}, false});
     // A resting face (3 or more touching points asking for no relative
     // speed) has three normal degrees of freedom, its centroid row and two
     // rocking rows, which keep every point pushing: its point rows would only
     // redistribute impulse between the points, so the iterations skip them.
     ManifoldRow& face = manifold_rows.back();
     face.share_mass = face.normal.mass / count;
-    bool resting = m.point_count >= 3 && face.rocking[0].active && face.rocking[1].active;
-    for (size_t k = first; k < rows.size(); ++k) {
+    const size_t held_end = first + static_cast<size_t>(held);
+    bool resting = held >= 3 && face.rocking[0].active && face.rocking[1].active;
+    for (size_t k = first; k < held_end; ++k) {
       resting = resting && rows[k].velocity_target == Fixed{} && rows[k].point->depth >= Fixed{};
     }
-    for (size_t k = first; k < rows.size(); ++k) rows[k].in_resting_face = resting;
+    for (size_t k = first; k < held_end; ++k) rows[k].in_resting_face = resting;
   }
 }
 
