@@ -27,7 +27,8 @@ constexpr Fixed max_spin = 100.0_fx;       // rad/s, as check_envelope
 MaterialTable read_materials(const Node& node) {
   if (node.kind != Kind::object) fail(node, std::string("expected an object of named materials, got ") + json::describe(node.kind));
   MaterialTable table;
-  for (const Node& entry : node.children) table.emplace_back(entry.key, read_material_fields(entry));
+  // The keys of a JSON object are unique (json::parse refuses duplicates).
+  for (const Node& entry : node.children) table.add(entry.key, read_material_fields(entry));
   return table;
 }
 

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "replay/json_tree.h"
+#include "replay/scene.h"
 
 using namespace bitstep;
 
@@ -79,4 +80,21 @@ TEST_CASE("a path names a long key by its first 60 bytes", "[json]") {
   const json::Node& element = std::get<json::Node>(result).children[0].children[1];
   CHECK(element.path == "$[\"" + std::string(60, 'k') + "...\"][1]");
   CHECK(json::member_path("$", std::string(60, 'k')) == "$." + std::string(60, 'k'));
+}
+
+TEST_CASE("100,000 materials, each body naming the last, load", "[json][scene]") {
+  std::string text = R"({"format": "bitstep-scene", "version": 1, "materials": {)";
+  for (int i = 0; i < many; ++i) text.append(i == 0 ? "\"m" : ", \"m").append(std::to_string(i)).append("\": {\"restitution\": 0}");
+  text += "}, \"bodies\": [";
+  constexpr int bodies = 10000;
+  for (int i = 0; i < bodies; ++i) {
+    text.append(i == 0 ? "" : ", ").append(R"({"material": "m99999", "position": [)").append(std::to_string(i));
+    text.append(R"(, 0, 0], "shapes": [{"type": "sphere", "radius": 0.25}]})");
+  }
+  const auto result = parse_scene(text + "]}", "f.json");
+  REQUIRE(std::holds_alternative<Scene>(result));
+  const Scene& scene = std::get<Scene>(result);
+  CHECK(scene.bodies.size() == static_cast<size_t>(bodies));
+  CHECK(scene.materials.names().size() == static_cast<size_t>(many));
+  CHECK(scene.materials.names().back() == "m99999");
 }
