@@ -15,8 +15,8 @@
 #include "replay/replay.h"
 #include "replay/scene.h"
 #include "replay/snapshot.h"
-#include "tools/file_output.h"
 #include "replay/state_hash.h"
+#include "tools/file_output.h"
 
 namespace bitstep {
 
@@ -78,8 +78,8 @@ std::string parse_options(int argc, char** argv, RunOptions& o) {
 
 struct SecondSummary {
   long long second;
-  StepStats stats;
-  double max_drift;  // m
+  StepStats stats;   // at the interval's last step, but max_penetration: the largest over its steps
+  double max_drift;  // m, the largest over the interval's steps
   double ms_per_step;
 };
 
@@ -96,6 +96,24 @@ double max_drift(const World& world, const std::vector<Vec3>& start) {
   }
   return drift;
 }
+
+// The per-interval maxima, taken at every step: a deep contact or a far
+// excursion between two report lines is not lost.
+struct IntervalMaxima {
+  Fixed penetration;
+  double drift = 0;
+
+  void add(const StepStats& stats, double step_drift) {
+    penetration = max(penetration, stats.max_penetration);
+    drift = std::max(drift, step_drift);
+  }
+};
+
+// Every dynamic body asleep (and there is at least one).
+bool all_asleep(const StepStats& stats) { return stats.awake_bodies == 0 && stats.sleeping_bodies > 0; }
+
+std::string all_asleep_text(long long step) { return step < 0 ? "never" : fmt::format("step {}", step); }
+std::string all_asleep_json(long long step) { return step < 0 ? "null" : std::to_string(step); }
 
 }  // namespace
 
@@ -160,11 +178,16 @@ int run_scene_command(int argc, char** argv) {
   using Clock = std::chrono::steady_clock;
   Clock::duration busy{};
   long long steps_in_second = 0;
+  IntervalMaxima maxima;
+  long long all_asleep_step = -1;  // the world's step counter when every dynamic body first slept
   for (long long step = 1; step <= steps; ++step) {
     const auto began = Clock::now();
     world.step();
     busy += Clock::now() - began;
     ++steps_in_second;
+    const StepStats stats = world.stats();
+    maxima.add(stats, max_drift(world, start));
+    if (all_asleep_step < 0 && all_asleep(stats)) all_asleep_step = static_cast<long long>(world.step_count());
     if (step == options.snapshot_at) {
       const std::vector<uint8_t> image = snapshot(world);
       if (!write_file_atomically(options.snapshot_path, std::string(image.begin(), image.end()), reason)) {
@@ -179,9 +202,12 @@ int run_scene_command(int argc, char** argv) {
     }
     if (step % steps_per_second == 0 || step == steps) {
       const double ms = std::chrono::duration<double, std::milli>(busy).count() / static_cast<double>(steps_in_second);
-      seconds.push_back({(step + steps_per_second - 1) / steps_per_second, world.stats(), max_drift(world, start), ms});
+      SecondSummary summary{(step + steps_per_second - 1) / steps_per_second, stats, maxima.drift, ms};
+      summary.stats.max_penetration = maxima.penetration;
+      seconds.push_back(summary);
       busy = {};
       steps_in_second = 0;
+      maxima = {};
       const SecondSummary& s = seconds.back();
       if (!options.json) {
         fmt::print("{:>6} {:>7} {:>9} {:>13.3f} {:>12.3f} {:>14.4f} {:>9.3f}\n", s.second, s.stats.awake_bodies,
@@ -192,6 +218,7 @@ int run_scene_command(int argc, char** argv) {
   }
   const uint64_t final_hash = state_hash(world);
   if (!options.json) {
+    if (scene.settings.sleep_method != SleepMethod::off) fmt::print("all asleep: {}\n", all_asleep_text(all_asleep_step));
     fmt::print("final step {} hash {:016x}\n", world.step_count(), final_hash);
     return 0;
   }
@@ -209,7 +236,7 @@ int run_scene_command(int argc, char** argv) {
   for (size_t i = 0; i < hashes.size(); ++i) {
     fmt::print("{}{{\"step\": {}, \"hash\": \"{:016x}\"}}", i == 0 ? "" : ", ", hashes[i].first, hashes[i].second);
   }
-  fmt::print("], \"final_hash\": \"{:016x}\"}}\n", final_hash);
+  fmt::print("], \"all_asleep_step\": {}, \"final_hash\": \"{:016x}\"}}\n", all_asleep_json(all_asleep_step), final_hash);
   return 0;
 }
 
