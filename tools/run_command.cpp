@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
 #include <span>
 #include <string>
 #include <variant>
@@ -16,6 +17,7 @@
 #include "replay/scene.h"
 #include "replay/snapshot.h"
 #include "replay/state_hash.h"
+#include "tools/body_trace.h"
 #include "tools/file_output.h"
 
 namespace bitstep {
@@ -32,6 +34,9 @@ struct RunOptions {
   std::string snapshot_path;
   std::string restore_path;     // continue from this snapshot instead of the scene's start
   std::string settings;         // JSON object of "settings" keys over the scene's
+  std::string trace_path;       // --trace: every body's pose and velocities
+  long long trace_every = 1;
+  std::string trace_format;     // "csv", "jsonl", or empty: from the extension
 };
 
 double to_double(Fixed f) { return static_cast<double>(f.raw()) * 0x1p-32; }
@@ -66,6 +71,17 @@ std::string parse_options(int argc, char** argv, RunOptions& o) {
       o.restore_path = argv[++i];
     } else if (arg == "--settings" && has_value) {
       o.settings = argv[++i];
+    } else if (arg == "--trace" && has_value) {
+      o.trace_path = argv[++i];
+    } else if (arg == "--trace-every" && has_value) {
+      if (!parse_count(argv[++i], o.trace_every) || o.trace_every == 0) {
+        return fmt::format("--trace-every needs a positive integer, got '{}'", argv[i]);
+      }
+    } else if (arg == "--trace-format" && has_value) {
+      o.trace_format = argv[++i];
+      if (o.trace_format != "csv" && o.trace_format != "jsonl") {
+        return fmt::format("--trace-format needs csv or jsonl, got '{}'", o.trace_format);
+      }
     } else if (!arg.empty() && arg[0] != '-' && o.scene_path.empty()) {
       o.scene_path = arg;
     } else {
@@ -73,6 +89,9 @@ std::string parse_options(int argc, char** argv, RunOptions& o) {
     }
   }
   if (o.scene_path.empty()) return "missing SCENE (a bitstep-scene JSON file)";
+  if (!o.trace_path.empty() && !trace_format(o.trace_format, o.trace_path)) {
+    return fmt::format("--trace {}: name it .csv or .jsonl, or give --trace-format", o.trace_path);
+  }
   return {};
 }
 
@@ -164,6 +183,19 @@ int run_scene_command(int argc, char** argv) {
     steps = (seconds.value / scene.settings.dt).raw() >> 32;
   }
   const long long steps_per_second = std::max<long long>(1, (Fixed::one() / scene.settings.dt).raw() >> 32);
+  std::optional<BodyTrace> trace;
+  if (!options.trace_path.empty()) {
+    if (!BodyTrace::time_fits(scene.settings.dt, world.step_count() + static_cast<uint64_t>(steps))) {
+      fmt::print(stderr, "bitstep run: --trace: the last step's time is beyond the Q32.32 range\n");
+      return 2;
+    }
+    trace.emplace(*trace_format(options.trace_format, options.trace_path), static_cast<uint64_t>(options.trace_every));
+    if (!trace->open(options.trace_path, reason)) {
+      fmt::print(stderr, "bitstep run: --trace: {}\n", reason);
+      return 1;
+    }
+    trace->record(world);
+  }
 
   if (!options.json) {
     fmt::print("scene {}: {} bodies, dt {} s, {} velocity iterations, {} steps\n", options.scene_path,
@@ -188,6 +220,7 @@ int run_scene_command(int argc, char** argv) {
     const StepStats stats = world.stats();
     maxima.add(stats, max_drift(world, start));
     if (all_asleep_step < 0 && all_asleep(stats)) all_asleep_step = static_cast<long long>(world.step_count());
+    if (trace) trace->record(world);
     if (step == options.snapshot_at) {
       const std::vector<uint8_t> image = snapshot(world);
       if (!write_file_atomically(options.snapshot_path, std::string(image.begin(), image.end()), reason)) {
@@ -216,9 +249,14 @@ int run_scene_command(int argc, char** argv) {
       }
     }
   }
+  if (trace && !trace->finish(reason)) {
+    fmt::print(stderr, "bitstep run: --trace: {}\n", reason);
+    return 1;
+  }
   const uint64_t final_hash = state_hash(world);
   if (!options.json) {
     if (scene.settings.sleep_method != SleepMethod::off) fmt::print("all asleep: {}\n", all_asleep_text(all_asleep_step));
+    if (trace) fmt::print("trace written to {}\n", options.trace_path);
     fmt::print("final step {} hash {:016x}\n", world.step_count(), final_hash);
     return 0;
   }
