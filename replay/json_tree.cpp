@@ -46,10 +46,10 @@ bool is_identifier(std::string_view key) {
 
 // Builds the tree from nlohmann's SAX events. Open arrays and objects wait on
 // a stack and move into their parent when they close, so no pointer into a
-// growing vector is ever kept. Work is proportional to the text: each value
-// is placed once, and each key is checked against an ordered index of its
-// object's keys (O(log n) comparisons, where a scan of the members made an
-// object of n keys cost O(n^2)).
+// growing vector is ever kept. Work grows with the text, not its square:
+// each value is placed once, and each key is checked against an ordered
+// index of its object's keys (O(log n) comparisons, where a scan of the
+// members made an object of n keys cost O(n^2)).
 class TreeBuilder {
  public:
   using number_integer_t = nlohmann::json::number_integer_t;
