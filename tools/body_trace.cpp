@@ -59,8 +59,13 @@ bool BodyTrace::open(const std::string& path, std::string& reason) {
   return true;
 }
 
+void BodyTrace::record_start(const World& world) { write_rows(world); }
+
 void BodyTrace::record(const World& world) {
-  if (world.step_count() % every_ != 0) return;
+  if (world.step_count() % every_ == 0) write_rows(world);
+}
+
+void BodyTrace::write_rows(const World& world) {
   for (uint32_t slot = 0; slot < world.bodies().size(); ++slot) {
     if (world.bodies()[slot].alive) write_row(world, slot);
   }

@@ -31,8 +31,10 @@ class BodyTrace {
   // Creates the file (under a temporary name until finish) and writes the
   // CSV header; false with a reason.
   bool open(const std::string& path, std::string& reason);
-  // The rows of every live body, in slot order, when the world's step
-  // counter is a multiple of `every` (step 0 included: the start).
+  // The rows of every live body, in slot order: at the start of a run
+  // whatever its step (a run restored from a snapshot starts mid-way), then
+  // after each step whose counter is a multiple of `every`.
+  void record_start(const World& world);
   void record(const World& world);
   // Renames the file into place; false with a reason.
   bool finish(std::string& reason);
@@ -41,6 +43,7 @@ class BodyTrace {
   static bool time_fits(Fixed dt, uint64_t last_step);
 
  private:
+  void write_rows(const World& world);
   void write_row(const World& world, uint32_t slot);
 
   TraceFormat format_;

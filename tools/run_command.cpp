@@ -194,7 +194,7 @@ int run_scene_command(int argc, char** argv) {
       fmt::print(stderr, "bitstep run: --trace: {}\n", reason);
       return 1;
     }
-    trace->record(world);
+    trace->record_start(world);
   }
 
   if (!options.json) {

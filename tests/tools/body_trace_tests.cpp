@@ -68,7 +68,7 @@ std::string temporary_path(const std::string& name) {
 void trace_run(World& world, int steps, BodyTrace& trace, const std::string& path) {
   std::string reason;
   REQUIRE(trace.open(path, reason));
-  trace.record(world);
+  trace.record_start(world);
   for (int i = 0; i < steps; ++i) {
     world.step();
     trace.record(world);
@@ -119,6 +119,19 @@ TEST_CASE("a CSV trace has one row per body per traced step, exact values", "[tr
   std::filesystem::remove(path);
 }
 
+TEST_CASE("a trace starting mid-way (a restored run) has the start, then every K-th step", "[trace]") {
+  World world = falling_boxes();
+  for (int i = 0; i < 5; ++i) world.step();
+  const std::string path = temporary_path("restored.csv");
+  BodyTrace trace(TraceFormat::csv, 4);
+  trace_run(world, 6, trace, path);  // steps 5 (the start) and 8
+  const auto lines = lines_of(path);
+  REQUIRE(lines.size() == 1 + 3 * 2);
+  CHECK(split(lines[1], ',')[0] == "5");
+  CHECK(split(lines[4], ',')[0] == "8");
+  std::filesystem::remove(path);
+}
+
 TEST_CASE("a JSON Lines trace has the same columns as keys", "[trace]") {
   World world = falling_boxes();
   const std::string path = temporary_path("rows.jsonl");
@@ -149,7 +162,7 @@ TEST_CASE("an unfinished trace leaves no file", "[trace]") {
     BodyTrace trace(TraceFormat::csv, 1);
     std::string reason;
     REQUIRE(trace.open(path, reason));
-    trace.record(world);
+    trace.record_start(world);
   }
   CHECK_FALSE(std::filesystem::exists(path));
   CHECK_FALSE(std::filesystem::exists(path + ".partial"));
