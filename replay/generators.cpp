@@ -23,6 +23,7 @@ SceneBody dynamic_body(std::string name, Vec3 position, std::vector<Shape> shape
   body.def.pose.position = position;
   body.def.shapes = std::move(shapes);
   body.def.density = substance.density;
+  body.def.mass = substance.mass;
   body.def.material = substance.material;
   body.def.asleep = substance.asleep;
   return body;
@@ -40,6 +41,13 @@ void add_box(std::vector<SceneBody>& out, const std::string& prefix, Vec3 half_e
 Fixed level_centre_y(Fixed base_y, Fixed half_height, Fixed overlap, int level) {
   return base_y + half_height - overlap + Fixed::from_int(level) * (half_height + half_height - overlap);
 }
+
+// x, y, z as 0, 1, 2 (StackDirection lists each axis forward, then backward).
+int stack_axis(StackDirection direction) { return static_cast<int>(direction) / 2; }
+bool grows_forward(StackDirection direction) { return static_cast<int>(direction) % 2 == 0; }
+
+Fixed& component(Vec3& v, int axis) { return axis == 0 ? v.x : (axis == 1 ? v.y : v.z); }
+Fixed component(const Vec3& v, int axis) { return axis == 0 ? v.x : (axis == 1 ? v.y : v.z); }
 
 // Offset of slot `index` of a row of `count` slots `pitch` apart, centred
 // on 0, moved by `shift_halves` half pitches: (2 index - (count - 1) + shift) / 2 * pitch.
@@ -99,12 +107,22 @@ Fixed bounding_radius(const Shape& shape) {
 
 }  // namespace
 
+Fixed stack_half_height(const StackParams& params) {
+  return component(params.half_extents, stack_axis(params.direction));
+}
+
 std::vector<SceneBody> generate_stack(const StackParams& params) {
   std::vector<SceneBody> bodies;
-  const Vec3 he = params.half_extents;
+  const int axis = stack_axis(params.direction);
+  const Fixed half_height = stack_half_height(params);
   for (int i = 0; i < params.count; ++i) {
-    const Vec3 centre{params.position.x, level_centre_y(params.position.y, he.y, params.overlap, i), params.position.z};
-    add_box(bodies, params.name, he, centre, params.substance);
+    Vec3 centre = params.position;
+    Fixed& along = component(centre, axis);
+    // Growing forward keeps the very expression of the upward stack (its
+    // bits are in golden replays); backward subtracts the same exact rise.
+    along = grows_forward(params.direction) ? level_centre_y(along, half_height, params.overlap, i)
+                                            : along - level_centre_y(Fixed{}, half_height, params.overlap, i);
+    add_box(bodies, params.name, params.half_extents, centre, params.substance);
   }
   return bodies;
 }

@@ -18,21 +18,31 @@ namespace bitstep {
 struct Substance {
   Material material;
   Fixed density = 1000.0_fx;  // kg/m^3
+  Fixed mass;                 // kg per body; 0: from the density (BodyDef::mass)
   bool asleep = false;        // start asleep (when the scene's sleep is on)
 };
+
+// Which way a stack's column grows from its first box.
+enum class StackDirection : uint8_t { plus_x, minus_x, plus_y, minus_y, plus_z, minus_z };
 
 // Boxes one on another, centred over `position` (the middle of the bottom
 // face of the lowest box). Each contact, the ground's included, starts
 // overlapped by `overlap` (0: exactly touching; the second seed used the
-// allowed penetration, i.e. Settings::penetration_slop).
+// allowed penetration, i.e. Settings::penetration_slop). The column grows
+// along `direction` (up by default); `half_extents` stay in world axes, so
+// the boxes' half height is their half-extent along that axis, and the
+// "bottom" face is the one facing against the direction.
 struct StackParams {
   std::string name = "stack";
   int count = 10;
   Vec3 half_extents{0.5_fx, 0.5_fx, 0.5_fx};
   Vec3 position;
   Fixed overlap;
+  StackDirection direction = StackDirection::plus_y;
   Substance substance;
 };
+// The boxes' half-extent along the stack's direction.
+Fixed stack_half_height(const StackParams& params);
 std::vector<SceneBody> generate_stack(const StackParams& params);
 
 // A 2D pyramid in the x-y plane: rows of base, base - 1, ..., 1 boxes, each

@@ -2,6 +2,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <set>
+
 namespace bitstep::json {
 
 const char* describe(Kind kind) {
@@ -26,8 +28,13 @@ const Node* Node::member(std::string_view member_key) const {
 
 namespace {
 
+// Keys longer than a quoted excerpt are written quoted (and so cut to 60
+// bytes) even when they are identifiers: every node stores its path, and an
+// uncut megabyte key over an array of 10^5 elements would be 10^11 bytes.
+constexpr size_t max_plain_key_bytes = 60;
+
 bool is_identifier(std::string_view key) {
-  if (key.empty()) return false;
+  if (key.empty() || key.size() > max_plain_key_bytes) return false;
   for (size_t i = 0; i < key.size(); ++i) {
     const char c = key[i];
     const bool letter = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_';
@@ -39,7 +46,10 @@ bool is_identifier(std::string_view key) {
 
 // Builds the tree from nlohmann's SAX events. Open arrays and objects wait on
 // a stack and move into their parent when they close, so no pointer into a
-// growing vector is ever kept.
+// growing vector is ever kept. Work grows with the text, not its square:
+// each value is placed once, and each key is checked against an ordered
+// index of its object's keys (O(log n) comparisons, where a scan of the
+// members made an object of n keys cost O(n^2)).
 class TreeBuilder {
  public:
   using number_integer_t = nlohmann::json::number_integer_t;
@@ -73,8 +83,10 @@ class TreeBuilder {
   bool start_array(std::size_t /*unused*/) { return open(Kind::array); }
   bool end_array() { return close(); }
   bool key(string_t& value) {
-    const Node& object = open_.back();
-    if (object.member(value) != nullptr) return fail(member_path(object.path, value), "duplicate key");
+    OpenValue& object = open_.back();
+    // An ordered set, not a hash set: no crafted set of keys can make it
+    // slow, and it is only asked "seen before?" (members keep document order).
+    if (!object.keys.insert(value).second) return fail(member_path(object.node.path, value), "duplicate key");
     pending_key_ = std::move(value);
     return true;
   }
@@ -106,7 +118,7 @@ class TreeBuilder {
   // element of the open array, or the root.
   std::string next_path() const {
     if (open_.empty()) return "$";
-    const Node& parent = open_.back();
+    const Node& parent = open_.back().node;
     if (parent.kind == Kind::object) return member_path(parent.path, pending_key_);
     return parent.path + "[" + std::to_string(parent.children.size()) + "]";
   }
@@ -117,7 +129,7 @@ class TreeBuilder {
       root_ = std::move(node);
       return;
     }
-    Node& parent = open_.back();
+    Node& parent = open_.back().node;
     if (parent.kind == Kind::object) node.key = std::move(pending_key_);
     parent.children.push_back(std::move(node));
   }
@@ -140,24 +152,30 @@ class TreeBuilder {
     if (static_cast<int>(open_.size()) >= max_depth) {
       return fail(node.path, "nesting deeper than " + std::to_string(max_depth) + " levels");
     }
-    if (!open_.empty() && open_.back().kind == Kind::object) node.key = std::move(pending_key_);
-    open_.push_back(std::move(node));
+    if (!open_.empty() && open_.back().node.kind == Kind::object) node.key = std::move(pending_key_);
+    open_.push_back({std::move(node), {}});
     return true;
   }
 
   bool close() {
-    Node node = std::move(open_.back());
+    Node node = std::move(open_.back().node);
     open_.pop_back();
     if (open_.empty()) {
       root_ = std::move(node);
     } else {
-      open_.back().children.push_back(std::move(node));
+      open_.back().node.children.push_back(std::move(node));
     }
     return true;
   }
 
+  // An array or object being read, with the keys seen so far (objects).
+  struct OpenValue {
+    Node node;
+    std::set<std::string, std::less<>> keys;
+  };
+
   Node root_;
-  std::vector<Node> open_;
+  std::vector<OpenValue> open_;
   std::string pending_key_;
   bool failed_ = false;
   SyntaxError error_;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <climits>
 #include <filesystem>
+#include <map>
+#include <string_view>
 
 #include "replay/scene_reader.h"
 #include "replay/snapshot.h"
@@ -35,11 +37,33 @@ uint64_t read_hash(const Node& node) {
   return value;
 }
 
-uint32_t read_body_ref(const Node& node, const Scene& scene) {
+// The scene's body names -> slots (the first body of a name, as a scan in
+// creation order would find), built when a name is first asked for: n inputs
+// naming bodies of a scene of m cost O((n + m) log m), not O(n m).
+class BodyNames {
+ public:
+  explicit BodyNames(const Scene& scene) : scene_(scene) {}
+
+  const uint32_t* find(std::string_view name) {
+    if (!built_) build();
+    const auto found = slots_.find(name);
+    return found == slots_.end() ? nullptr : &found->second;
+  }
+
+ private:
+  void build() {
+    for (size_t i = 0; i < scene_.bodies.size(); ++i) slots_.emplace(scene_.bodies[i].name, static_cast<uint32_t>(i));
+    built_ = true;
+  }
+
+  const Scene& scene_;
+  std::map<std::string_view, uint32_t> slots_;  // views of the names in scene_, which outlives this
+  bool built_ = false;
+};
+
+uint32_t read_body_ref(const Node& node, BodyNames& names) {
   if (node.kind == Kind::string) {
-    for (size_t i = 0; i < scene.bodies.size(); ++i) {
-      if (scene.bodies[i].name == node.text) return static_cast<uint32_t>(i);
-    }
+    if (const uint32_t* slot = names.find(node.text)) return *slot;
     fail(node, "no body named " + json::quote(node.text) + " in the scene");
   }
   return static_cast<uint32_t>(read_int(node, 0, INT_MAX));
@@ -49,7 +73,7 @@ Vec3 read_point(const Node& node) {
   return read_vec3_within(node, -envelope::max_position, envelope::max_position, "m");
 }
 
-Input read_input(const Node& node, const Scene& scene) {
+Input read_input(const Node& node, const Scene& scene, BodyNames& names) {
   ObjectReader reader(node);
   Input input;
   input.source = node;
@@ -60,17 +84,17 @@ Input read_input(const Node& node, const Scene& scene) {
   const Node& body = reader.require("body");
   switch (input.kind) {
     case Input::Kind::impulse:
-      input.body = read_body_ref(body, scene);
+      input.body = read_body_ref(body, names);
       input.vector = read_vec3_within(reader.require("impulse"), -max_impulse, max_impulse, "N s");
       input.point = read_point(reader.require("point"));
       break;
     case Input::Kind::force:
-      input.body = read_body_ref(body, scene);
+      input.body = read_body_ref(body, names);
       input.vector = read_vec3_within(reader.require("force"), -max_force, max_force, "N");
       input.point = read_point(reader.require("point"));
       break;
     case Input::Kind::set_velocity:
-      input.body = read_body_ref(body, scene);
+      input.body = read_body_ref(body, names);
       if (const Node* linear = reader.find("linear")) {
         input.vector = read_vec3_within(*linear, -envelope::max_linear_speed, envelope::max_linear_speed, "m/s");
       }
@@ -83,7 +107,7 @@ Input read_input(const Node& node, const Scene& scene) {
       break;
     case Input::Kind::remove:
     case Input::Kind::wake:
-      input.body = read_body_ref(body, scene);
+      input.body = read_body_ref(body, names);
       break;
   }
   reader.finish();
@@ -93,7 +117,8 @@ Input read_input(const Node& node, const Scene& scene) {
 std::vector<Input> read_inputs(const Node& node, const Scene& scene) {
   if (node.kind != Kind::array) fail(node, std::string("expected an array of inputs, got ") + json::describe(node.kind));
   std::vector<Input> inputs;
-  for (const Node& input : node.children) inputs.push_back(read_input(input, scene));
+  BodyNames names(scene);
+  for (const Node& input : node.children) inputs.push_back(read_input(input, scene, names));
   // Step order; within a step, file order.
   std::stable_sort(inputs.begin(), inputs.end(), [](const Input& a, const Input& b) { return a.step < b.step; });
   return inputs;

@@ -27,7 +27,8 @@ constexpr Fixed max_spin = 100.0_fx;       // rad/s, as check_envelope
 MaterialTable read_materials(const Node& node) {
   if (node.kind != Kind::object) fail(node, std::string("expected an object of named materials, got ") + json::describe(node.kind));
   MaterialTable table;
-  for (const Node& entry : node.children) table.emplace_back(entry.key, read_material_fields(entry));
+  // The keys of a JSON object are unique (json::parse refuses duplicates).
+  for (const Node& entry : node.children) table.add(entry.key, read_material_fields(entry));
   return table;
 }
 
@@ -67,6 +68,17 @@ void check_speed_components(const Node& body_node, const BodyDef& def) {
   if (beyond(def.angular_velocity, max_spin)) fail(body_node.path + ".angular_velocity", "faster than 100 rad/s");
 }
 
+// A body's (or a generator's bodies') "density" and "mass": at most one.
+struct MassKeys {
+  const Node* density;
+  const Node* mass;
+};
+MassKeys find_density_or_mass(ObjectReader& reader) {
+  const MassKeys keys{reader.find("density"), reader.find("mass")};
+  if (keys.density != nullptr && keys.mass != nullptr) fail(*keys.mass, "give \"mass\" or \"density\", not both");
+  return keys;
+}
+
 SceneBody read_body(const Node& node, const MaterialTable& materials) {
   ObjectReader reader(node);
   SceneBody body;
@@ -80,11 +92,9 @@ SceneBody read_body(const Node& node, const MaterialTable& materials) {
   if (const Node* orientation = reader.find("orientation")) def.pose.orientation = read_orientation(*orientation);
   read_optional(reader, "velocity", def.linear_velocity);
   read_optional(reader, "angular_velocity", def.angular_velocity);
-  const Node* density = reader.find("density");
-  const Node* mass = reader.find("mass");
-  if (density != nullptr && mass != nullptr) fail(*mass, "give \"mass\" or \"density\", not both");
-  if (density != nullptr) def.density = read_fixed(*density, Bound::positive);
-  if (mass != nullptr) def.mass = read_fixed(*mass, Bound::positive);
+  const MassKeys keys = find_density_or_mass(reader);
+  if (keys.density != nullptr) def.density = read_fixed(*keys.density, Bound::positive);
+  if (keys.mass != nullptr) def.mass = read_fixed(*keys.mass, Bound::positive);
   if (const Node* material = reader.find("material")) def.material = read_material(*material, materials);
   read_optional(reader, "linear_damping", def.linear_damping, Bound::non_negative);
   read_optional(reader, "angular_damping", def.angular_damping, Bound::non_negative);
@@ -114,11 +124,15 @@ void read_place(ObjectReader& reader, std::string_view key, Vec3& field) {
   read_optional_within(reader, key, field, -envelope::max_position, envelope::max_position, "m");
 }
 
-// Keys every generator has: name, material, density.
+// Keys every generator has: name, material, density or mass, asleep. A mass
+// is per body and bounded here as the envelope bounds it, so that the error
+// names the generator's key.
 void read_common(ObjectReader& reader, const MaterialTable& materials, std::string& name, Substance& substance) {
   if (const Node* n = reader.find("name")) name = read_string(*n);
   if (const Node* material = reader.find("material")) substance.material = read_material(*material, materials);
-  read_optional(reader, "density", substance.density, Bound::positive);
+  const MassKeys keys = find_density_or_mass(reader);
+  if (keys.density != nullptr) substance.density = read_fixed(*keys.density, Bound::positive);
+  if (keys.mass != nullptr) substance.mass = read_fixed_within(*keys.mass, envelope::min_mass, envelope::max_mass, "kg");
   read_optional(reader, "asleep", substance.asleep);
 }
 
@@ -134,7 +148,13 @@ std::vector<SceneBody> read_stack(ObjectReader& reader, const MaterialTable& mat
   read_size(reader, "half_extents", p.half_extents);
   read_place(reader, "position", p.position);
   read_optional_within(reader, "overlap", p.overlap, Fixed{}, envelope::max_size, "m");
-  check_overlap(reader, p.overlap, p.half_extents.y);
+  if (const Node* direction = reader.find("direction")) {
+    static constexpr StackDirection directions[] = {StackDirection::plus_x, StackDirection::minus_x,
+                                                    StackDirection::plus_y, StackDirection::minus_y,
+                                                    StackDirection::plus_z, StackDirection::minus_z};
+    p.direction = directions[read_choice(*direction, {"+x", "-x", "+y", "-y", "+z", "-z"})];
+  }
+  check_overlap(reader, p.overlap, stack_half_height(p));
   return generate_stack(p);
 }
 

@@ -13,6 +13,7 @@
 #include "core/body.h"
 #include "core/settings.h"
 #include "replay/json_tree.h"
+#include "replay/material_table.h"
 
 namespace bitstep {
 
@@ -24,7 +25,7 @@ struct SceneBody {
 struct Scene {
   Settings settings;
   std::vector<SceneBody> bodies;  // creation order: "bodies" first, then each generator's
-  std::vector<std::pair<std::string, Material>> materials;  // "materials", for bodies spawned later
+  MaterialTable materials;        // "materials", for bodies spawned later
 };
 
 struct SceneError {

@@ -189,11 +189,9 @@ Material read_material_fields(const Node& node) {
 Material read_material(const Node& node, const MaterialTable& table) {
   if (node.kind == Kind::object) return read_material_fields(node);
   if (node.kind != Kind::string) fail(node, "expected a material name or an object" + got(node));
-  for (const auto& [name, material] : table) {
-    if (name == node.text) return material;
-  }
+  if (const Material* material = table.find(node.text)) return *material;
   std::string list;
-  for (const auto& entry : table) list += (list.empty() ? "" : ", ") + json::quote(entry.first);
+  for (const std::string& name : table.names()) list += (list.empty() ? "" : ", ") + json::quote(name);
   fail(node, "unknown material " + json::quote(node.text) + " (defined: " + (list.empty() ? "none" : list) + ")");
 }
 

@@ -11,6 +11,7 @@
 #include "core/body.h"
 #include "fixed/quat.h"
 #include "replay/json_tree.h"
+#include "replay/material_table.h"
 
 namespace bitstep::scene_reader {
 
@@ -64,8 +65,6 @@ Vec3 read_vec3_within(const json::Node& node, Fixed lo, Fixed hi, std::string_vi
 // {"quaternion": [w, x, y, z]} (normalised).
 Quat read_orientation(const json::Node& node);
 
-// Materials defined in "materials", in document order.
-using MaterialTable = std::vector<std::pair<std::string, Material>>;
 // An object of material fields (defaults from Material{}).
 Material read_material_fields(const json::Node& node);
 // A material name from the table, or an inline object.

@@ -1,29 +1,63 @@
 #include "tools/file_output.h"
 
 #include <filesystem>
-#include <fstream>
 
 namespace bitstep {
 
-bool write_file_atomically(const std::string& path, const std::string& text, std::string& reason) {
-  const std::string temporary = path + ".partial";
-  {
-    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
-    if (!file || !file.write(text.data(), static_cast<std::streamsize>(text.size())) || !file.flush()) {
-      reason = "cannot write " + temporary;
-      std::error_code ignored;
-      std::filesystem::remove(temporary, ignored);
-      return false;
-    }
+AtomicFile::~AtomicFile() { discard(); }
+
+void AtomicFile::discard() {
+  if (file_ != nullptr) std::fclose(file_);
+  file_ = nullptr;
+  if (!temporary_.empty()) {
+    std::error_code ignored;
+    std::filesystem::remove(temporary_, ignored);
+    temporary_.clear();
   }
-  std::error_code error;
-  std::filesystem::rename(temporary, path, error);
-  if (error) {
-    reason = "cannot rename " + temporary + " to " + path + ": " + error.message();
-    std::filesystem::remove(temporary, error);
+}
+
+bool AtomicFile::open(const std::string& path, std::string& reason) {
+  discard();
+  path_ = path;
+  temporary_ = path + ".partial";
+  file_ = std::fopen(temporary_.c_str(), "wb");
+  if (file_ == nullptr) {
+    reason = "cannot write " + temporary_;
+    temporary_.clear();  // nothing was created
     return false;
   }
   return true;
+}
+
+bool AtomicFile::commit(std::string& reason) {
+  if (file_ == nullptr) {
+    reason = "cannot write " + path_ + ": the file is not open";
+    return false;
+  }
+  const bool written = std::ferror(file_) == 0;
+  const bool closed = std::fclose(file_) == 0;
+  file_ = nullptr;
+  if (!written || !closed) {
+    reason = "cannot write " + temporary_;
+    discard();
+    return false;
+  }
+  std::error_code error;
+  std::filesystem::rename(temporary_, path_, error);
+  if (error) {
+    reason = "cannot rename " + temporary_ + " to " + path_ + ": " + error.message();
+    discard();
+    return false;
+  }
+  temporary_.clear();
+  return true;
+}
+
+bool write_file_atomically(const std::string& path, const std::string& text, std::string& reason) {
+  AtomicFile file;
+  if (!file.open(path, reason)) return false;
+  std::fwrite(text.data(), 1, text.size(), file.stream());
+  return file.commit(reason);
 }
 
 }  // namespace bitstep

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
 #include <span>
 #include <string>
 #include <variant>
@@ -15,8 +16,9 @@
 #include "replay/replay.h"
 #include "replay/scene.h"
 #include "replay/snapshot.h"
-#include "tools/file_output.h"
 #include "replay/state_hash.h"
+#include "tools/body_trace.h"
+#include "tools/file_output.h"
 
 namespace bitstep {
 
@@ -32,6 +34,9 @@ struct RunOptions {
   std::string snapshot_path;
   std::string restore_path;     // continue from this snapshot instead of the scene's start
   std::string settings;         // JSON object of "settings" keys over the scene's
+  std::string trace_path;       // --trace: every body's pose and velocities
+  long long trace_every = 1;
+  std::string trace_format;     // "csv", "jsonl", or empty: from the extension
 };
 
 double to_double(Fixed f) { return static_cast<double>(f.raw()) * 0x1p-32; }
@@ -66,6 +71,17 @@ std::string parse_options(int argc, char** argv, RunOptions& o) {
       o.restore_path = argv[++i];
     } else if (arg == "--settings" && has_value) {
       o.settings = argv[++i];
+    } else if (arg == "--trace" && has_value) {
+      o.trace_path = argv[++i];
+    } else if (arg == "--trace-every" && has_value) {
+      if (!parse_count(argv[++i], o.trace_every) || o.trace_every == 0) {
+        return fmt::format("--trace-every needs a positive integer, got '{}'", argv[i]);
+      }
+    } else if (arg == "--trace-format" && has_value) {
+      o.trace_format = argv[++i];
+      if (o.trace_format != "csv" && o.trace_format != "jsonl") {
+        return fmt::format("--trace-format needs csv or jsonl, got '{}'", o.trace_format);
+      }
     } else if (!arg.empty() && arg[0] != '-' && o.scene_path.empty()) {
       o.scene_path = arg;
     } else {
@@ -73,13 +89,16 @@ std::string parse_options(int argc, char** argv, RunOptions& o) {
     }
   }
   if (o.scene_path.empty()) return "missing SCENE (a bitstep-scene JSON file)";
+  if (!o.trace_path.empty() && !trace_format(o.trace_format, o.trace_path)) {
+    return fmt::format("--trace {}: name it .csv or .jsonl, or give --trace-format", o.trace_path);
+  }
   return {};
 }
 
 struct SecondSummary {
   long long second;
-  StepStats stats;
-  double max_drift;  // m
+  StepStats stats;   // at the interval's last step, but max_penetration: the largest over its steps
+  double max_drift;  // m, the largest over the interval's steps
   double ms_per_step;
 };
 
@@ -96,6 +115,24 @@ double max_drift(const World& world, const std::vector<Vec3>& start) {
   }
   return drift;
 }
+
+// The per-interval maxima, taken at every step: a deep contact or a far
+// excursion between two report lines is not lost.
+struct IntervalMaxima {
+  Fixed penetration;
+  double drift = 0;
+
+  void add(const StepStats& stats, double step_drift) {
+    penetration = max(penetration, stats.max_penetration);
+    drift = std::max(drift, step_drift);
+  }
+};
+
+// Every dynamic body asleep (and there is at least one).
+bool all_asleep(const StepStats& stats) { return stats.awake_bodies == 0 && stats.sleeping_bodies > 0; }
+
+std::string all_asleep_text(long long step) { return step < 0 ? "never" : fmt::format("step {}", step); }
+std::string all_asleep_json(long long step) { return step < 0 ? "null" : std::to_string(step); }
 
 }  // namespace
 
@@ -146,6 +183,19 @@ int run_scene_command(int argc, char** argv) {
     steps = (seconds.value / scene.settings.dt).raw() >> 32;
   }
   const long long steps_per_second = std::max<long long>(1, (Fixed::one() / scene.settings.dt).raw() >> 32);
+  std::optional<BodyTrace> trace;
+  if (!options.trace_path.empty()) {
+    if (!BodyTrace::time_fits(scene.settings.dt, world.step_count() + static_cast<uint64_t>(steps))) {
+      fmt::print(stderr, "bitstep run: --trace: the last step's time is beyond the Q32.32 range\n");
+      return 2;
+    }
+    trace.emplace(*trace_format(options.trace_format, options.trace_path), static_cast<uint64_t>(options.trace_every));
+    if (!trace->open(options.trace_path, reason)) {
+      fmt::print(stderr, "bitstep run: --trace: {}\n", reason);
+      return 1;
+    }
+    trace->record_start(world);
+  }
 
   if (!options.json) {
     fmt::print("scene {}: {} bodies, dt {} s, {} velocity iterations, {} steps\n", options.scene_path,
@@ -160,11 +210,17 @@ int run_scene_command(int argc, char** argv) {
   using Clock = std::chrono::steady_clock;
   Clock::duration busy{};
   long long steps_in_second = 0;
+  IntervalMaxima maxima;
+  long long all_asleep_step = -1;  // the world's step counter when every dynamic body first slept
   for (long long step = 1; step <= steps; ++step) {
     const auto began = Clock::now();
     world.step();
     busy += Clock::now() - began;
     ++steps_in_second;
+    const StepStats stats = world.stats();
+    maxima.add(stats, max_drift(world, start));
+    if (all_asleep_step < 0 && all_asleep(stats)) all_asleep_step = static_cast<long long>(world.step_count());
+    if (trace) trace->record(world);
     if (step == options.snapshot_at) {
       const std::vector<uint8_t> image = snapshot(world);
       if (!write_file_atomically(options.snapshot_path, std::string(image.begin(), image.end()), reason)) {
@@ -179,9 +235,12 @@ int run_scene_command(int argc, char** argv) {
     }
     if (step % steps_per_second == 0 || step == steps) {
       const double ms = std::chrono::duration<double, std::milli>(busy).count() / static_cast<double>(steps_in_second);
-      seconds.push_back({(step + steps_per_second - 1) / steps_per_second, world.stats(), max_drift(world, start), ms});
+      SecondSummary summary{(step + steps_per_second - 1) / steps_per_second, stats, maxima.drift, ms};
+      summary.stats.max_penetration = maxima.penetration;
+      seconds.push_back(summary);
       busy = {};
       steps_in_second = 0;
+      maxima = {};
       const SecondSummary& s = seconds.back();
       if (!options.json) {
         fmt::print("{:>6} {:>7} {:>9} {:>13.3f} {:>12.3f} {:>14.4f} {:>9.3f}\n", s.second, s.stats.awake_bodies,
@@ -190,8 +249,14 @@ int run_scene_command(int argc, char** argv) {
       }
     }
   }
+  if (trace && !trace->finish(reason)) {
+    fmt::print(stderr, "bitstep run: --trace: {}\n", reason);
+    return 1;
+  }
   const uint64_t final_hash = state_hash(world);
   if (!options.json) {
+    if (scene.settings.sleep_method != SleepMethod::off) fmt::print("all asleep: {}\n", all_asleep_text(all_asleep_step));
+    if (trace) fmt::print("trace written to {}\n", options.trace_path);
     fmt::print("final step {} hash {:016x}\n", world.step_count(), final_hash);
     return 0;
   }
@@ -209,7 +274,7 @@ int run_scene_command(int argc, char** argv) {
   for (size_t i = 0; i < hashes.size(); ++i) {
     fmt::print("{}{{\"step\": {}, \"hash\": \"{:016x}\"}}", i == 0 ? "" : ", ", hashes[i].first, hashes[i].second);
   }
-  fmt::print("], \"final_hash\": \"{:016x}\"}}\n", final_hash);
+  fmt::print("], \"all_asleep_step\": {}, \"final_hash\": \"{:016x}\"}}\n", all_asleep_json(all_asleep_step), final_hash);
   return 0;
 }
 

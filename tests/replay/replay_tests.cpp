@@ -9,6 +9,7 @@
 #include <string>
 #include <variant>
 
+#include "replay/generators.h"
 #include "replay/replay.h"
 #include "replay/state_dump.h"
 #include "replay/state_hash.h"
@@ -144,6 +145,26 @@ TEST_CASE("malformed replays are refused with the file, the JSON path and the re
     CHECK(message.find(c.expected) != std::string::npos);
     CHECK(message.find('\n') == std::string::npos);
   }
+}
+
+TEST_CASE("10,000 inputs naming bodies of a 10,000-body scene are read, each to its slot", "[replay][json]") {
+  // A scan of the bodies per input made this n^2 (issue 14, item 5).
+  StackParams stack;
+  stack.count = 10000;
+  Scene scene;
+  scene.bodies = generate_stack(stack);
+  std::string text = "{\"inputs\": [";
+  for (int i = stack.count - 1; i >= 0; --i) {
+    text.append(i == stack.count - 1 ? "" : ", ").append(R"({"step": 1, "type": "wake", "body": "stack.)");
+    text.append(std::to_string(i)).append("\"}");
+  }
+  const TempFile file("names_test.json", text + "]}");
+  auto loaded = load_inputs_file(file.path, scene);
+  if (const ReplayError* error = std::get_if<ReplayError>(&loaded)) FAIL(error->message());
+  const std::vector<Input>& inputs = std::get<InputsFile>(loaded).inputs;
+  REQUIRE(inputs.size() == 10000);
+  CHECK(inputs.front().body == 9999);
+  CHECK(inputs.back().body == 0);
 }
 
 TEST_CASE("hashing a world does not change its future", "[replay]") {

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <string>
 
+#include "core/world.h"
 #include "fixed/decimal.h"
 #include "replay/generators.h"
 #include "replay/scene.h"
@@ -311,8 +312,8 @@ TEST_CASE("scene errors name the file, the JSON path and the reason", "[scene]")
           "f.json: $.generators[0].type: expected \"stack\", \"pyramid\", \"wall\", \"jenga\", \"dominoes\", "
           "\"tables\" or \"throw\", got \"tower\"");
     CHECK(error_of(R"({"format": "bitstep-scene", "version": 1, "generators": [{"type": "stack", "base": 3}]})") ==
-          "f.json: $.generators[0].base: unknown key (known keys: type, name, material, density, asleep, count, "
-          "half_extents, position, overlap)");
+          "f.json: $.generators[0].base: unknown key (known keys: type, name, material, density, mass, asleep, count, "
+          "half_extents, position, overlap, direction)");
     CHECK(error_of(R"({"format": "bitstep-scene", "version": 1, "generators": [{"type": "throw", "count": 100,
                        "spread": [0, 0, 0]}]})") ==
           "f.json: $.generators[0]: no free spot for body 1 after 1000 draws: make \"spread\" larger or \"count\" "
@@ -369,6 +370,67 @@ TEST_CASE("generators: counts, names and exact placement", "[scene]") {
   const auto stacked = generate_stack(stack);
   CHECK(stacked[0].def.pose.position.y == 0.495_fx);
   CHECK(stacked[2].def.pose.position.y == 0.5_fx - 0.005_fx + Fixed::from_int(2) * (1.0_fx - 0.005_fx));
+}
+
+TEST_CASE("a stack grows along its direction, +y as before", "[scene]") {
+  auto stack_of = [](const std::string& keys) {
+    return load_ok(R"({"format": "bitstep-scene", "version": 1, "generators": [{"type": "stack", "count": 3, )" + keys +
+                   "}]}")
+        .bodies;
+  };
+  // Default and "+y" are the stack the goldens were recorded with, bit for bit.
+  const auto up = stack_of(R"("position": [1, 2, 3], "overlap": 0.005)");
+  const auto plus_y = stack_of(R"("position": [1, 2, 3], "overlap": 0.005, "direction": "+y")");
+  REQUIRE(up.size() == 3);
+  for (size_t i = 0; i < up.size(); ++i) CHECK(same_body(up[i], plus_y[i]));
+  CHECK(up[2].def.pose.position == Vec3{1.0_fx, 2.0_fx + 0.495_fx + Fixed::from_int(2) * 0.995_fx, 3.0_fx});
+
+  // Along x: the half-extent along x is the half height; y and z stay put.
+  const auto along_x = stack_of(R"("half_extents": [0.25, 0.5, 0.5], "position": [1, 2, 3], "direction": "+x")");
+  REQUIRE(along_x.size() == 3);
+  for (size_t i = 0; i < along_x.size(); ++i) {
+    CHECK(along_x[i].def.pose.position == Vec3{1.0_fx + 0.25_fx + Fixed::from_int(static_cast<int>(i)) * 0.5_fx, 2.0_fx, 3.0_fx});
+    CHECK(along_x[i].def.shapes[0].half_extents == Vec3{0.25_fx, 0.5_fx, 0.5_fx});
+  }
+  const auto down_z = stack_of(R"("position": [0, 5, 0], "direction": "-z")");
+  CHECK(down_z[1].def.pose.position == Vec3{Fixed{}, 5.0_fx, -1.5_fx});
+  const auto down_y = stack_of(R"("position": [0, 5, 0], "direction": "-y", "overlap": 0.25)");
+  CHECK(down_y[1].def.pose.position.y == 5.0_fx - (0.25_fx + 0.75_fx));
+
+  CHECK(error_of(R"({"format": "bitstep-scene", "version": 1, "generators": [{"type": "stack", "direction": "up"}]})") ==
+        "f.json: $.generators[0].direction: expected \"+x\", \"-x\", \"+y\", \"-y\", \"+z\" or \"-z\", got \"up\"");
+  // The overlap is checked against the half height along the direction.
+  CHECK(error_of(R"({"format": "bitstep-scene", "version": 1, "generators": [{"type": "stack", "direction": "+x",
+                     "half_extents": [0.1, 1, 1], "overlap": 0.2}]})") ==
+        "f.json: $.generators[0].overlap: must be less than the boxes' half height");
+}
+
+TEST_CASE("generators take a per-body mass instead of a density", "[scene]") {
+  auto generated = [](const std::string& generator) {
+    return R"({"format": "bitstep-scene", "version": 1, "generators": [)" + generator + "]}";
+  };
+  // Each generator type with a key that keeps it small.
+  for (const char* type_and_size : {R"("stack", "count": 2)", R"("pyramid", "base": 2)", R"("wall", "base": 2)",
+                                           R"("jenga", "levels": 1)", R"("dominoes", "count": 2)",
+                                           R"("tables", "count": 2)", R"("throw", "count": 2)"}) {
+    INFO(type_and_size);
+    const Scene scene = load_ok(generated(R"({"type": )" + std::string(type_and_size) + R"(, "mass": 2.5})"));
+    REQUIRE_FALSE(scene.bodies.empty());
+    for (const SceneBody& body : scene.bodies) CHECK(body.def.mass == 2.5_fx);
+  }
+  // The world gives the body that mass, whatever its size.
+  World world;
+  const Scene light = load_ok(generated(R"({"type": "stack", "count": 1, "half_extents": [2, 2, 2], "mass": 2})"));
+  const BodyId id = world.create_body(light.bodies[0].def).id;
+  CHECK(world.bodies()[id.index].inverse_mass == 0.5_fx);
+  // Without "mass", the density as before.
+  CHECK(load_ok(generated(R"({"type": "stack", "count": 1, "density": 500})")).bodies[0].def.mass == Fixed{});
+
+  CHECK(error_of(generated(R"({"type": "stack", "mass": 0.001})")) == "f.json: $.generators[0].mass: outside 0.01..100000 kg");
+  CHECK(error_of(generated(R"({"type": "wall", "mass": 100001})")) == "f.json: $.generators[0].mass: outside 0.01..100000 kg");
+  CHECK(error_of(generated(R"({"type": "throw", "mass": "heavy"})")).rfind("f.json: $.generators[0].mass: bad number", 0) == 0);
+  CHECK(error_of(generated(R"({"type": "jenga", "density": 500, "mass": 1})")) ==
+        "f.json: $.generators[0].mass: give \"mass\" or \"density\", not both");
 }
 
 TEST_CASE("throw is a pure function of its seed", "[scene]") {
