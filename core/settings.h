@@ -41,7 +41,9 @@ struct Settings {
   Vec3 gravity{Fixed{}, -9.81_fx, Fixed{}};          // m/s^2
   int velocity_iterations = 10;                      // sequential-impulse passes per step
   int position_iterations = 4;                       // split-impulse (pseudo-velocity) passes per step
-  Fixed penetration_slop = 0.005_fx;                 // m, overlap left alone (no push-out below it)
+  Fixed penetration_slop = Fixed{};                  // m, overlap left alone (no push-out below it); 0: resting
+                                                     // shapes sit at their true geometry (a 5 mm slop left
+                                                     // uneven overlaps that tilted a capsule pile into rolling)
   Fixed split_impulse_factor = 0.2_fx;               // 1, fraction of the overlap beyond the slop removed per step
   Fixed max_push_out_speed = 3.0_fx;                 // m/s, cap of the penetration-recovery speed
   bool baumgarte = false;                            // first seed: bias the real velocity instead of split impulse
