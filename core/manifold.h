@@ -43,10 +43,10 @@ struct Manifold {
 // How far apart (m) two surfaces may be and still touch: rounding, not
 // physics. A speculative contact lands a falling body exactly (its row lets
 // the gap close by depth / dt, no more), so a body at rest on a support sits
-// at a depth of 0 to the penetration slop, never above it by more than a few
-// ulps. This is NOT the penetration slop (5 mm): counting gaps up to the slop
-// as touching let the shock step hold bodies up in the air (a box released
-// 3 mm above the ground stayed there for ever).
+// at a depth of 0 to the penetration slop (default 0), never above it by more
+// than a few ulps. This is NOT the penetration slop: counting gaps up to the
+// slop (then 5 mm) as touching let the shock step hold bodies up in the air
+// (a box released 3 mm above the ground stayed there for ever).
 inline constexpr Fixed touch_tolerance = 0.00001_fx;
 
 // A point of the manifold touches: depth >= -touch_tolerance. Islands, sleep

@@ -76,14 +76,16 @@ TEST_CASE("a crosswise capsule pile at rest gains no energy over 20 s (guendelma
   CHECK(r.max_move_after_2s < 0.003);
 }
 
-TEST_CASE("a crosswise capsule pile at rest does not roll apart over 20 s (standard)", "[resting]") {
+TEST_CASE("a crosswise capsule pile at rest keeps its settling energy over 20 s (standard)", "[resting]") {
   const Rest r = measure(Pipeline::standard);
   INFO("KE at 2 s " << r.ke_at_2s << " J, largest after " << r.max_ke_after_2s << " J, largest move "
                     << r.max_move_after_2s << " m");
   // Known left: the settling leaves the middle layer gliding at ~1.3 mm/s
-  // on the layers below and above (a roller-bearing mode, neutral without
-  // rolling resistance), so the energy only stays near its 2 s value
-  // (3.5e-4 J, +6% by 20 s) and the capsules move up to ~2.5 cm.
+  // on the layers below and above (a roller bearing: rolling is neutral
+  // without rolling resistance, and no impulse at a contact line can stop a
+  // roll about it), so the energy only stays near its 2 s value (3.5e-4 J,
+  // +6% by 20 s) and the capsules move up to ~2.2 cm. Bounded here so that
+  // it cannot grow unnoticed; not what the guendelman case above achieves.
   CHECK(r.max_ke_after_2s < 1.1 * r.ke_at_2s);
   CHECK(r.max_move_after_2s < 0.05);
 }

@@ -112,8 +112,9 @@ TEST_CASE("jenga: 18 levels stand 30 s with drift under 2 mm", "[scene-run][slow
   CHECK(m.largest_move < 0.01);
 }
 
-// "Stands": no box drifts sideways by 1 cm. Vertically the rows settle into
-// their contacts (each interface may sink up to the penetration slop).
+// "Stands": no box drifts sideways by 1 cm. Vertically the rows may settle
+// into their contacts by up to the penetration slop each (0 by default: then
+// nothing may move 1 mm).
 TEST_CASE("pyramid20 stands 20 s at 10 iterations: no box drifts 1 cm", "[scene-run][slow]") {
   World world = load_world("pyramid20.json");
   const SceneMotion m = run(world, 1200);
@@ -122,7 +123,7 @@ TEST_CASE("pyramid20 stands 20 s at 10 iterations: no box drifts 1 cm", "[scene-
   const double slop = to_double(world.settings().penetration_slop);
   WARN("pyramid20: drift " << m.largest_drift << " m, move " << m.largest_move << " m, deepest " << m.deepest);
   CHECK(m.largest_drift < 0.01);
-  CHECK(m.largest_move < 20 * slop);
+  CHECK(m.largest_move < 20 * slop + 0.001);
   CHECK(m.deepest < slop + 0.001);
 }
 
