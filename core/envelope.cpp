@@ -1,5 +1,8 @@
 #include "core/envelope.h"
 
+#include "core/mass.h"
+#include "fixed/decimal.h"
+
 namespace bitstep {
 
 namespace {
@@ -39,6 +42,43 @@ EnvelopeError check_shape(const Shape& shape, int index) {
   return {};
 }
 
+// A given mass is spread over the shapes' total volume; past 2^30 m^3 (a
+// compound of over 1,000 of the largest boxes) that sum could leave the range.
+constexpr Fixed max_total_volume = 1073741824.0_fx;
+
+std::string text(Fixed value) { return to_string(value); }
+
+// The density and the mass it gives: rho = m / V for a given mass, at most
+// max_density (the mass formulas stay in range below it); then the mass of
+// the shapes at that density within 0.01..1e5 kg.
+EnvelopeError check_density(const BodyDef& def) {
+  const bool mass_given = def.mass > Fixed{};
+  if (mass_given) {
+    Fixed volume_sum;
+    for (const Shape& shape : def.shapes) {
+      volume_sum += volume(shape);
+      if (volume_sum > max_total_volume) return {"shapes", -1, "more than 2^30 m^3 in all to spread a given mass over"};
+    }
+    // m / V >= max_density  <=>  max_density V <= m (no quotient: 1e5 kg in
+    // the smallest sphere is 2.4e10 kg/m^3, beyond the range).
+    if (!product_exceeds(envelope::max_density, volume_sum, def.mass)) {
+      return {"mass", -1, text(def.mass) + " kg in " + text(volume_sum) + " m^3 is denser than " +
+                              text(envelope::max_density) + " kg/m^3"};
+    }
+  } else if (def.density > envelope::max_density) {
+    return {"density", -1, text(def.density) + " kg/m^3 is denser than " + text(envelope::max_density) + " kg/m^3"};
+  }
+  if (!mass_properties(def.shapes, def.density, def.mass).ok) {
+    if (mass_given) {
+      // m / V rounded to Q32.32 lost half of the mass (a volume past 1e6 m^3 per 10 g).
+      return {"mass", -1, text(def.mass) + " kg in " + text(total_volume(def.shapes)) + " m^3 rounds to a density of " +
+                              text(body_density(def.shapes, def.density, def.mass)) + " kg/m^3, too light to hold it"};
+    }
+    return {"density", -1, text(def.density) + " kg/m^3 gives a mass outside 0.01..100000 kg"};
+  }
+  return {};
+}
+
 }  // namespace
 
 EnvelopeError check_envelope(const BodyDef& def) {
@@ -49,7 +89,7 @@ EnvelopeError check_envelope(const BodyDef& def) {
     if (shape.type == ShapeType::plane && def.type != BodyType::static_body) {
       return {"type", static_cast<int>(i), "a plane belongs to a static body"};
     }
-    const EnvelopeError e = check_shape(shape, static_cast<int>(i));
+    EnvelopeError e = check_shape(shape, static_cast<int>(i));
     if (!e.ok()) return e;
   }
   if (def.type == BodyType::dynamic) {
@@ -57,6 +97,8 @@ EnvelopeError check_envelope(const BodyDef& def) {
       return {"mass", -1, "outside 0.01..100000 kg"};
     }
     if (def.density <= Fixed{}) return {"density", -1, "must be positive"};
+    EnvelopeError e = check_density(def);
+    if (!e.ok()) return e;
   }
   // Components first, so that the length cannot overflow.
   auto faster_than = [](Vec3 v, Fixed limit) {

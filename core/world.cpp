@@ -50,18 +50,8 @@ CreateResult World::create_body(const BodyDef& def) {
   body.shapes = def.shapes;
   body.asleep = def.asleep && settings_.sleep_method != SleepMethod::off;
   if (def.type == BodyType::dynamic) {
-    // A given mass scales the density: rho = m / V.
-    Fixed density = def.density;
-    if (def.mass > Fixed{}) {
-      Fixed total_volume;
-      for (const Shape& s : def.shapes) total_volume += volume(s);
-      density = def.mass / total_volume;
-    }
-    const MassProperties mass = mass_properties(def.shapes, density);
-    if (!mass.ok) {
-      result.error = {"density", -1, "gives a mass outside 0.01..100000 kg"};
-      return result;
-    }
+    // A given mass scales the density: rho = m / V (check_envelope admitted both).
+    const MassProperties mass = mass_properties(def.shapes, def.density, def.mass);
     // Re-base the body frame onto the centre of mass: the pose moves to it
     // and the shapes' local positions shift the other way.
     body.pose.position = def.pose.apply(mass.center);
