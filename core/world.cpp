@@ -114,17 +114,13 @@ void World::apply_impulse(BodyId id, Vec3 impulse, Vec3 world_point) {
   if (!is_alive(id)) return;
   if (bodies_[id.index].type != BodyType::dynamic) return;
   wake_if_asleep(id.index);
-  Body& body = bodies_[id.index];
-  body.linear_velocity += impulse * body.inverse_mass;
-  body.angular_velocity += body.inverse_inertia_world * cross(world_point - body.pose.position, impulse);
+  add_impulse(bodies_[id.index], impulse, world_point, {settings_.max_linear_speed, settings_.max_angular_speed});
 }
 
 void World::apply_force(BodyId id, Vec3 force, Vec3 world_point) {
   if (!is_alive(id)) return;
   wake_if_asleep(id.index);
-  Body& body = bodies_[id.index];
-  body.force += force;
-  body.torque += cross(world_point - body.pose.position, force);
+  add_force(bodies_[id.index], force, world_point, settings_.dt);
 }
 
 void World::set_velocity(BodyId id, Vec3 linear, Vec3 angular) {
@@ -132,8 +128,10 @@ void World::set_velocity(BodyId id, Vec3 linear, Vec3 angular) {
   Body& body = bodies_[id.index];
   if (body.type == BodyType::static_body) return;
   wake_if_asleep(id.index);
-  body.linear_velocity = linear;
-  body.angular_velocity = angular;
+  // Clamped now, as the step would: the free-flight step averages the
+  // velocity it starts with, which must not be beyond the clamp.
+  body.linear_velocity = clamp_speed(linear, settings_.max_linear_speed);
+  body.angular_velocity = clamp_speed(angular, settings_.max_angular_speed);
 }
 
 void World::wake(BodyId id) {
