@@ -1,5 +1,11 @@
 #include "core/envelope.h"
 
+#include <algorithm>
+#include <bit>
+
+#include "core/mass.h"
+#include "fixed/decimal.h"
+
 namespace bitstep {
 
 namespace {
@@ -39,6 +45,122 @@ EnvelopeError check_shape(const Shape& shape, int index) {
   return {};
 }
 
+// A given mass is spread over the shapes' total volume; past 2^30 m^3 (a
+// compound of over 1,000 of the largest boxes) that sum could leave the range.
+constexpr Fixed max_total_volume = 1073741824.0_fx;
+
+std::string text(Fixed value) { return to_string(value); }
+
+// The density and the mass it gives: rho = m / V for a given mass, at most
+// max_density (the mass formulas stay in range below it); then the mass of
+// the shapes at that density within 0.01..1e5 kg.
+EnvelopeError check_density(const BodyDef& def) {
+  const bool mass_given = def.mass > Fixed{};
+  if (mass_given) {
+    Fixed volume_sum;
+    for (const Shape& shape : def.shapes) {
+      volume_sum += volume(shape);
+      if (volume_sum > max_total_volume) return {"shapes", -1, "more than 2^30 m^3 in all to spread a given mass over"};
+    }
+    // m / V >= max_density  <=>  max_density V <= m (no quotient: 1e5 kg in
+    // the smallest sphere is 2.4e10 kg/m^3, beyond the range).
+    if (!product_exceeds(envelope::max_density, volume_sum, def.mass)) {
+      return {"mass", -1, text(def.mass) + " kg in " + text(volume_sum) + " m^3 is denser than " +
+                              text(envelope::max_density) + " kg/m^3"};
+    }
+  } else if (def.density > envelope::max_density) {
+    return {"density", -1, text(def.density) + " kg/m^3 is denser than " + text(envelope::max_density) + " kg/m^3"};
+  }
+  if (!mass_properties(def.shapes, def.density, def.mass).ok) {
+    if (mass_given) {
+      // m / V rounded to Q32.32 lost half of the mass (a volume past 1e6 m^3 per 10 g).
+      return {"mass", -1, text(def.mass) + " kg in " + text(total_volume(def.shapes)) + " m^3 rounds to a density of " +
+                              text(body_density(def.shapes, def.density, def.mass)) + " kg/m^3, too light to hold it"};
+    }
+    return {"density", -1, text(def.density) + " kg/m^3 gives a mass outside 0.01..100000 kg"};
+  }
+  return {};
+}
+
+// --- inputs at a power-of-two scale ------------------------------------------
+
+// A vector v 2^shift: a velocity change far beyond the range, kept with its
+// direction and about 30 significant bits.
+struct Scaled {
+  Vec3 v;
+  int shift = 0;
+};
+
+// Scaled values are kept below 2^headroom, so that a sum of two and the
+// length of a vector of such sums stay inside Q32.32 (below 2^31).
+constexpr int headroom = 29;
+
+// The least e with |x| < 2^e (x = raw 2^-32; -32 for zero).
+int exponent_bound(Fixed x) { return static_cast<int>(std::bit_width(magnitude(x.raw()))) - raw::fraction_bits; }
+int exponent_bound(Vec3 v) { return std::max({exponent_bound(v.x), exponent_bound(v.y), exponent_bound(v.z)}); }
+int exponent_bound(const Mat33& m) {
+  return std::max({exponent_bound(m.rows[0]), exponent_bound(m.rows[1]), exponent_bound(m.rows[2])});
+}
+
+// The shift that brings a quantity below 2^e under 2^headroom.
+int shift_for(int e) { return std::max(0, e - headroom); }
+
+// v 2^shift for either sign of shift: up exactly (the caller knows it fits),
+// down rounded to nearest (in steps of at most 31 bits).
+Vec3 rescale(Vec3 v, int shift) {
+  for (; shift > 0; shift -= std::min(shift, 30)) v = v * Fixed::from_int(int32_t{1} << std::min(shift, 30));
+  for (; shift < 0; shift += std::min(-shift, 31)) v = v * Fixed::from_raw(int64_t{1} << (32 - std::min(-shift, 31)));
+  return v;
+}
+
+// s v: |s v_i| < 2^(e_s + e_v).
+Scaled times(Fixed s, Vec3 v) {
+  const int shift = shift_for(exponent_bound(s) + exponent_bound(v));
+  return {rescale(v, -shift) * s, shift};
+}
+
+// M v: |row . v| <= 3 max|M| max|v| < 2^(2 + e_M + e_v).
+Scaled times(const Mat33& m, Scaled v) {
+  const int shift = shift_for(2 + exponent_bound(m) + exponent_bound(v.v));
+  return {m * rescale(v.v, -shift), v.shift + shift};
+}
+
+// a x b: |a_y b_z - a_z b_y| < 2^(1 + e_a + e_b).
+Scaled cross_scaled(Vec3 a, Vec3 b) {
+  const int shift = shift_for(1 + exponent_bound(a) + exponent_bound(b));
+  return {cross(a, rescale(b, -shift)), shift};
+}
+
+// a + b 2^shift, at the scale of the larger.
+Scaled plus(Vec3 a, Scaled b) {
+  const int shift = std::max(b.shift, shift_for(exponent_bound(a)));
+  return {rescale(a, -shift) + rescale(b.v, b.shift - shift), shift};
+}
+
+// v 2^shift scaled down to length `limit` when it is longer (the step's
+// clamp, which it is at shift 0: the plain formula's bits); the scaled
+// length decides, and the clamped result does not depend on the scale.
+Vec3 clamp_length(Scaled s, Fixed limit) {
+  const Fixed l = length(s.v);
+  if (l > rescale({limit, {}, {}}, -s.shift).x) return {mul_div(s.v.x, limit, l), mul_div(s.v.y, limit, l), mul_div(s.v.z, limit, l)};
+  return rescale(s.v, s.shift);
+}
+
+// v 2^shift, or when that reaches 2^cap, v scaled by a power of two to just
+// below 2^cap (same direction).
+Vec3 capped(Scaled s, int cap) {
+  const int excess = std::max(0, exponent_bound(s.v) + s.shift - cap);
+  return rescale(s.v, s.shift - excess);
+}
+
+// One step's velocity change from the accumulated force or torque stays
+// below 2^28 (m/s, rad/s): v + dt F / m and w + dt I^-1 tau stay in range,
+// and the step's clamps apply.
+constexpr int max_step_change = 28;
+
+// A total's bound, no higher than a value the range holds at scale 0.
+int total_cap(int cap) { return std::min(cap, headroom + 1); }
+
 }  // namespace
 
 EnvelopeError check_envelope(const BodyDef& def) {
@@ -49,7 +171,7 @@ EnvelopeError check_envelope(const BodyDef& def) {
     if (shape.type == ShapeType::plane && def.type != BodyType::static_body) {
       return {"type", static_cast<int>(i), "a plane belongs to a static body"};
     }
-    const EnvelopeError e = check_shape(shape, static_cast<int>(i));
+    EnvelopeError e = check_shape(shape, static_cast<int>(i));
     if (!e.ok()) return e;
   }
   if (def.type == BodyType::dynamic) {
@@ -57,6 +179,8 @@ EnvelopeError check_envelope(const BodyDef& def) {
       return {"mass", -1, "outside 0.01..100000 kg"};
     }
     if (def.density <= Fixed{}) return {"density", -1, "must be positive"};
+    EnvelopeError e = check_density(def);
+    if (!e.ok()) return e;
   }
   // Components first, so that the length cannot overflow.
   auto faster_than = [](Vec3 v, Fixed limit) {
@@ -71,5 +195,28 @@ EnvelopeError check_envelope(const BodyDef& def) {
   }
   return {};
 }
+
+void add_impulse(Body& body, Vec3 impulse, Vec3 world_point, SpeedLimits limits) {
+  const Vec3 arm = world_point - body.pose.position;
+  const Scaled linear_change = times(body.inverse_mass, impulse);
+  const Scaled angular_change = times(body.inverse_inertia_world, cross_scaled(arm, impulse));
+  body.linear_velocity = clamp_length(plus(body.linear_velocity, linear_change), limits.linear);
+  body.angular_velocity = clamp_length(plus(body.angular_velocity, angular_change), limits.angular);
+}
+
+void add_force(Body& body, Vec3 force, Vec3 world_point, Fixed dt) {
+  const Vec3 arm = world_point - body.pose.position;
+  // dt F / m < 2^(e_F + e_1/m + e_dt); the product F / m alone must fit too.
+  const int dt_bound = std::max(0, exponent_bound(dt));
+  body.force = capped(plus(body.force, {force, 0}), total_cap(max_step_change - exponent_bound(body.inverse_mass) - dt_bound));
+  // The step refreshes R I^-1 R^T from the new pose: any rotation's entries
+  // are within 3 max|I^-1 local| (Gershgorin), and a row times tau within
+  // 3 max|entry| max|tau|: 2^(2 + 2 + e_I^-1 + e_tau).
+  const int inverse_inertia_bound = 2 + exponent_bound(body.inverse_inertia_local);
+  body.torque = capped(plus(body.torque, cross_scaled(arm, force)),
+                       total_cap(max_step_change - 2 - inverse_inertia_bound - dt_bound));
+}
+
+Vec3 clamp_speed(Vec3 velocity, Fixed limit) { return clamp_length(Scaled{velocity, 0}, limit); }
 
 }  // namespace bitstep

@@ -1,7 +1,11 @@
-// The world envelope check of a body definition (DESIGN.md): positions
-// within +-16 km, sizes 0.01..50 m, masses 0.01..1e5 kg. Inside the envelope
-// nothing in the solver can overflow; outside it a body is refused.
+// The world envelope (DESIGN.md, core/README.md "Bodies and mass"): what a
+// body definition and an input may hold. Inside it nothing in the simulation
+// leaves Q32.32 (a checked build aborts on any saturation: inside the
+// envelope that is a bug); outside it a body is refused with the field and
+// the reason, and inputs are bounded before they can overflow.
 #pragma once
+
+#include <string>
 
 #include "core/body.h"
 
@@ -10,10 +14,34 @@ namespace bitstep {
 struct EnvelopeError {
   const char* field = nullptr;   // e.g. "shapes[0].half_extents" is reported as "shapes.half_extents"
   int shape_index = -1;          // which shape, when the field belongs to one
-  const char* reason = nullptr;  // e.g. "outside 0.01..50 m"
-  bool ok() const { return reason == nullptr; }
+  std::string reason;            // e.g. "outside 0.01..50 m"; empty when the definition is inside
+  bool ok() const { return reason.empty(); }
 };
 
+// Positions within +-16 km, sizes 0.01..50 m, parts within 50 m of the body
+// origin, speeds within the clamps; a dynamic body's mass 0.01..1e5 kg and
+// density (given, or mass / volume) at most envelope::max_density.
 EnvelopeError check_envelope(const BodyDef& def);
+
+// Inputs. An input's velocity change can be far beyond the speed clamps (an
+// impulse of 1e6 N s on 0.01 kg is 1e8 m/s; at the corner of a 0.01 m box it
+// spins it at ~1e12 rad/s): it is computed at a power-of-two scale where it
+// cannot leave the range, and the result is clamped at once to the speeds
+// the step clamps to, keeping its direction. Within the clamps the result is
+// bit for bit the plain formula's.
+struct SpeedLimits {
+  Fixed linear;   // m/s (Settings::max_linear_speed)
+  Fixed angular;  // rad/s (Settings::max_angular_speed)
+};
+
+// v += J / m, w += I^-1 (r x J) with r = point - centre of mass, each
+// clamped to the limits. A dynamic body.
+void add_impulse(Body& body, Vec3 impulse, Vec3 world_point, SpeedLimits limits);
+// force += F, torque += r x F, each total bounded (direction kept) so that
+// the step's dt F / m and dt I^-1 tau stay below 2^28 (m/s, rad/s: far
+// beyond the clamps, which then apply) and inside the range.
+void add_force(Body& body, Vec3 force, Vec3 world_point, Fixed dt);
+// A velocity clamped to its length limit (the step's clamp).
+Vec3 clamp_speed(Vec3 velocity, Fixed limit);
 
 }  // namespace bitstep

@@ -51,6 +51,17 @@ Mat33 point_mass_tensor(Fixed m, Vec3 d) {
            Vec3{-m * d.z * d.x, -m * d.z * d.y, m * (dd - d.z * d.z)}}};
 }
 
+// density V > max_mass, for density, V >= 0: as density > max_mass / V
+// where that quotient is in range (the rule bodies were always admitted by),
+// and on the exact product where it is not: below V = 1e5 / 2^31 = 4.7e-5
+// m^3 (a 0.036 m box) the quotient saturated, and a checked build aborted.
+bool heavier_than(Fixed density, Fixed v, Fixed max_mass) {
+  if (v == Fixed{}) return false;
+  const bool quotient_in_range = product_exceeds(v, Fixed::max(), max_mass);
+  if (quotient_in_range) return density > max_mass / v;
+  return product_exceeds(density, v, max_mass);
+}
+
 }  // namespace
 
 Fixed volume(const Shape& shape) {
@@ -66,7 +77,27 @@ Fixed volume(const Shape& shape) {
   return Fixed{};
 }
 
-MassProperties mass_properties(const std::vector<Shape>& shapes, Fixed density) {
+Fixed total_volume(const std::vector<Shape>& shapes) {
+  Fixed sum;
+  for (const Shape& s : shapes) sum += volume(s);
+  return sum;
+}
+
+Fixed body_density(const std::vector<Shape>& shapes, Fixed density, Fixed mass) {
+  return mass > Fixed{} ? mass / total_volume(shapes) : density;
+}
+
+bool product_exceeds(Fixed a, Fixed b, Fixed limit) {
+  // Raw values: a b 2^-64 > limit 2^-32  <=>  A B > L 2^32.
+  const Wide product = Wide::mul(magnitude(a.raw()), magnitude(b.raw()));
+  return product > (Wide{magnitude(limit.raw())} << raw::fraction_bits);
+}
+
+MassProperties mass_properties(const std::vector<Shape>& shapes, Fixed density, Fixed mass) {
+  return mass_properties(shapes, body_density(shapes, density, mass), mass > Fixed{} ? given_mass_range : MassRange{});
+}
+
+MassProperties mass_properties(const std::vector<Shape>& shapes, Fixed density, MassRange range) {
   MassProperties result;
   std::vector<PartMass> parts;
   parts.reserve(shapes.size());
@@ -74,7 +105,7 @@ MassProperties mass_properties(const std::vector<Shape>& shapes, Fixed density) 
   for (const Shape& shape : shapes) {
     // m = density V, refused before it could leave the envelope (or the range).
     const Fixed v = volume(shape);
-    if (v > Fixed{} && density > envelope::max_mass / v) {
+    if (heavier_than(density, v, range.max)) {
       result.ok = false;
       return result;
     }
@@ -86,13 +117,13 @@ MassProperties mass_properties(const std::vector<Shape>& shapes, Fixed density) 
       case ShapeType::plane: parts.push_back({}); break;
     }
     result.mass += m;
-    if (result.mass > envelope::max_mass) {
+    if (result.mass > range.max) {
       result.ok = false;
       return result;
     }
     weighted_center += shape.local.position * m;
   }
-  if (result.mass < envelope::min_mass) {
+  if (result.mass < range.min) {
     result.ok = false;
     return result;
   }

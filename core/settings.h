@@ -18,6 +18,10 @@ inline constexpr Fixed min_size = 0.01_fx;         // m, box half-extent, radius
 inline constexpr Fixed max_size = 50.0_fx;         // m
 inline constexpr Fixed min_mass = 0.01_fx;         // kg
 inline constexpr Fixed max_mass = 100000.0_fx;     // kg
+// kg/m^3, a dynamic body's density (given, or mass / volume): 4,400 times
+// osmium, so 800 kg fits in the smallest box (0.02 m wide). The mass formulas
+// (core/mass.cpp) form density x 4/3 pi, which leaves Q32.32 above 5.1e8.
+inline constexpr Fixed max_density = 100000000.0_fx;
 inline constexpr Fixed max_linear_speed = 500.0_fx;  // m/s
 inline constexpr Fixed max_angular_speed = 100.0_fx; // rad/s
 }  // namespace envelope

@@ -62,18 +62,8 @@ CreateResult World::create_body(const BodyDef& def) {
   body.shapes = def.shapes;
   body.asleep = def.asleep && settings_.sleep_method != SleepMethod::off;
   if (def.type == BodyType::dynamic) {
-    // A given mass scales the density: rho = m / V.
-    Fixed density = def.density;
-    if (def.mass > Fixed{}) {
-      Fixed total_volume;
-      for (const Shape& s : def.shapes) total_volume += volume(s);
-      density = def.mass / total_volume;
-    }
-    const MassProperties mass = mass_properties(def.shapes, density);
-    if (!mass.ok) {
-      result.error = {"density", -1, "gives a mass outside 0.01..100000 kg"};
-      return result;
-    }
+    // A given mass scales the density: rho = m / V (check_envelope admitted both).
+    const MassProperties mass = mass_properties(def.shapes, def.density, def.mass);
     // Re-base the body frame onto the centre of mass: the pose moves to it
     // and the shapes' local positions shift the other way.
     body.pose.position = def.pose.apply(mass.center);
@@ -136,17 +126,13 @@ void World::apply_impulse(BodyId id, Vec3 impulse, Vec3 world_point) {
   if (!is_alive(id)) return;
   if (bodies_[id.index].type != BodyType::dynamic) return;
   wake_if_asleep(id.index);
-  Body& body = bodies_[id.index];
-  body.linear_velocity += impulse * body.inverse_mass;
-  body.angular_velocity += body.inverse_inertia_world * cross(world_point - body.pose.position, impulse);
+  add_impulse(bodies_[id.index], impulse, world_point, {settings_.max_linear_speed, settings_.max_angular_speed});
 }
 
 void World::apply_force(BodyId id, Vec3 force, Vec3 world_point) {
   if (!is_alive(id)) return;
   wake_if_asleep(id.index);
-  Body& body = bodies_[id.index];
-  body.force += force;
-  body.torque += cross(world_point - body.pose.position, force);
+  add_force(bodies_[id.index], force, world_point, settings_.dt);
 }
 
 void World::set_velocity(BodyId id, Vec3 linear, Vec3 angular) {
@@ -154,8 +140,10 @@ void World::set_velocity(BodyId id, Vec3 linear, Vec3 angular) {
   Body& body = bodies_[id.index];
   if (body.type == BodyType::static_body) return;
   wake_if_asleep(id.index);
-  body.linear_velocity = linear;
-  body.angular_velocity = angular;
+  // Clamped now, as the step would: the free-flight step averages the
+  // velocity it starts with, which must not be beyond the clamp.
+  body.linear_velocity = clamp_speed(linear, settings_.max_linear_speed);
+  body.angular_velocity = clamp_speed(angular, settings_.max_angular_speed);
 }
 
 void World::wake(BodyId id) {

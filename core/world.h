@@ -45,7 +45,11 @@ class World {
 
   void step();
 
-  // Inputs, applied by the next step.
+  // Inputs, applied by the next step. An impulse changes the velocities at
+  // once, clamped to the speed clamps; forces add up until the step, bounded
+  // so that the step's velocity change stays below 2^28 m/s and rad/s; a set
+  // velocity is clamped. Any magnitude computes (core/envelope.h); replays
+  // bound impulses and forces to 1e6 per component, points to +-16 km.
   void apply_impulse(BodyId id, Vec3 impulse, Vec3 world_point);
   void apply_force(BodyId id, Vec3 force, Vec3 world_point);
   void set_velocity(BodyId id, Vec3 linear, Vec3 angular);

@@ -19,8 +19,13 @@ using namespace scene_reader;
 
 namespace {
 
-constexpr Fixed max_impulse = 1000000.0_fx;  // N s; with the lightest body (0.01 kg) 1e8 m/s before the clamp
-constexpr Fixed max_force = 1000000.0_fx;    // N; F / m stays inside Q32.32 for every body in the envelope
+// Per component. Their effect on a body is not bounded here (it depends on
+// the body then in the slot and where it is): 1e6 N s on 0.01 kg is 1e8 m/s,
+// at the corner of a 0.01 m box ~1e12 rad/s. World::apply_impulse and
+// apply_force compute it at a scale where it cannot overflow, and the speed
+// clamps apply (core/envelope.h).
+constexpr Fixed max_impulse = 1000000.0_fx;  // N s
+constexpr Fixed max_force = 1000000.0_fx;    // N
 constexpr int max_steps = 100000000;
 
 uint64_t read_hash(const Node& node) {
@@ -73,6 +78,14 @@ Vec3 read_point(const Node& node) {
   return read_vec3_within(node, -envelope::max_position, envelope::max_position, "m");
 }
 
+// A set_velocity value: components within the clamp (so that the length
+// stays in range), then the length, as a scene body's velocity.
+Vec3 read_speed(const Node& node, Fixed limit, const char* unit) {
+  const Vec3 v = read_vec3_within(node, -limit, limit, unit);
+  if (length(v) > limit) fail(node, "faster than " + to_string(limit) + " " + unit);
+  return v;
+}
+
 Input read_input(const Node& node, const Scene& scene, BodyNames& names) {
   ObjectReader reader(node);
   Input input;
@@ -96,10 +109,10 @@ Input read_input(const Node& node, const Scene& scene, BodyNames& names) {
     case Input::Kind::set_velocity:
       input.body = read_body_ref(body, names);
       if (const Node* linear = reader.find("linear")) {
-        input.vector = read_vec3_within(*linear, -envelope::max_linear_speed, envelope::max_linear_speed, "m/s");
+        input.vector = read_speed(*linear, envelope::max_linear_speed, "m/s");
       }
       if (const Node* angular = reader.find("angular")) {
-        input.point = read_vec3_within(*angular, -envelope::max_angular_speed, envelope::max_angular_speed, "rad/s");
+        input.point = read_speed(*angular, envelope::max_angular_speed, "rad/s");
       }
       break;
     case Input::Kind::spawn:

@@ -365,3 +365,61 @@ TEST_CASE("a settings override survives writing and reading the replay", "[repla
   CHECK(reread.scene.settings.sleep_method == SleepMethod::still);
   CHECK(replay_json(reread, "test") == text);
 }
+
+TEST_CASE("inputs outside the envelope are refused when the replay is read, naming the field", "[replay][envelope]") {
+  const std::string head = "{\"format\": \"bitstep-replay\", \"version\": 1, \"scene\": \"bounce.json\", "
+                           "\"scene_hash\": \"0000000000000000\", \"steps\": 1, \"hashes\": [\"0000000000000000\"], "
+                           "\"inputs\": [{\"step\": 1, ";
+  struct Case {
+    std::string input, expected;
+  };
+  const Case cases[] = {
+      // Each component within 500 m/s, the length 866 m/s.
+      {"\"type\": \"set_velocity\", \"body\": 1, \"linear\": [500, 500, 500]}",
+       "$.inputs[0].linear: faster than 500 m/s"},
+      {"\"type\": \"set_velocity\", \"body\": 1, \"angular\": [100, 1, 0]}", "$.inputs[0].angular: faster than 100 rad/s"},
+      // 1e5 kg in a 0.02 m box: 1.25e10 kg/m^3 (it spawned as ~17,180 kg).
+      {"\"type\": \"spawn\", \"body\": {\"mass\": 100000, \"shapes\": [{\"type\": \"box\", \"half_extents\": [0.01, 0.01, "
+       "0.01]}]}}",
+       "$.inputs[0].body.mass: 100000 kg in 0.000008 m^3 is denser than 100000000 kg/m^3"},
+      {"\"type\": \"spawn\", \"body\": {\"density\": 1000, \"shapes\": [{\"type\": \"box\", \"half_extents\": [0.01, "
+       "0.01, 0.01]}]}}",
+       "$.inputs[0].body.density: 1000 kg/m^3 gives a mass outside 0.01..100000 kg"},
+      {"\"type\": \"force\", \"body\": 1, \"force\": [0, 1000001, 0], \"point\": [0, 0, 0]}", "$.inputs[0].force"},
+  };
+  for (const Case& c : cases) {
+    const TempFile file("envelope_test.replay.json", head + c.input + "]}");
+    const std::string message = error_of(file.path);
+    INFO(message);
+    CHECK(message.find(c.expected) != std::string::npos);
+    CHECK(message.find('\n') == std::string::npos);
+  }
+}
+
+TEST_CASE("inputs at their bounds replay in every build", "[replay][envelope]") {
+  // The documented bounds, at the far corner of the scene's ball and from
+  // across the world: computed at a scale where they cannot overflow, then
+  // clamped (a checked build aborted in cross / dot).
+  const std::string text =
+      "{\"format\": \"bitstep-replay\", \"version\": 1, \"scene\": \"bounce.json\", "
+      "\"scene_hash\": \"0000000000000000\", \"steps\": 30, \"inputs\": ["
+      "{\"step\": 1, \"type\": \"impulse\", \"body\": 1, \"impulse\": [1000000, -1000000, 1000000], "
+      "\"point\": [16000, 16000, 16000]},"
+      "{\"step\": 2, \"type\": \"force\", \"body\": 1, \"force\": [1000000, 1000000, -1000000], "
+      "\"point\": [-16000, -16000, 16000]},"
+      "{\"step\": 3, \"type\": \"set_velocity\", \"body\": 1, \"linear\": [0, -500, 0], \"angular\": [0, 100, 0]},"
+      "{\"step\": 4, \"type\": \"spawn\", \"body\": {\"mass\": 800, \"position\": [3, 1, 0], "
+      "\"shapes\": [{\"type\": \"box\", \"half_extents\": [0.01, 0.01, 0.01]}]}}]}";
+  const TempFile file("bounds_test.replay.json", text);
+  auto loaded = load_replay_file(file.path, false);
+  if (const ReplayError* error = std::get_if<ReplayError>(&loaded)) FAIL(error->message());
+  const Replay& replay = std::get<Replay>(loaded);
+  World world(replay.scene.settings);
+  std::string reason;
+  REQUIRE(build_world(replay.scene, world, reason));
+  std::vector<uint64_t> hashes;
+  run_inputs(world, replay.inputs, replay.steps, hashes);
+  CHECK(hashes.size() == 30);
+  CHECK(world.bodies().size() == 3);  // the spawn was admitted
+  for (const Body& body : world.bodies()) CHECK(length(body.linear_velocity) <= envelope::max_linear_speed);
+}
