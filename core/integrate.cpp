@@ -14,6 +14,11 @@ Vec3 clamp_length(Vec3 v, Fixed limit) {
 // Box2D's damping: v /= 1 + dt c, stable for any c >= 0.
 Fixed damping_factor(Fixed dt, Fixed damping) { return Fixed::one() / (Fixed::one() + dt * damping); }
 
+Fixed largest_component(Vec3 v) { return max(max(abs(v.x), abs(v.y)), abs(v.z)); }
+Fixed largest_entry(const Mat33& m) {
+  return max(max(largest_component(m.rows[0]), largest_component(m.rows[1])), largest_component(m.rows[2]));
+}
+
 Mat33 skew(Vec3 v) { return {{Vec3{Fixed{}, -v.z, v.y}, Vec3{v.z, Fixed{}, -v.x}, Vec3{-v.y, v.x, Fixed{}}}}; }
 
 // A spinning body keeps its angular momentum L = I w, not w: in body axes
@@ -24,19 +29,37 @@ Mat33 skew(Vec3 v) { return {{Vec3{Fixed{}, -v.z, v.y}, Vec3{v.z, Fixed{}, -v.x}
 // Without it a tumbling box's L drifted 15% in 20 s. M can turn singular
 // for a fast spin about the middle axis at a large step (det M = 1 -
 // dt^2 w^2 (..) ): then the step keeps w, as without the term.
+//
+// Both M and the residual are unchanged when I is scaled by 2^-k and I^-1 by
+// 2^k, so I is brought under 2^15 kg m^2 first (k = 0, the plain bits, for
+// every body below it; then |w x I w| <= 100 x 300 x 2^15 < 2^30 at the speed
+// clamp): the heaviest, largest body of the envelope (I up to ~2.5e8 kg m^2)
+// took I w and skew(w) I past the number range at ~13 rad/s.
+// A body so thin that the step would be stiff (an entry of M or of the
+// residual beyond 128: a 100 m rod spun across its axis) keeps w too; below
+// that bound the cross products, det M and the correction stay far inside
+// the range.
 Vec3 gyroscopic_step(const Body& body, Fixed dt) {
   const Quat& q = body.pose.orientation;
   const Vec3 w = rotate_inverse(q, body.angular_velocity);
-  const Mat33& inertia = body.inertia_local;
-  const Mat33& inverse_inertia = body.inverse_inertia_local;
+  Mat33 inertia = body.inertia_local;
+  Mat33 inverse_inertia = body.inverse_inertia_local;
+  constexpr Fixed inertia_bound = 32768.0_fx;  // 2^15 kg m^2
+  while (largest_entry(inertia) > inertia_bound) {
+    inertia = inertia * 0.5_fx;
+    inverse_inertia = inverse_inertia * 2.0_fx;
+  }
   const Vec3 momentum = inertia * w;
-  const Mat33 m = Mat33::identity() + inverse_inertia * (skew(w) * inertia - skew(momentum)) * dt;
+  // dt first, so that I^-1 meets the small factors (its entries reach 1e4).
+  const Mat33 m = Mat33::identity() + inverse_inertia * ((skew(w) * inertia - skew(momentum)) * dt);
+  const Vec3 residual = inverse_inertia * (cross(w, momentum) * dt);
+  constexpr Fixed stiff = 128.0_fx;
+  if (largest_entry(m) > stiff || largest_component(residual) > stiff) return body.angular_velocity;
   // M^-1 = [c0 c1 c2] / det M with c0 = r1 x r2, c1 = r2 x r0, c2 = r0 x r1
   // (the rows' cross products): plain Fixed arithmetic suffices, det M >= 1/8.
   const Vec3 c0 = cross(m.rows[1], m.rows[2]), c1 = cross(m.rows[2], m.rows[0]), c2 = cross(m.rows[0], m.rows[1]);
   const Fixed det = dot(m.rows[0], c0);
   if (det < 0.125_fx) return body.angular_velocity;
-  const Vec3 residual = inverse_inertia * cross(w, momentum) * dt;
   const Vec3 correction = (c0 * residual.x + c1 * residual.y + c2 * residual.z) / det;
   return rotate(q, w - correction);
 }
