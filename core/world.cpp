@@ -31,6 +31,36 @@ Fixed body_radius(const Body& body) {
   return radius;
 }
 
+// a + b for non-negative a, b, at most Fixed::max() (2^31 J): a report,
+// not state; computed so that no operation leaves the range (checked build).
+Fixed capped_sum(Fixed a, Fixed b) { return a > Fixed::max() - b ? Fixed::max() : a + b; }
+
+// 1/2 m v^2 + 1/2 w . I w (J, the rotational part in body axes), at most
+// 2^31 J: a 1e5 kg body at 500 m/s has 1.25e10. m v^2 is taken whole when
+// it fits; I is halved until w . I w fits (|w| <= 100 rad/s, entries under
+// 2^15 kg m^2) and the result doubled back while it can be.
+Fixed kinetic_energy(const Body& body) {
+  const Fixed mass = Fixed::one() / body.inverse_mass;
+  const Fixed speed_sq = length_sq(body.linear_velocity);  // <= 3 x 500^2
+  const Fixed linear = speed_sq > Fixed::max() / mass ? Fixed::max() : mass * speed_sq / 2.0_fx;
+  const Vec3 w = rotate_inverse(body.pose.orientation, body.angular_velocity);
+  Mat33 inertia = body.inertia_local;
+  int halvings = 0;
+  const auto largest = [](const Mat33& m) {
+    Fixed l;
+    for (const Vec3& r : m.rows) l = max(l, max(max(abs(r.x), abs(r.y)), abs(r.z)));
+    return l;
+  };
+  while (largest(inertia) > 32768.0_fx) {
+    inertia = inertia * 0.5_fx;
+    ++halvings;
+  }
+  Fixed rotational = dot(w, inertia * w) / 2.0_fx;
+  for (; halvings > 0 && rotational <= Fixed::max() / 2.0_fx; --halvings) rotational = rotational * 2.0_fx;
+  if (halvings > 0) rotational = Fixed::max();
+  return capped_sum(linear, rotational);
+}
+
 }  // namespace
 
 World::World(const Settings& settings) : settings_(settings) {}
@@ -307,10 +337,7 @@ StepStats World::stats() const {
       continue;
     }
     ++s.awake_bodies;
-    // 1/2 m v^2 + 1/2 w . I w, the rotational part in body axes.
-    const Fixed mass = Fixed::one() / body.inverse_mass;
-    const Vec3 w = rotate_inverse(body.pose.orientation, body.angular_velocity);
-    s.kinetic_energy += (mass * length_sq(body.linear_velocity) + dot(w, body.inertia_local * w)) / 2.0_fx;
+    s.kinetic_energy = capped_sum(s.kinetic_energy, kinetic_energy(body));
   }
   for (const Contact& c : contacts_) {
     s.contact_points += c.manifold.point_count;

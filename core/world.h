@@ -20,7 +20,7 @@ struct StepStats {
   int sleeping_bodies = 0;
   int contact_points = 0;
   Fixed max_penetration;  // m
-  Fixed kinetic_energy;   // J (saturates beyond 2^31 J)
+  Fixed kinetic_energy;   // J, at most 2^31 J (capped there: a report, never state)
 };
 
 struct CreateResult {
