@@ -1,6 +1,6 @@
 #include "replay/generators.h"
 
-#include "tools/splitmix64.h"
+#include "fixed/splitmix64.h"
 
 namespace bitstep {
 

@@ -127,7 +127,7 @@ std::vector<SceneBody> generate_tables(const TableParams& params);
 
 // Bodies at seeded random positions in the box position +- spread, with
 // random orientations, flying toward `target` at `speed`. SplitMix64
-// (tools/splitmix64.h) draws raw Q32.32 fractions; a draw that would
+// (fixed/splitmix64.h) draws raw Q32.32 fractions; a draw that would
 // overlap an earlier body (bounding spheres) is redrawn, up to 1000 times.
 // `shapes` cycles through the given kinds (box, sphere, capsule).
 struct ThrowParams {

@@ -35,7 +35,7 @@
 #include "fixed/fixed.h"
 #include "fixed/u128.h"
 #include "fixed/vec3.h"
-#include "tools/splitmix64.h"
+#include "fixed/splitmix64.h"
 
 namespace bitstep {
 

@@ -35,7 +35,7 @@
 
 #include "fixed/decimal.h"
 #include "fixed/vec3.h"
-#include "tools/splitmix64.h"
+#include "fixed/splitmix64.h"
 
 namespace bitstep {
 

@@ -2,7 +2,7 @@
 
 #include "fixed/decimal.h"
 #include "fixed/mat33.h"
-#include "tools/splitmix64.h"
+#include "fixed/splitmix64.h"
 
 namespace bitstep {
 

@@ -16,7 +16,7 @@
 #include "fixed/decimal.h"
 #include "fixed/mat33.h"
 #include "tests/test_support.h"
-#include "tools/splitmix64.h"
+#include "fixed/splitmix64.h"
 
 namespace bitstep {
 // Catch2 prints Fixed and Vec3 in failure messages.

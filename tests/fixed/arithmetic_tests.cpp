@@ -19,7 +19,7 @@
 #include "fixed/decimal.h"
 #include "fixed/fixed.h"
 #include "fixed/u128.h"
-#include "tools/splitmix64.h"
+#include "fixed/splitmix64.h"
 #include "tests/test_support.h"
 
 namespace {

@@ -22,7 +22,7 @@
 #include "fixed/quat.h"
 #include "fixed/u128.h"
 #include "fixed/vec3.h"
-#include "tools/splitmix64.h"
+#include "fixed/splitmix64.h"
 #include "tests/test_support.h"
 
 namespace {

@@ -34,7 +34,7 @@
 #include "fixed/raw_arith.h"
 #include "fixed/raw_math.h"
 #include "fixed/u128.h"
-#include "tools/splitmix64.h"
+#include "fixed/splitmix64.h"
 
 namespace {
 

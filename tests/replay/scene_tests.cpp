@@ -10,7 +10,7 @@
 #include "fixed/decimal.h"
 #include "replay/generators.h"
 #include "replay/scene.h"
-#include "tools/splitmix64.h"
+#include "fixed/splitmix64.h"
 
 using namespace bitstep;
 

@@ -1,6 +1,7 @@
 // SplitMix64 (Steele, Lea, Flood 2014): a tiny, well-mixed, fully specified
-// integer generator. Every seeded random operand in bitstep's tools and tests
-// comes from it, so a seed means the same numbers on every platform.
+// integer generator. Every seeded random operand in bitstep (the throw
+// generator, the tools, the tests) comes from it, so a seed means the same
+// numbers on every platform. Here in fixed/, the lowest layer that uses it.
 #pragma once
 
 #include <cstdint>
