@@ -14,11 +14,6 @@ Vec3 clamp_length(Vec3 v, Fixed limit) {
 // Box2D's damping: v /= 1 + dt c, stable for any c >= 0.
 Fixed damping_factor(Fixed dt, Fixed damping) { return Fixed::one() / (Fixed::one() + dt * damping); }
 
-Fixed largest_component(Vec3 v) { return max(max(abs(v.x), abs(v.y)), abs(v.z)); }
-Fixed largest_entry(const Mat33& m) {
-  return max(max(largest_component(m.rows[0]), largest_component(m.rows[1])), largest_component(m.rows[2]));
-}
-
 Mat33 skew(Vec3 v) { return {{Vec3{Fixed{}, -v.z, v.y}, Vec3{v.z, Fixed{}, -v.x}, Vec3{-v.y, v.x, Fixed{}}}}; }
 
 // A spinning body keeps its angular momentum L = I w, not w: in body axes
@@ -44,11 +39,7 @@ Vec3 gyroscopic_step(const Body& body, Fixed dt) {
   const Vec3 w = rotate_inverse(q, body.angular_velocity);
   Mat33 inertia = body.inertia_local;
   Mat33 inverse_inertia = body.inverse_inertia_local;
-  constexpr Fixed inertia_bound = 32768.0_fx;  // 2^15 kg m^2
-  while (largest_entry(inertia) > inertia_bound) {
-    inertia = inertia * 0.5_fx;
-    inverse_inertia = inverse_inertia * 2.0_fx;
-  }
+  scale_inertia_down(inertia, &inverse_inertia);
   const Vec3 momentum = inertia * w;
   // dt first, so that I^-1 meets the small factors (its entries reach 1e4).
   const Mat33 m = Mat33::identity() + inverse_inertia * ((skew(w) * inertia - skew(momentum)) * dt);
@@ -65,6 +56,21 @@ Vec3 gyroscopic_step(const Body& body, Fixed dt) {
 }
 
 }  // namespace
+
+Fixed largest_component(Vec3 v) { return max(max(abs(v.x), abs(v.y)), abs(v.z)); }
+Fixed largest_entry(const Mat33& m) {
+  return max(max(largest_component(m.rows[0]), largest_component(m.rows[1])), largest_component(m.rows[2]));
+}
+
+int scale_inertia_down(Mat33& inertia, Mat33* inverse) {
+  constexpr Fixed bound = 32768.0_fx;  // 2^15 kg m^2
+  int halvings = 0;
+  for (; largest_entry(inertia) > bound; ++halvings) {
+    inertia = inertia * 0.5_fx;
+    if (inverse != nullptr) *inverse = *inverse * 2.0_fx;
+  }
+  return halvings;
+}
 
 void refresh_inverse_inertia(Body& body) {
   const Mat33 r = rotation(body.pose.orientation);

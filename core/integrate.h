@@ -17,6 +17,17 @@ void integrate_velocity(const Settings& settings, Body& body);
 // R I^-1 R^T of the body's current pose (from the body-frame inverse).
 void refresh_inverse_inertia(Body& body);
 
+// The largest |entry| of a vector or matrix.
+Fixed largest_component(Vec3 v);
+Fixed largest_entry(const Mat33& m);
+
+// Halves `inertia` (and doubles `inverse`, when given) until no entry
+// exceeds 2^15 kg m^2, and returns how many times: what is homogeneous in I
+// (Euler's equations, w . I w up to the factor 2^k) is then computed with
+// w (<= 100 rad/s) inside the number range. 0 for every body below the
+// bound: the plain bits.
+int scale_inertia_down(Mat33& inertia, Mat33* inverse = nullptr);
+
 // x += dt (v + v_push) for bodies with contact points, x += dt (v_start + v) / 2
 // for bodies in free flight (exact under constant force; v_start is the
 // velocity before this step's forces); q += dt/2 (w + w_push) q, renormalised.

@@ -45,16 +45,7 @@ Fixed kinetic_energy(const Body& body) {
   const Fixed linear = speed_sq > Fixed::max() / mass ? Fixed::max() : mass * speed_sq / 2.0_fx;
   const Vec3 w = rotate_inverse(body.pose.orientation, body.angular_velocity);
   Mat33 inertia = body.inertia_local;
-  int halvings = 0;
-  const auto largest = [](const Mat33& m) {
-    Fixed l;
-    for (const Vec3& r : m.rows) l = max(l, max(max(abs(r.x), abs(r.y)), abs(r.z)));
-    return l;
-  };
-  while (largest(inertia) > 32768.0_fx) {
-    inertia = inertia * 0.5_fx;
-    ++halvings;
-  }
+  int halvings = scale_inertia_down(inertia);
   Fixed rotational = dot(w, inertia * w) / 2.0_fx;
   for (; halvings > 0 && rotational <= Fixed::max() / 2.0_fx; --halvings) rotational = rotational * 2.0_fx;
   if (halvings > 0) rotational = Fixed::max();
