@@ -219,4 +219,21 @@ void add_force(Body& body, Vec3 force, Vec3 world_point, Fixed dt) {
 
 Vec3 clamp_speed(Vec3 velocity, Fixed limit) { return clamp_length(Scaled{velocity, 0}, limit); }
 
+const char* setting_outside_envelope(const Settings& s) {
+  const auto within = [](Fixed value, Fixed lo, Fixed hi) { return value >= lo && value <= hi; };
+  if (!within(s.dt, envelope::min_dt, envelope::max_dt)) return "dt";
+  for (Fixed g : {s.gravity.x, s.gravity.y, s.gravity.z}) {
+    if (!within(g, -envelope::max_gravity, envelope::max_gravity)) return "gravity";
+  }
+  if (!within(s.penetration_slop, Fixed{}, envelope::max_size)) return "penetration_slop";
+  if (!within(s.split_impulse_factor, Fixed{}, Fixed::one())) return "split_impulse_factor";
+  if (!within(s.max_push_out_speed, Fixed{}, envelope::max_linear_speed)) return "max_push_out_speed";
+  if (!within(s.baumgarte_factor, Fixed{}, Fixed::one())) return "baumgarte_factor";
+  if (!within(s.restitution_threshold, Fixed{}, envelope::max_linear_speed)) return "restitution_threshold";
+  if (!within(s.speculative_distance, Fixed{}, envelope::max_size)) return "speculative_distance";
+  if (!within(s.max_linear_speed, Fixed::from_raw(1), envelope::max_linear_speed)) return "max_linear_speed";
+  if (!within(s.max_angular_speed, Fixed::from_raw(1), envelope::max_angular_speed)) return "max_angular_speed";
+  return nullptr;
+}
+
 }  // namespace bitstep

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/body.h"
+#include "core/settings.h"
 
 namespace bitstep {
 
@@ -22,6 +23,14 @@ struct EnvelopeError {
 // origin, speeds within the clamps; a dynamic body's mass 0.01..1e5 kg and
 // density (given, or mass / volume) at most envelope::max_density.
 EnvelopeError check_envelope(const BodyDef& def);
+
+// The first setting outside the world envelope (its scene key), or null:
+// readers refuse a scene or snapshot that asks for one. dt 0.0001..0.1 s,
+// gravity within +-1000 m/s^2 per axis, velocity clamps positive and no
+// higher than the envelope's speeds (above them the solver's products are
+// not bounded), push-out speed and restitution threshold within those
+// speeds, slop and speculative distance within the largest size.
+const char* setting_outside_envelope(const Settings& settings);
 
 // Inputs. An input's velocity change can be far beyond the speed clamps (an
 // impulse of 1e6 N s on 0.01 kg is 1e8 m/s; at the corner of a 0.01 m box it

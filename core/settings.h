@@ -24,6 +24,13 @@ inline constexpr Fixed max_mass = 100000.0_fx;     // kg
 inline constexpr Fixed max_density = 100000000.0_fx;
 inline constexpr Fixed max_linear_speed = 500.0_fx;  // m/s
 inline constexpr Fixed max_angular_speed = 100.0_fx; // rad/s
+// The step's own settings. dt from 100 us (10 kHz) to 0.1 s (a 10 Hz
+// lockstep tick): at 1000 s the first contact's dot products left Q32.32,
+// and 1 / dt must fit (dt of 1 raw unit divided 1 by 2^-32). Gravity per
+// axis up to 100 g.
+inline constexpr Fixed min_dt = 0.0001_fx;           // s
+inline constexpr Fixed max_dt = 0.1_fx;              // s
+inline constexpr Fixed max_gravity = 1000.0_fx;      // m/s^2, per axis
 }  // namespace envelope
 
 // How bodies fall asleep (core/sleep.h). Off: no sleep bookkeeping at all.

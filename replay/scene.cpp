@@ -327,19 +327,23 @@ Scene read_scene(const Node& root) {
 
 void read_settings_onto(const Node& node, Settings& s) {
   ObjectReader reader(node);
-  read_optional(reader, "dt", s.dt, Bound::positive);
-  read_optional(reader, "gravity", s.gravity);
+  read_optional_within(reader, "dt", s.dt, envelope::min_dt, envelope::max_dt, "s");
+  read_optional_within(reader, "gravity", s.gravity, -envelope::max_gravity, envelope::max_gravity, "m/s^2");
   read_optional(reader, "velocity_iterations", s.velocity_iterations, 1, 1000);
   read_optional(reader, "position_iterations", s.position_iterations, 0, 1000);
-  read_optional(reader, "penetration_slop", s.penetration_slop, Bound::non_negative);
+  read_optional_within(reader, "penetration_slop", s.penetration_slop, Fixed{}, envelope::max_size, "m");
   read_optional(reader, "split_impulse_factor", s.split_impulse_factor, Bound::unit_interval);
-  read_optional(reader, "max_push_out_speed", s.max_push_out_speed, Bound::non_negative);
+  read_optional_within(reader, "max_push_out_speed", s.max_push_out_speed, Fixed{}, envelope::max_linear_speed, "m/s");
   read_optional(reader, "baumgarte", s.baumgarte);
   read_optional(reader, "baumgarte_factor", s.baumgarte_factor, Bound::unit_interval);
-  read_optional(reader, "restitution_threshold", s.restitution_threshold, Bound::non_negative);
-  read_optional(reader, "speculative_distance", s.speculative_distance, Bound::non_negative);
+  read_optional_within(reader, "restitution_threshold", s.restitution_threshold, Fixed{}, envelope::max_linear_speed,
+                       "m/s");
+  read_optional_within(reader, "speculative_distance", s.speculative_distance, Fixed{}, envelope::max_size, "m");
+  // Clamps: positive, and no faster than the envelope lets every product fit.
   read_optional(reader, "max_linear_speed", s.max_linear_speed, Bound::positive);
   read_optional(reader, "max_angular_speed", s.max_angular_speed, Bound::positive);
+  read_optional_within(reader, "max_linear_speed", s.max_linear_speed, Fixed{}, envelope::max_linear_speed, "m/s");
+  read_optional_within(reader, "max_angular_speed", s.max_angular_speed, Fixed{}, envelope::max_angular_speed, "rad/s");
   read_optional(reader, "warm_starting", s.warm_starting);
   read_optional(reader, "shock_propagation", s.shock_propagation);
   read_optional(reader, "shock_iterations", s.shock_iterations, 1, 1000);

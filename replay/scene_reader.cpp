@@ -1,5 +1,7 @@
 #include "replay/scene_reader.h"
 
+#include <algorithm>
+
 #include "fixed/decimal.h"
 
 namespace bitstep::scene_reader {
@@ -45,7 +47,9 @@ ObjectReader::ObjectReader(const Node& node) : node_(node) {
 }
 
 const Node* ObjectReader::find(std::string_view key) {
-  known_.push_back(key);
+  // A key may be read twice (a sign check, then a range); listed once. The
+  // keys are the reader's own few names, so the scan stays short.
+  if (std::find(known_.begin(), known_.end(), key) == known_.end()) known_.push_back(key);
   return node_.member(key);
 }
 

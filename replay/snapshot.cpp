@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "core/envelope.h"
 #include "replay/state_hash.h"
 
 namespace bitstep {
@@ -92,6 +93,7 @@ Settings read_settings(Reader& r) {
   s.shock_propagation = (flags & 4) != 0;
   s.pipeline = (flags & 16) != 0 ? Pipeline::guendelman : Pipeline::standard;
   s.shock_iterations = static_cast<int>(r.within(r.u32(), 1, max_iterations, "shock_iterations"));
+  if (const char* key = setting_outside_envelope(s)) r.fail(std::string(key) + " outside the world envelope");
   if ((flags & 8) != 0) {
     s.sleep_method = static_cast<SleepMethod>(r.within(r.u8(), 1, 2, "sleep method"));
     for (Fixed* f : {&s.sleep_epsilon, &s.sleep_bias, &s.sleep_min_time, &s.sleep_time, &s.sleep_linear_tolerance,

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <string>
 
+#include "core/envelope.h"
 #include "core/world.h"
 #include "fixed/decimal.h"
 #include "replay/generators.h"
@@ -240,7 +241,33 @@ TEST_CASE("scene errors name the file, the JSON path and the reason", "[scene]")
           "f.json: $.materials.wood.restitution: outside 0..1");
     CHECK(error_of(scene_text("", R"("settings": {"velocity_iterations": 0}, )")) ==
           "f.json: $.settings.velocity_iterations: outside 1..1000");
-    CHECK(error_of(scene_text("", R"("settings": {"dt": 0}, )")) == "f.json: $.settings.dt: must be > 0");
+    CHECK(error_of(scene_text("", R"("settings": {"dt": 0}, )")) == "f.json: $.settings.dt: outside 0.0001..0.1 s");
+  }
+  SECTION("settings outside the world envelope") {
+    // Each aborted the checked build (dt 1000 s, dt of one raw unit) or let
+    // a velocity clamp admit products the envelope does not bound.
+    const auto settings_error = [&](const std::string& settings) {
+      return error_of(scene_text("", R"("settings": {)" + settings + "}, "));
+    };
+    CHECK(settings_error(R"("dt": 1000)") == "f.json: $.settings.dt: outside 0.0001..0.1 s");
+    CHECK(settings_error(R"("dt": "raw:1")") == "f.json: $.settings.dt: outside 0.0001..0.1 s");
+    CHECK(settings_error(R"("gravity": [0, -1e6, 0])") == "f.json: $.settings.gravity[1]: outside +-1000 m/s^2");
+    CHECK(settings_error(R"("max_linear_speed": 501)") == "f.json: $.settings.max_linear_speed: outside 0..500 m/s");
+    CHECK(settings_error(R"("max_linear_speed": 0)") == "f.json: $.settings.max_linear_speed: must be > 0");
+    CHECK(settings_error(R"("max_angular_speed": 1000)") ==
+          "f.json: $.settings.max_angular_speed: outside 0..100 rad/s");
+    CHECK(settings_error(R"("max_push_out_speed": 1e6)") ==
+          "f.json: $.settings.max_push_out_speed: outside 0..500 m/s");
+    CHECK(settings_error(R"("restitution_threshold": 600)") ==
+          "f.json: $.settings.restitution_threshold: outside 0..500 m/s");
+    CHECK(settings_error(R"("speculative_distance": 1e5)") == "f.json: $.settings.speculative_distance: outside 0..50 m");
+    CHECK(settings_error(R"("penetration_slop": 51)") == "f.json: $.settings.penetration_slop: outside 0..50 m");
+    // The bounds themselves are admitted, and the core check agrees.
+    Scene edge = load_ok(scene_text("", R"("settings": {"dt": 0.1, "gravity": [1000, -1000, 0], )"
+                                        R"("max_linear_speed": 500, "max_angular_speed": 100}, )"));
+    CHECK(setting_outside_envelope(edge.settings) == nullptr);
+    edge.settings.dt = 0.2_fx;
+    CHECK(std::string(setting_outside_envelope(edge.settings)) == "dt");
   }
   SECTION("missing key") {
     CHECK(error_of(scene_text(R"({"shapes": [{"type": "box"}]})")) ==

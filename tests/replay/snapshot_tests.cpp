@@ -101,6 +101,14 @@ TEST_CASE("a corrupt, truncated or wrong-version snapshot is refused and the wor
   magic[0] = 'X';
   refused(magic, "bad magic");
   refused({}, "truncated");
+  // Well formed, checksum and all, but asking for a step outside the world
+  // envelope (a hand-made image: the scene reader refuses such settings).
+  Settings outside;
+  outside.dt = 1.0_fx;
+  refused(snapshot(World(outside)), "dt outside the world envelope");
+  outside.dt = "1/60"_fx;
+  outside.max_linear_speed = 1000.0_fx;
+  refused(snapshot(World(outside)), "max_linear_speed outside the world envelope");
 
   // The good image restores, and the world then equals the source.
   REQUIRE_FALSE(restore(good, target).has_value());
