@@ -194,8 +194,12 @@ Material read_material(const Node& node, const MaterialTable& table) {
   if (node.kind == Kind::object) return read_material_fields(node);
   if (node.kind != Kind::string) fail(node, "expected a material name or an object" + got(node));
   if (const Material* material = table.find(node.text)) return *material;
+  // The first few names, so that a table of thousands stays a one-line error.
+  constexpr size_t listed = 8;
+  const auto& names = table.names();
   std::string list;
-  for (const std::string& name : table.names()) list += (list.empty() ? "" : ", ") + json::quote(name);
+  for (size_t i = 0; i < names.size() && i < listed; ++i) list += (list.empty() ? "" : ", ") + json::quote(names[i]);
+  if (names.size() > listed) list += ", ... (" + std::to_string(names.size()) + " in all)";
   fail(node, "unknown material " + json::quote(node.text) + " (defined: " + (list.empty() ? "none" : list) + ")");
 }
 

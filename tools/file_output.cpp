@@ -1,5 +1,7 @@
 #include "tools/file_output.h"
 
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 
 namespace bitstep {
@@ -22,7 +24,8 @@ bool AtomicFile::open(const std::string& path, std::string& reason) {
   temporary_ = path + ".partial";
   file_ = std::fopen(temporary_.c_str(), "wb");
   if (file_ == nullptr) {
-    reason = "cannot write " + temporary_;
+    // Named by the path the user gave (the temporary sits next to it).
+    reason = "cannot write " + path_ + ": " + std::strerror(errno);
     temporary_.clear();  // nothing was created
     return false;
   }
@@ -38,7 +41,7 @@ bool AtomicFile::commit(std::string& reason) {
   const bool closed = std::fclose(file_) == 0;
   file_ = nullptr;
   if (!written || !closed) {
-    reason = "cannot write " + temporary_;
+    reason = "cannot write " + path_ + ": " + std::strerror(errno);
     discard();
     return false;
   }

@@ -283,6 +283,11 @@ TEST_CASE("scene errors name the file, the JSON path and the reason", "[scene]")
     CHECK(error_of(scene_text("", R"("materials": {"oak wood": {"colour": 1}}, )")) ==
           "f.json: $.materials[\"oak wood\"].colour: unknown key (known keys: static_friction, dynamic_friction, "
           "restitution)");
+    std::string many = R"("materials": {)";
+    for (int i = 0; i < 1000; ++i) many += (i == 0 ? "" : ", ") + ("\"m" + std::to_string(i) + "\": {}");
+    CHECK(error_of(scene_text(R"({"material": "stone", )" + unit_box + "}", many + "}, ")) ==
+          "f.json: $.bodies[0].material: unknown material \"stone\" (defined: \"m0\", \"m1\", \"m2\", \"m3\", \"m4\", "
+          "\"m5\", \"m6\", \"m7\", ... (1000 in all))");
     CHECK(error_of(scene_text(R"({"material": "a\nb", )" + unit_box + "}")) ==
           "f.json: $.bodies[0].material: unknown material \"a\\u000ab\" (defined: none)");
     CHECK(error_of(R"({"format": "bitstep-scene", "version": 1,

@@ -151,7 +151,7 @@ TEST_CASE("a trace that cannot be written fails with a reason and leaves nothing
   std::string reason;
   const std::string path = temporary_path("no_such_dir") + "/t.csv";
   CHECK_FALSE(trace.open(path, reason));
-  CHECK(reason == "cannot write " + path + ".partial");
+  CHECK(reason == "cannot write " + path + ": No such file or directory");
   CHECK_FALSE(std::filesystem::exists(path));
 }
 
