@@ -80,8 +80,8 @@ TEST_CASE("a crosswise capsule pile at rest keeps its settling energy over 20 s 
   const Rest r = measure(Pipeline::standard);
   INFO("KE at 2 s " << r.ke_at_2s << " J, largest after " << r.max_ke_after_2s << " J, largest move "
                     << r.max_move_after_2s << " m");
-  // Known left: the settling leaves the middle layer gliding at ~1.3 mm/s
-  // on the layers below and above (a roller bearing: rolling is neutral
+  // Known left: the settling leaves every layer rolling on the one below in
+  // one no-slip mode, at ~1 mm/s (a roller bearing: rolling is neutral
   // without rolling resistance, and no impulse at a contact line can stop a
   // roll about it), so the energy only stays near its 2 s value (3.5e-4 J,
   // +6% by 20 s) and the capsules move up to ~2.2 cm. Bounded here so that
