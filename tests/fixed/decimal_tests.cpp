@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "fixed/decimal.h"
+#include "tests/test_support.h"
 
 using bitstep::Fixed;
 using bitstep::parse_fixed;
@@ -283,14 +284,15 @@ TEST_CASE("the _fx literal agrees with parse_fixed", "[fixed][decimal]") {
 }
 
 // One pass for both properties: to_string (up to 11 exact parses per call)
-// dominates the run time, most of all under the sanitizers.
+// dominates the run time, most of all under the sanitizers (10^5 values
+// there: test_support.h).
 TEST_CASE(
     "to_string and to_raw_string read back to the same bits, and to_string is shortest, for the edges and "
     "10^6 random values",
     "[fixed][decimal]") {
   std::vector<Fixed> values = edge_values();
   RandomValues random;
-  for (int i = 0; i < 1000000; ++i) values.push_back(random.next());
+  for (uint64_t i = 0; i < bitstep::test::samples(1000000); ++i) values.push_back(random.next());
   uint64_t not_read_back = 0, not_shortest = 0;
   for (const Fixed x : values) {
     const std::string text = to_string(x), raw_text = to_raw_string(x);
