@@ -111,15 +111,35 @@ for r in "${replays[@]}"; do
   header+=" $(basename "$r" .replay.json) |"; rule+="---|"
 done
 printf '%s\n%s\n' "$header" "$rule"
+# Each build's replays as a separate job, two at a time (each verifier is one
+# thread); the table is read from their result files in build order.
+set_of() {
+  if [ "$1" = "-" ]; then printf '%s\n' "${replays[@]}"; else printf '%s\n' "${short_replays[@]}"; fi
+}
+verify() {
+  IFS='|' read -r name _ _ runner <<<"$1"
+  local verifier="$out/replays_$(slug "$name")" set_
+  mapfile -t set_ < <(set_of "$runner")
+  if [ "$runner" = "-" ]; then
+    "$verifier" "${set_[@]}" >"$verifier.results" || true
+  else
+    "$runner" "$verifier" "${set_[@]}" >"$verifier.results" || true
+  fi
+}
+pids=()
+for b in "${builds[@]}"; do
+  verify "$b" &
+  pids+=($!)
+  if [ ${#pids[@]} -ge "$(nproc)" ]; then
+    wait "${pids[0]}"
+    pids=("${pids[@]:1}")
+  fi
+done
+for p in "${pids[@]}"; do wait "$p"; done
 for b in "${builds[@]}"; do
   IFS='|' read -r name _ _ runner <<<"$b"
-  verifier="$out/replays_$(slug "$name")"
-  if [ "$runner" = "-" ]; then
-    set_=("${replays[@]}"); run=("$verifier")
-  else
-    set_=("${short_replays[@]}"); run=("$runner" "$verifier")
-  fi
-  results=$("${run[@]}" "${set_[@]}" || true)
+  mapfile -t set_ < <(set_of "$runner")
+  results=$(cat "$out/replays_$(slug "$name").results")
   row="| $name |"
   for r in "${replays[@]}"; do
     line=$(grep -F "$r " <<<"$results" | head -1 || true)
