@@ -22,11 +22,7 @@ Fixed widest_side(const Aabb& b) {
   return max(size.x, max(size.y, size.z));
 }
 
-struct CellEntry {
-  int64_t x, y, z;  // cell coordinates: raw coordinate >> cell_shift (floor division by the cell size)
-  uint32_t proxy;
-  friend auto operator<=>(const CellEntry&, const CellEntry&) = default;
-};
+using CellEntry = BroadphaseScratch::CellEntry;
 
 bool can_collide(const BroadphaseProxy& p, const BroadphaseProxy& q) { return p.movable || q.movable; }
 
@@ -34,12 +30,14 @@ BodyPair ordered(uint32_t a, uint32_t b) { return a < b ? BodyPair{a, b} : BodyP
 
 }  // namespace
 
-void find_pairs(const std::vector<BroadphaseProxy>& proxies, std::vector<BodyPair>& pairs) {
+void find_pairs(const std::vector<BroadphaseProxy>& proxies, std::vector<BodyPair>& pairs,
+                BroadphaseScratch& scratch) {
   pairs.clear();
   // Few movers among many resting proxies (a world mostly asleep): each
   // mover against every proxy costs m n, less than the grid's n log n.
   // Both ways report exactly the overlapping pairs with a mover.
-  std::vector<uint32_t> movers;
+  std::vector<uint32_t>& movers = scratch.movers;
+  movers.clear();
   for (uint32_t i = 0; i < proxies.size(); ++i) {
     if (proxies[i].movable) movers.push_back(i);
   }
@@ -55,7 +53,8 @@ void find_pairs(const std::vector<BroadphaseProxy>& proxies, std::vector<BodyPai
     std::sort(pairs.begin(), pairs.end());
     return;
   }
-  std::vector<uint32_t> large;
+  std::vector<uint32_t>& large = scratch.large;
+  large.clear();
   Fixed widest_small;
   for (uint32_t i = 0; i < proxies.size(); ++i) {
     const Fixed w = widest_side(proxies[i].bounds);
@@ -69,7 +68,8 @@ void find_pairs(const std::vector<BroadphaseProxy>& proxies, std::vector<BodyPai
   // A cell of 2^shift raw units is at least as wide as every small proxy,
   // so each proxy covers at most 2 x 2 x 2 cells.
   const int shift = std::max(1, static_cast<int>(std::bit_width(static_cast<uint64_t>(widest_small.raw()))));
-  std::vector<CellEntry> entries;
+  std::vector<CellEntry>& entries = scratch.entries;
+  entries.clear();
   entries.reserve(proxies.size() * 2);
   for (uint32_t i = 0; i < proxies.size(); ++i) {
     const Aabb& b = proxies[i].bounds;

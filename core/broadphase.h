@@ -20,10 +20,23 @@ struct BroadphaseProxy {
   bool movable;  // its contacts are found this step (core/body.h needs_contacts()); pairs of two unmovable bodies are skipped
 };
 
+// The broadphase's workspace, kept by the world from step to step so that a
+// settled step allocates nothing. Not state: rebuilt by every call.
+struct BroadphaseScratch {
+  struct CellEntry {
+    int64_t x, y, z;  // cell coordinates: raw coordinate >> cell_shift (floor division by the cell size)
+    uint32_t proxy;
+    friend auto operator<=>(const CellEntry&, const CellEntry&) = default;
+  };
+  std::vector<uint32_t> movers, large;
+  std::vector<CellEntry> entries;
+};
+
 // All pairs whose bounds overlap and of which at least one is movable,
 // sorted by (a, b). A uniform grid over the small proxies (cell = the largest
 // small proxy, a power of two) finds neighbours in n log n; the few large
 // ones (ground, planes) are tested against everything.
-void find_pairs(const std::vector<BroadphaseProxy>& proxies, std::vector<BodyPair>& pairs);
+void find_pairs(const std::vector<BroadphaseProxy>& proxies, std::vector<BodyPair>& pairs,
+                BroadphaseScratch& scratch);
 
 }  // namespace bitstep

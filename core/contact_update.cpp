@@ -48,7 +48,7 @@ void inherit_impulses(const Manifold& old, Manifold& fresh) {
 }  // namespace
 
 void update_contacts(const std::vector<Body>& bodies, const std::vector<BodyPair>& pairs, const Settings& settings,
-                     std::vector<Contact>& contacts) {
+                     std::vector<Contact>& contacts, std::vector<Contact>& previous) {
   // A contact between two bodies that cannot move this step (asleep,
   // static, kinematic at rest) is kept as it is, with its impulses: the
   // broadphase reports no pair for it.
@@ -59,8 +59,8 @@ void update_contacts(const std::vector<Body>& bodies, const std::vector<BodyPair
     std::erase_if(contacts, [&](const Contact& c) { return !kept(c); });
     return;
   }
-  std::vector<Contact> previous;
-  previous.swap(contacts);
+  previous.swap(contacts);  // keeps both buffers' capacity
+  contacts.clear();
   contacts.reserve(previous.size());
   size_t next_old = 0;  // both lists are sorted by key: one merge walk
   auto keep_old_before = [&](BodyPair pair) {

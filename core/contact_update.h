@@ -12,8 +12,10 @@
 namespace bitstep {
 
 // `contacts` holds last step's contacts on entry and this step's on return,
-// both sorted by key.
+// both sorted by key. `previous` is workspace (last step's contacts are moved
+// there while this step's are found), kept by the caller so that a settled
+// step allocates nothing.
 void update_contacts(const std::vector<Body>& bodies, const std::vector<BodyPair>& pairs, const Settings& settings,
-                     std::vector<Contact>& contacts);
+                     std::vector<Contact>& contacts, std::vector<Contact>& previous);
 
 }  // namespace bitstep

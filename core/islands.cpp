@@ -31,7 +31,8 @@ void build_islands(const std::vector<Body>& bodies, const std::vector<Contact>& 
                    Islands& islands) {
   const auto n = static_cast<uint32_t>(bodies.size());
   auto dynamic = [&](uint32_t i) { return bodies[i].alive && bodies[i].type == BodyType::dynamic; };
-  std::vector<uint32_t> parent(n);
+  std::vector<uint32_t>& parent = islands.parent;
+  parent.resize(n);
   for (uint32_t i = 0; i < n; ++i) parent[i] = i;
   for (const Contact& c : contacts) {
     if (dynamic(c.key.body_a) && dynamic(c.key.body_b) && touches(c.manifold)) {
@@ -41,7 +42,8 @@ void build_islands(const std::vector<Body>& bodies, const std::vector<Contact>& 
   // Number the islands by their root (lowest slot), then list members by
   // counting sort: both in slot order.
   islands.island_of.assign(n, no_island);
-  std::vector<uint32_t> island_of_root(n, no_island);
+  std::vector<uint32_t>& island_of_root = islands.island_of_root;
+  island_of_root.assign(n, no_island);
   uint32_t count = 0;
   for (uint32_t i = 0; i < n; ++i) {
     if (!dynamic(i)) continue;
@@ -55,7 +57,8 @@ void build_islands(const std::vector<Body>& bodies, const std::vector<Contact>& 
   }
   for (uint32_t k = 1; k <= count; ++k) islands.first[k] += islands.first[k - 1];
   islands.members.assign(islands.first[count], 0);
-  std::vector<uint32_t> fill(islands.first.begin(), islands.first.end() - 1);
+  std::vector<uint32_t>& fill = islands.fill;
+  fill.assign(islands.first.begin(), islands.first.end() - 1);
   for (uint32_t i = 0; i < n; ++i) {
     if (islands.island_of[i] != no_island) islands.members[fill[islands.island_of[i]]++] = i;
   }

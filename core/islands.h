@@ -22,6 +22,10 @@ struct Islands {
   std::vector<uint32_t> members;
 
   size_t count() const { return first.empty() ? 0 : first.size() - 1; }
+
+  // Workspace of build_islands, reused so that a settled step allocates
+  // nothing (the union-find parents, each root's island, the fill cursors).
+  std::vector<uint32_t> parent, island_of_root, fill;
 };
 
 // Builds the islands from the contacts that touch (manifold.h: a point

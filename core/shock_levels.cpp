@@ -11,22 +11,19 @@ bool is_support(Vec3 normal, Vec3 gravity) {
 
 namespace {
 
-struct Edge {
-  uint32_t from, to;
-};
+using Edge = ShockLevels::Edge;
+using Adjacency = ShockLevels::Adjacency;
 
-// Edges grouped by `from` (a counting sort, stable: deterministic):
-// the neighbours of body i are to[first[i] .. first[i + 1]).
-struct Adjacency {
-  std::vector<uint32_t> first, to;
-
-  Adjacency(const std::vector<Edge>& edges, size_t body_count) : first(body_count + 1, 0), to(edges.size()) {
-    for (const Edge& e : edges) ++first[e.from + 1];
-    for (size_t i = 1; i < first.size(); ++i) first[i] += first[i - 1];
-    std::vector<uint32_t> fill(first.begin(), first.end() - 1);
-    for (const Edge& e : edges) to[fill[e.from]++] = e.to;
-  }
-};
+// Groups the edges by `from` (a counting sort, stable: deterministic).
+void build_adjacency(const std::vector<Edge>& edges, size_t body_count, Adjacency& adjacency) {
+  std::vector<uint32_t>& first = adjacency.first;
+  first.assign(body_count + 1, 0);
+  adjacency.to.resize(edges.size());
+  for (const Edge& e : edges) ++first[e.from + 1];
+  for (size_t i = 1; i < first.size(); ++i) first[i] += first[i - 1];
+  adjacency.fill.assign(first.begin(), first.end() - 1);
+  for (const Edge& e : edges) adjacency.to[adjacency.fill[e.from]++] = e.to;
+}
 
 // Breadth-first distances from the bodies already in `queue` (distance set)
 // along the edges, to bodies `reachable` allows.
@@ -57,7 +54,8 @@ void shock_levels(const std::vector<Body>& bodies, const std::vector<Contact>& c
   const auto movable = [&](uint32_t i) { return is_awake_dynamic(bodies[i]); };
 
   // Heights: supporter -> supported edges (the normal points from a to b).
-  std::vector<Edge> supports;
+  std::vector<Edge>& supports = levels.supports;
+  supports.clear();
   if (gravity != Vec3{}) {
     for (const Contact& c : contacts) {
       if (!touches(c.manifold)) continue;
@@ -65,13 +63,15 @@ void shock_levels(const std::vector<Body>& bodies, const std::vector<Contact>& c
       if (is_support(-c.manifold.normal, gravity)) supports.push_back({c.key.body_b, c.key.body_a});
     }
   }
-  std::vector<uint32_t> queue;
+  std::vector<uint32_t>& queue = levels.queue;
+  queue.clear();
   for (uint32_t i = 0; i < count; ++i) {
     if (!immovable(i)) continue;
     height[i] = 0;
     queue.push_back(i);
   }
-  breadth_first(Adjacency(supports, count), queue, height, movable);
+  build_adjacency(supports, count, levels.adjacency);
+  breadth_first(levels.adjacency, queue, height, movable);
 
   // Sideways: seeds are movable bodies in contact with an immovable one
   // through a contact that does not hold them up; the chains run through
@@ -79,8 +79,10 @@ void shock_levels(const std::vector<Body>& bodies, const std::vector<Contact>& c
   // of no height (a car that hops on hitting the pinned box stays pinned). Speculative
   // contacts count: a body closing in on a pinned one this step is solved
   // against it (only up to touching: nothing is glued sideways).
-  std::vector<Edge> sideways;
-  std::vector<uint8_t> seed(count, 0);
+  std::vector<Edge>& sideways = levels.sideways;
+  sideways.clear();
+  std::vector<uint8_t>& seed = levels.seed;
+  seed.assign(count, 0);
   for (const Contact& c : contacts) {
     const uint32_t a = c.key.body_a, b = c.key.body_b;
     if (movable(a) && movable(b)) {
@@ -93,14 +95,16 @@ void shock_levels(const std::vector<Body>& bodies, const std::vector<Contact>& c
       seed[a] = 1;
     }
   }
-  std::vector<uint32_t> sideways_distance(count, not_supported);
+  std::vector<uint32_t>& sideways_distance = levels.sideways_distance;
+  sideways_distance.assign(count, not_supported);
   queue.clear();
   for (uint32_t i = 0; i < count; ++i) {
     if (!seed[i]) continue;
     sideways_distance[i] = 0;
     queue.push_back(i);
   }
-  breadth_first(Adjacency(sideways, count), queue, sideways_distance, movable);
+  build_adjacency(sideways, count, levels.adjacency);
+  breadth_first(levels.adjacency, queue, sideways_distance, movable);
 
   // Ranks: (height, sideways distance) in lexicographic order, numbered
   // consecutively from 1 for height 1; "no height" comes after the highest.
@@ -108,12 +112,14 @@ void shock_levels(const std::vector<Body>& bodies, const std::vector<Contact>& c
   for (uint32_t h : height) {
     if (h != not_supported) top = std::max(top, h);
   }
-  std::vector<uint32_t> deepest(size_t{top} + 1, 0);  // per height, the longest sideways chain
+  std::vector<uint32_t>& deepest = levels.deepest;  // per height, the longest sideways chain
+  deepest.assign(size_t{top} + 1, 0);
   for (uint32_t i = 0; i < count; ++i) {
     if (height[i] == not_supported || sideways_distance[i] == not_supported) continue;
     deepest[height[i]] = std::max(deepest[height[i]], sideways_distance[i]);
   }
-  std::vector<uint32_t> first(size_t{top} + 2, 0);  // the rank of (height h, distance 0)
+  std::vector<uint32_t>& first = levels.first_rank;  // the rank of (height h, distance 0)
+  first.assign(size_t{top} + 2, 0);
   first[1] = 1;
   for (uint32_t h = 1; h <= top; ++h) first[h + 1] = first[h] + deepest[h] + 1;
   for (uint32_t i = 0; i < count; ++i) {

@@ -36,6 +36,21 @@ struct ShockLevels {
   // way when such a chain reaches them (from any height), else
   // not_supported (left out).
   std::vector<uint32_t> rank;
+
+  // Workspace, reused from step to step so that a settled step allocates
+  // nothing; not state (rebuilt from the contacts every step).
+  struct Edge {
+    uint32_t from, to;
+  };
+  // Edges grouped by `from`: the neighbours of body i are to[first[i] ..
+  // first[i + 1]).
+  struct Adjacency {
+    std::vector<uint32_t> first, to, fill;
+  };
+  std::vector<Edge> supports, sideways;
+  Adjacency adjacency;
+  std::vector<uint32_t> queue, sideways_distance, deepest, first_rank;
+  std::vector<uint8_t> seed;
 };
 
 // Only contacts that touch (manifold.h: within touch_tolerance) hold a body

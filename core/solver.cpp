@@ -1,6 +1,7 @@
 #include "core/solver.h"
 
 #include <algorithm>
+#include <array>
 
 #include "core/shock.h"
 #include "core/solver_rows.h"
@@ -89,11 +90,21 @@ bool impacts(const Settings& settings, const Body& body_a, const Body& body_b, c
 // where nothing touches, and the rows that then took the push back from it
 // tilted the body (a leaning plate's foot: the point pairs of its two bottom
 // edges, one touching, one 7 mm up). All of them when none touches.
+// A stable partition through a copy on the stack (std::stable_partition
+// takes a heap buffer: a settled step allocates nothing).
 int hold_touching_first(Manifold& m) {
-  auto begin = m.points.begin(), end = m.points.begin() + m.point_count;
-  const auto touching = std::stable_partition(begin, end, [](const ContactPoint& p) { return p.depth >= -touch_tolerance; });
-  const int held = static_cast<int>(touching - begin);
-  return held > 0 ? held : m.point_count;
+  const auto touches = [](const ContactPoint& p) { return p.depth >= -touch_tolerance; };
+  const size_t count = static_cast<size_t>(m.point_count);
+  std::array<ContactPoint, max_manifold_points> ordered;
+  size_t held = 0;
+  for (size_t i = 0; i < count; ++i) {
+    if (touches(m.points[i])) ordered[held++] = m.points[i];
+  }
+  for (size_t i = 0, k = held; i < count; ++i) {
+    if (!touches(m.points[i])) ordered[k++] = m.points[i];
+  }
+  std::copy_n(ordered.begin(), count, m.points.begin());
+  return held > 0 ? static_cast<int>(held) : m.point_count;
 }
 
 void gather_bodies(const std::vector<Body>& bodies, std::vector<SolverBody>& out) {

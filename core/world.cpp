@@ -313,8 +313,8 @@ void World::find_contacts() {
     const Fixed margin = settings_.speculative_distance + length(body.linear_velocity) * settings_.dt;
     proxies_.push_back({i, body_bounds(body).expanded(margin), needs_contacts(body)});
   }
-  find_pairs(proxies_, pairs_);
-  update_contacts(bodies_, pairs_, settings_, contacts_);
+  find_pairs(proxies_, pairs_, broadphase_scratch_);
+  update_contacts(bodies_, pairs_, settings_, contacts_, previous_contacts_);
 }
 
 void World::solve_contacts() { bitstep::solve_contacts(settings_, bodies_, contacts_, push_, solver_scratch_); }

@@ -83,6 +83,8 @@ class World {
   // Per-step scratch, kept to reuse its memory (not state: rebuilt every step).
   std::vector<BroadphaseProxy> proxies_;
   std::vector<BodyPair> pairs_;
+  BroadphaseScratch broadphase_scratch_;
+  std::vector<Contact> previous_contacts_;  // workspace of update_contacts
   PushVelocities push_;
   SolverScratch solver_scratch_;
   std::vector<uint8_t> touching_;

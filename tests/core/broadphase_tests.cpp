@@ -63,7 +63,8 @@ TEST_CASE("find_pairs gives every overlapping pair with a mover, by the grid and
       INFO("one mover in " << mover_every << ", seed " << seed);
       const std::vector<BroadphaseProxy> proxies = scatter(2000, mover_every, seed);
       std::vector<BodyPair> pairs;
-      find_pairs(proxies, pairs);
+      BroadphaseScratch scratch;
+      find_pairs(proxies, pairs, scratch);
       const std::vector<BodyPair> expected = all_pairs(proxies);
       CHECK(pairs == expected);
       if (mover_every < 100000u) CHECK(!expected.empty());

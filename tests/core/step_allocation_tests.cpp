@@ -1,0 +1,115 @@
+// A settled world's step allocates nothing (core/README.md): every per-step
+// vector lives in workspace the world keeps (broadphase, narrowphase,
+// solver, shock levels, islands), and no algorithm takes a heap buffer of
+// its own. A game stepping 60 to 500 times a second (rollback re-simulates
+// up to 8 frames per frame) should not touch the allocator once its scene
+// has come to rest. Measured before the workspace: 32 allocations per
+// settled step in stack20, 53 in pyramid20, 88 in thrown.
+//
+// This executable replaces the global operator new to count calls, so it
+// holds these tests alone.
+#include <catch2/catch.hpp>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+#include <vector>
+
+#include "tests/core/test_world.h"
+
+namespace {
+
+std::atomic<long> allocations{0};
+
+void* counted_allocation(std::size_t size) {
+  ++allocations;
+  return std::malloc(size == 0 ? 1 : size);
+}
+
+}  // namespace
+
+void* operator new(std::size_t size) {
+  if (void* p = counted_allocation(size)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t size) {
+  if (void* p = counted_allocation(size)) return p;
+  throw std::bad_alloc();
+}
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept { return counted_allocation(size); }
+void* operator new[](std::size_t size, const std::nothrow_t&) noexcept { return counted_allocation(size); }
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
+
+using namespace bitstep;
+using bitstep::test::TestWorld;
+
+namespace {
+
+Quat about(Vec3 axis, Fixed degrees) { return from_axis_angle(axis, degrees * "3.14159265358979/180"_fx); }
+
+// Every shape kind at rest, each in the contacts a scene has: a stack of six
+// boxes (face contacts, shock levels six high), a box across two boxes (a
+// body on two supports), spheres on the ground and on a box, two capsules
+// lying side by side, and a table of five boxes in one body (a compound).
+void add_resting_scene(TestWorld& t) {
+  t.add_ground();
+  const Vec3 cube{0.25_fx, 0.25_fx, 0.25_fx};
+  for (int k = 0; k < 6; ++k) t.add_box({Fixed{}, 0.25_fx + Fixed::from_int(k) * 0.5_fx, Fixed{}}, cube);
+  t.add_box({2.0_fx, 0.25_fx, Fixed{}}, cube);
+  t.add_box({3.0_fx, 0.25_fx, Fixed{}}, cube);
+  t.add_box({2.5_fx, 0.6_fx, Fixed{}}, {0.8_fx, 0.1_fx, 0.25_fx});
+  t.add_sphere({Fixed{}, 0.3_fx, 2.0_fx}, 0.3_fx);
+  t.add_sphere({1.0_fx, 0.3_fx, 2.0_fx}, 0.3_fx);
+  t.add_sphere({2.5_fx, 0.9_fx, Fixed{}}, 0.2_fx);
+  for (int k = 0; k < 2; ++k) {
+    BodyDef capsule;
+    capsule.shapes.push_back({ShapeType::capsule, {}, 0.1_fx, 0.5_fx, {}});
+    capsule.pose = {{-2.0_fx, 0.1_fx, Fixed::from_int(k) * 0.2_fx}, about({Fixed{}, Fixed{}, Fixed::one()}, 90.0_fx)};
+    t.world.create_body(capsule);
+  }
+  BodyDef table;
+  table.pose.position = {Fixed{}, 0.5_fx, -2.0_fx};
+  table.shapes.push_back({ShapeType::box, {0.5_fx, 0.05_fx, 0.5_fx}, {}, {}, {}});
+  for (int leg = 0; leg < 4; ++leg) {
+    const Fixed x = leg % 2 == 0 ? 0.45_fx : -0.45_fx, z = leg < 2 ? 0.45_fx : -0.45_fx;
+    table.shapes.push_back({ShapeType::box, {0.05_fx, 0.225_fx, 0.05_fx}, {}, {}, {{x, -0.275_fx, z}, {}}});
+  }
+  t.world.create_body(table);
+}
+
+long allocations_over(TestWorld& t, int steps) {
+  const long before = allocations.load();
+  t.simulate_steps(steps);
+  return allocations.load() - before;
+}
+
+}  // namespace
+
+TEST_CASE("the allocation counter sees a vector's allocation (negative control)", "[allocation]") {
+  const long before = allocations.load();
+  std::vector<int> v(1000, 1);
+  CHECK(allocations.load() - before >= 1);
+  CHECK(v[999] == 1);
+}
+
+TEST_CASE("a settled world's step allocates nothing, in both pipelines and every sleep method", "[allocation]") {
+  for (Pipeline pipeline : {Pipeline::standard, Pipeline::guendelman}) {
+    for (SleepMethod method : {SleepMethod::off, SleepMethod::motion, SleepMethod::still}) {
+      Settings settings;
+      settings.pipeline = pipeline;
+      settings.sleep_method = method;
+      TestWorld t(settings);
+      add_resting_scene(t);
+      t.simulate_steps(180);  // 3 s: settled (asleep under either method)
+      INFO((pipeline == Pipeline::standard ? "standard" : "guendelman")
+           << ", sleep " << (method == SleepMethod::off ? "off" : method == SleepMethod::motion ? "motion" : "still"));
+      CHECK(t.world.stats().contact_points > 20);  // the scene is in contact, not flying apart
+      CHECK(allocations_over(t, 60) == 0);
+    }
+  }
+}
