@@ -12,6 +12,7 @@
 
 #include <bit>
 #include <cstdint>
+#include <type_traits>
 
 namespace bitstep {
 
@@ -122,7 +123,24 @@ class NativeU128 {
 
   // Precondition: hi() < divisor. The remainder fits in 64 bits, so its low
   // word is all of it.
+  //
+  // On x86-64 one `div` instruction divides the 128-bit rdx:rax by a 64-bit
+  // divisor when the quotient fits in 64 bits, which is exactly hi() <
+  // divisor; the compiler's u128 / u64 instead calls __udivti3 (a general
+  // 128/128 routine). Same quotient and remainder; the plain division stays
+  // for constant evaluation and for any operand outside the precondition
+  // (where `div` would fault).
   constexpr uint64_t divrem(uint64_t divisor, uint64_t& remainder) const {
+#if defined(__x86_64__)
+    if (!std::is_constant_evaluated() && hi() < divisor) {
+      uint64_t quotient = 0;
+      __asm__("divq %[divisor]"
+              : "=a"(quotient), "=d"(remainder)
+              : "a"(lo()), "d"(hi()), [divisor] "rm"(divisor)
+              : "cc");
+      return quotient;
+    }
+#endif
     const uint64_t quotient = static_cast<uint64_t>(v_ / divisor);
     remainder = lo() - quotient * divisor;
     return quotient;
