@@ -47,7 +47,7 @@ builds=(
 
 slug() { echo "$1" | tr -c 'A-Za-z0-9\n' '_'; }
 
-# Compile every build, two at a time (CI has 2 cores).
+# Compiles one build's two programs.
 compile() {
   IFS='|' read -r name compiler flags _ <<<"$1"
   local exe="$out/kat_$(slug "$name")" verifier="$out/replays_$(slug "$name")"
@@ -64,18 +64,22 @@ compile() {
     return 1
   fi
 }
-status=0
-pids=()
-for b in "${builds[@]}"; do
-  compile "$b" &
-  pids+=($!)
-  if [ ${#pids[@]} -ge "$(nproc)" ]; then
-    wait "${pids[0]}" || status=1
-    pids=("${pids[@]:1}")
-  fi
-done
-for p in "${pids[@]}"; do wait "$p" || status=1; done
-[ $status -eq 0 ] || exit 1
+# Runs FUNCTION once per build, nproc at a time (CI has 2 cores); fails if
+# any run failed.
+for_each_build() {
+  local status=0 pids=() b p
+  for b in "${builds[@]}"; do
+    "$1" "$b" &
+    pids+=($!)
+    if [ ${#pids[@]} -ge "$(nproc)" ]; then
+      wait "${pids[0]}" || status=1
+      pids=("${pids[@]:1}")
+    fi
+  done
+  for p in "${pids[@]}"; do wait "$p" || status=1; done
+  return $status
+}
+for_each_build compile || exit 1
 
 expected=$(sed -n 's/.*expected_known_answer_hash = 0x\([0-9a-f]*\);.*/\1/p' tools/known_answer.h)
 printf '| build | 128-bit backend | byte order | known-answer hash | result |\n|---|---|---|---|---|\n'
@@ -116,26 +120,16 @@ printf '%s\n%s\n' "$header" "$rule"
 set_of() {
   if [ "$1" = "-" ]; then printf '%s\n' "${replays[@]}"; else printf '%s\n' "${short_replays[@]}"; fi
 }
+# A verifier's failure shows in its results (the table below), not here.
 verify() {
   IFS='|' read -r name _ _ runner <<<"$1"
-  local verifier="$out/replays_$(slug "$name")" set_
+  local verifier="$out/replays_$(slug "$name")" set_ run
   mapfile -t set_ < <(set_of "$runner")
-  if [ "$runner" = "-" ]; then
-    "$verifier" "${set_[@]}" >"$verifier.results" || true
-  else
-    "$runner" "$verifier" "${set_[@]}" >"$verifier.results" || true
-  fi
+  run=("$verifier")
+  [ "$runner" = "-" ] || run=("$runner" "$verifier")
+  "${run[@]}" "${set_[@]}" >"$verifier.results" || true
 }
-pids=()
-for b in "${builds[@]}"; do
-  verify "$b" &
-  pids+=($!)
-  if [ ${#pids[@]} -ge "$(nproc)" ]; then
-    wait "${pids[0]}"
-    pids=("${pids[@]:1}")
-  fi
-done
-for p in "${pids[@]}"; do wait "$p"; done
+for_each_build verify
 for b in "${builds[@]}"; do
   IFS='|' read -r name _ _ runner <<<"$b"
   mapfile -t set_ < <(set_of "$runner")

@@ -14,26 +14,25 @@
 #include "tests/test_support.h"
 
 using namespace bitstep;
+using bitstep::test::about_degrees;
 using bitstep::test::TestWorld;
 using bitstep::test::to_double;
 
 namespace {
 
-Quat about(Vec3 axis, Fixed degrees) { return from_axis_angle(axis, degrees * "3.14159265358979/180"_fx); }
-
 // 5 layers of 4 capsules (radius 0.1 m, half height 0.8 m), each layer
 // crosswise to the one below, exactly touching.
 std::vector<BodyId> add_capsule_pile(TestWorld& t) {
   std::vector<BodyId> ids;
+  const Quat turned_about_z = about_degrees({Fixed{}, Fixed{}, Fixed::one()}, 90.0_fx);
+  const Quat turned_about_x = about_degrees({Fixed::one(), Fixed{}, Fixed{}}, 90.0_fx);
   for (int layer = 0; layer < 5; ++layer) {
     for (int k = 0; k < 4; ++k) {
       const Fixed along = Fixed::from_int(k) * 0.5_fx - 0.75_fx;
       const Fixed y = 0.1_fx + Fixed::from_int(layer) * 0.2_fx;
-      BodyDef def;
-      def.shapes.push_back({ShapeType::capsule, {}, 0.1_fx, 0.8_fx, {}});
-      def.pose = layer % 2 == 0 ? Pose{{Fixed{}, y, along}, about({Fixed{}, Fixed{}, Fixed::one()}, 90.0_fx)}
-                                : Pose{{along, y, Fixed{}}, about({Fixed::one(), Fixed{}, Fixed{}}, 90.0_fx)};
-      ids.push_back(t.world.create_body(def).id);
+      const Pose pose = layer % 2 == 0 ? Pose{{Fixed{}, y, along}, turned_about_z}
+                                       : Pose{{along, y, Fixed{}}, turned_about_x};
+      ids.push_back(t.add_capsule(pose, 0.1_fx, 0.8_fx));
     }
   }
   return ids;

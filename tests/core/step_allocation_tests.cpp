@@ -50,8 +50,6 @@ using bitstep::test::TestWorld;
 
 namespace {
 
-Quat about(Vec3 axis, Fixed degrees) { return from_axis_angle(axis, degrees * "3.14159265358979/180"_fx); }
-
 // Every shape kind at rest, each in the contacts a scene has: a stack of six
 // boxes (face contacts, shock levels six high), a box across two boxes (a
 // body on two supports), spheres on the ground and on a box, two capsules
@@ -67,10 +65,8 @@ void add_resting_scene(TestWorld& t) {
   t.add_sphere({1.0_fx, 0.3_fx, 2.0_fx}, 0.3_fx);
   t.add_sphere({2.5_fx, 0.9_fx, Fixed{}}, 0.2_fx);
   for (int k = 0; k < 2; ++k) {
-    BodyDef capsule;
-    capsule.shapes.push_back({ShapeType::capsule, {}, 0.1_fx, 0.5_fx, {}});
-    capsule.pose = {{-2.0_fx, 0.1_fx, Fixed::from_int(k) * 0.2_fx}, about({Fixed{}, Fixed{}, Fixed::one()}, 90.0_fx)};
-    t.world.create_body(capsule);
+    const Quat lying = bitstep::test::about_degrees({Fixed{}, Fixed{}, Fixed::one()}, 90.0_fx);
+    t.add_capsule({{-2.0_fx, 0.1_fx, Fixed::from_int(k) * 0.2_fx}, lying}, 0.1_fx, 0.5_fx);
   }
   BodyDef table;
   table.pose.position = {Fixed{}, 0.5_fx, -2.0_fx};

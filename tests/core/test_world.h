@@ -5,6 +5,11 @@
 
 namespace bitstep::test {
 
+// A rotation of `degrees` about the unit vector `axis`.
+inline Quat about_degrees(Vec3 axis, Fixed degrees) {
+  return from_axis_angle(axis, degrees * "3.14159265358979/180"_fx);
+}
+
 struct TestWorld {
   World world;
 
@@ -32,6 +37,14 @@ struct TestWorld {
     BodyDef def;
     def.pose.position = position;
     def.shapes.push_back({ShapeType::sphere, {}, radius, {}, {}});
+    def.material = material;
+    return world.create_body(def).id;
+  }
+
+  BodyId add_capsule(Pose pose, Fixed radius, Fixed half_height, Material material = {}) {
+    BodyDef def;
+    def.pose = pose;
+    def.shapes.push_back({ShapeType::capsule, {}, radius, half_height, {}});
     def.material = material;
     return world.create_body(def).id;
   }
