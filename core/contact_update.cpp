@@ -21,6 +21,8 @@ void inherit_impulses(const Manifold& old, Manifold& fresh) {
   fresh.friction_impulse[0] = old.friction_impulse[0];
   fresh.friction_impulse[1] = old.friction_impulse[1];
   fresh.twist_impulse = old.twist_impulse;
+  fresh.rolling_impulse[0] = old.rolling_impulse[0];
+  fresh.rolling_impulse[1] = old.rolling_impulse[1];
   constexpr Fixed limit_sq = same_point_distance * same_point_distance;
   for (int i = 0; i < fresh.point_count; ++i) {
     ContactPoint& p = fresh.points[static_cast<size_t>(i)];

@@ -38,6 +38,9 @@ struct Manifold {
   // accumulated and warm-started like the normal impulses.
   Fixed friction_impulse[2];
   Fixed twist_impulse;
+  // Rolling resistance (N m s, about the same tangent basis): an angular
+  // impulse opposing the relative rotation in the contact plane.
+  Fixed rolling_impulse[2];
 };
 
 // How far apart (m) two surfaces may be and still touch: rounding, not

@@ -34,6 +34,7 @@ void make_one_sided(ManifoldRow& m, std::vector<PointRow>& rows, const SolverBod
   m.tangent[0] = frozen(m.tangent[0], a, b, freeze_a);
   m.tangent[1] = frozen(m.tangent[1], a, b, freeze_a);
   m.twist = frozen(m.twist, a, b, freeze_a);
+  for (Jacobian& row : m.rolling) row = frozen(row, a, b, freeze_a);
   for (ManifoldRow::Rocking& r : m.rocking) r.row = frozen(r.row, a, b, freeze_a);
   m.one_sided = true;
 }

@@ -107,6 +107,10 @@ int hold_touching_first(Manifold& m) {
   return held > 0 ? static_cast<int>(held) : m.point_count;
 }
 
+// The radius a shape rolls on (m): a sphere's or a capsule's; a box does
+// not roll.
+Fixed rolling_radius(const Shape& shape) { return shape.type == ShapeType::box ? Fixed{} : shape.radius; }
+
 void gather_bodies(const std::vector<Body>& bodies, std::vector<SolverBody>& out) {
   out.assign(bodies.size(), SolverBody{});
   for (size_t i = 0; i < bodies.size(); ++i) {
@@ -137,6 +141,9 @@ void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
     const Fixed mu_s = sqrt(body_a.material.static_friction * body_b.material.static_friction);
     const Fixed mu_d = sqrt(body_a.material.dynamic_friction * body_b.material.dynamic_friction);
     const Fixed restitution = max(body_a.material.restitution, body_b.material.restitution);
+    const Fixed rolling_limit =
+        sqrt(body_a.material.rolling_resistance * body_b.material.rolling_resistance) *
+        max(rolling_radius(body_a.shapes[contact.key.shape_a]), rolling_radius(body_b.shapes[contact.key.shape_b]));
     if (pass == SolvePass::collision && !impacts(settings, body_a, body_b, a, b, m)) continue;
     const size_t first = rows.size();
     const int held = hold_touching_first(m);
@@ -234,13 +241,20 @@ void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
                              {make_jacobian(a, b, ra, rb, t1), make_jacobian(a, b, ra, rb, t2)},
                              make_twist(a, b, m.normal), ra, rb, target / count, radius / count, mu_s, mu_d, &m,
                              {make_rocking(a, b, m, held, centroid, t1), make_rocking(a, b, m, held, centroid, t2)},
-                             {}, false});
+                             {}, false, {}, Fixed{}});
     // A resting face (3 or more touching points asking for no relative
     // speed) has three normal degrees of freedom, its centroid row and two
     // rocking rows, which keep every point pushing: its point rows would only
     // redistribute impulse between the points, so the iterations skip them.
     ManifoldRow& face = manifold_rows.back();
     face.share_mass = face.normal.mass / count;
+    if (rolling_limit > Fixed{}) {
+      face.rolling[0] = make_twist(a, b, t1);
+      face.rolling[1] = make_twist(a, b, t2);
+      face.rolling_limit = rolling_limit;
+    } else {
+      m.rolling_impulse[0] = m.rolling_impulse[1] = Fixed{};
+    }
     const size_t held_end = first + static_cast<size_t>(held);
     bool resting = held >= 3 && face.rocking[0].active && face.rocking[1].active;
     for (size_t k = first; k < held_end; ++k) {
@@ -259,6 +273,8 @@ void warm_start(std::vector<SolverBody>& bodies, const std::vector<PointRow>& ro
     apply_impulse(a, b, m.tangent[0], m.manifold->friction_impulse[0]);
     apply_impulse(a, b, m.tangent[1], m.manifold->friction_impulse[1]);
     apply_spin(a, b, m.twist, m.manifold->twist_impulse);
+    apply_spin(a, b, m.rolling[0], m.manifold->rolling_impulse[0]);
+    apply_spin(a, b, m.rolling[1], m.manifold->rolling_impulse[1]);
   }
 }
 
@@ -280,7 +296,8 @@ void save_impulses(const std::vector<Contact>& contacts, std::vector<Fixed>& out
   out.clear();
   for (const Contact& c : contacts) {
     const Manifold& m = c.manifold;
-    out.insert(out.end(), {m.friction_impulse[0], m.friction_impulse[1], m.twist_impulse});
+    out.insert(out.end(),
+               {m.friction_impulse[0], m.friction_impulse[1], m.twist_impulse, m.rolling_impulse[0], m.rolling_impulse[1]});
     for (int i = 0; i < m.point_count; ++i) out.push_back(m.points[static_cast<size_t>(i)].normal_impulse);
   }
 }
@@ -292,6 +309,8 @@ void restore_impulses(const std::vector<Fixed>& saved, std::vector<Contact>& con
     m.friction_impulse[0] = saved[k++];
     m.friction_impulse[1] = saved[k++];
     m.twist_impulse = saved[k++];
+    m.rolling_impulse[0] = saved[k++];
+    m.rolling_impulse[1] = saved[k++];
     for (int i = 0; i < m.point_count; ++i) m.points[static_cast<size_t>(i)].normal_impulse = saved[k++];
   }
 }
@@ -321,6 +340,7 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
     for (const PointRow& row : rows) row.point->normal_impulse = Fixed{};
     for (const ManifoldRow& m : manifold_rows) {
       m.manifold->friction_impulse[0] = m.manifold->friction_impulse[1] = m.manifold->twist_impulse = Fixed{};
+      m.manifold->rolling_impulse[0] = m.manifold->rolling_impulse[1] = Fixed{};
     }
   }
   for (int pass = 0; pass < settings.velocity_iterations; ++pass) {

@@ -10,12 +10,33 @@ Fixed total_normal_impulse(const std::vector<PointRow>& rows, const ManifoldRow&
   return total;
 }
 
+// Rolling resistance: the angular impulse that stops the relative rotation
+// in the contact plane, kept within the disc |j_r| <= c r j_n (Box2D v3's
+// rolling resistance, about two axes in 3D). Warm-started like friction:
+// started from zero every step it lagged what the normal and friction rows
+// it balances had kept, and the lag drove a steady creep proportional to c.
+void solve_rolling(SolverBody& a, SolverBody& b, Manifold& manifold, const ManifoldRow& m, Fixed normal) {
+  const Fixed old0 = manifold.rolling_impulse[0], old1 = manifold.rolling_impulse[1];
+  Fixed new0 = old0 - m.rolling[0].mass * relative_spin(a, b, m.rolling[0]);
+  Fixed new1 = old1 - m.rolling[1].mass * relative_spin(a, b, m.rolling[1]);
+  const Fixed limit = m.rolling_limit * normal;
+  const Fixed magnitude = abs(new0) + abs(new1) <= limit ? Fixed{} : length(Vec3{new0, new1, Fixed{}});
+  if (magnitude > limit) {
+    new0 = mul_div(new0, limit, magnitude);
+    new1 = mul_div(new1, limit, magnitude);
+  }
+  manifold.rolling_impulse[0] = new0;
+  manifold.rolling_impulse[1] = new1;
+  apply_spin(a, b, m.rolling[0], new0 - old0);
+  apply_spin(a, b, m.rolling[1], new1 - old1);
+}
+
 }  // namespace
 
 // Friction at the centroid: the impulse that stops sliding is kept while
 // within the static cone |j_t| <= mu_s j_n (j_n the manifold's total normal
 // impulse), else scaled onto the dynamic cone mu_d j_n; the twist likewise
-// with the cone scaled by the points' mean radius.
+// with the cone scaled by the points' mean radius; then rolling resistance.
 void solve_friction(std::vector<SolverBody>& bodies, const std::vector<PointRow>& rows, const ManifoldRow& m) {
   SolverBody& a = bodies[m.a];
   SolverBody& b = bodies[m.b];
@@ -47,6 +68,8 @@ void solve_friction(std::vector<SolverBody>& bodies, const std::vector<PointRow>
   }
   manifold.twist_impulse = twist;
   apply_spin(a, b, m.twist, twist - old_twist);
+
+  if (m.rolling_limit > Fixed{}) solve_rolling(a, b, manifold, m, normal);
 }
 
 

@@ -81,6 +81,12 @@ struct ManifoldRow {
   } rocking[2];
   Fixed share_mass;        // normal.mass / count: each point's share of the centroid row
   bool one_sided = false;  // shock step: the lower body's side dropped (shock.cpp)
+  // Rolling resistance: two angular rows (w_b - w_a) . t_k about the
+  // tangents, their impulse within rolling_limit times the manifold's total
+  // normal impulse (m: the pair's c times the rolling radius). 0: no rows,
+  // as between two boxes.
+  Jacobian rolling[2] = {};
+  Fixed rolling_limit;
 };
 
 // J (a, b) for either rate of the two bodies.

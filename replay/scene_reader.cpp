@@ -186,6 +186,7 @@ Material read_material_fields(const Node& node) {
   read_optional(reader, "static_friction", material.static_friction, Bound::non_negative);
   read_optional(reader, "dynamic_friction", material.dynamic_friction, Bound::non_negative);
   read_optional(reader, "restitution", material.restitution, Bound::unit_interval);
+  read_optional(reader, "rolling_resistance", material.rolling_resistance, Bound::unit_interval);
   reader.finish();
   return material;
 }

@@ -124,6 +124,7 @@ Body read_body(Reader& r, bool sleep) {
   body.material.static_friction = r.fixed();
   body.material.dynamic_friction = r.fixed();
   body.material.restitution = r.fixed();
+  body.material.rolling_resistance = r.fixed();
   body.linear_damping = r.fixed();
   body.angular_damping = r.fixed();
   if (sleep) {
@@ -188,6 +189,8 @@ World read_world(std::span<const uint8_t> payload) {
     m.friction_impulse[0] = r.fixed();
     m.friction_impulse[1] = r.fixed();
     m.twist_impulse = r.fixed();
+    m.rolling_impulse[0] = r.fixed();
+    m.rolling_impulse[1] = r.fixed();
     for (int k = 0; k < m.point_count; ++k) {
       ContactPoint& p = m.points[static_cast<size_t>(k)];
       p.feature = r.u32();

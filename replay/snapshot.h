@@ -16,7 +16,7 @@
 
 namespace bitstep {
 
-inline constexpr uint32_t snapshot_version = 1;
+inline constexpr uint32_t snapshot_version = 2;  // 2: rolling resistance (material, contact impulses)
 
 std::vector<uint8_t> snapshot(const World& world);
 

@@ -122,6 +122,7 @@ std::string dump_state(const World& world) {
     o.field("normal", vec(m.normal));
     o.field("friction_impulse", list({num(m.friction_impulse[0]), num(m.friction_impulse[1])}));
     o.field("twist_impulse", num(m.twist_impulse));
+    o.field("rolling_impulse", list({num(m.rolling_impulse[0]), num(m.rolling_impulse[1])}));
     std::string points = "[";
     for (int k = 0; k < m.point_count; ++k) {
       const ContactPoint& p = m.points[static_cast<size_t>(k)];

@@ -79,6 +79,7 @@ void serialize_state(const World& world, std::vector<uint8_t>& out) {
     w.fixed(body.material.static_friction);
     w.fixed(body.material.dynamic_friction);
     w.fixed(body.material.restitution);
+    w.fixed(body.material.rolling_resistance);
     w.fixed(body.linear_damping);
     w.fixed(body.angular_damping);
     if (sleep) {
@@ -111,6 +112,8 @@ void serialize_state(const World& world, std::vector<uint8_t>& out) {
     w.fixed(c.manifold.friction_impulse[0]);
     w.fixed(c.manifold.friction_impulse[1]);
     w.fixed(c.manifold.twist_impulse);
+    w.fixed(c.manifold.rolling_impulse[0]);
+    w.fixed(c.manifold.rolling_impulse[1]);
     for (int i = 0; i < c.manifold.point_count; ++i) {
       const ContactPoint& p = c.manifold.points[static_cast<size_t>(i)];
       w.u32(p.feature);

@@ -501,7 +501,7 @@ TEST_CASE("every pair of shape types in both orders gives the flipped normal and
       REQUIRE(ab.point_count == ba.point_count);
       if (sa.type != sb.type) {  // the same pair function: exactly the same bits, normal negated
         CHECK(ab.normal == -ba.normal);
-        CHECK(identical(ab, Manifold{-ba.normal, ba.point_count, ba.points, {}, {}}));
+        CHECK(identical(ab, Manifold{-ba.normal, ba.point_count, ba.points, {}, {}, {}}));
       } else {
         CHECK(near(ab.normal, -ba.normal, rotation_tolerance));
         CHECK(same_points(ab, ba, rotation_tolerance));
@@ -576,7 +576,7 @@ TEST_CASE("random poses: unit normals, at most 4 points, deterministic, no overf
           "point far from a: " << describe(ab));
     }
     if (sa.type != sb.type) {
-      REQUIRE_QUIETLY(((ab.normal == -ba.normal) && identical(ab, Manifold{-ba.normal, ba.point_count, ba.points, {}, {}})),
+      REQUIRE_QUIETLY(((ab.normal == -ba.normal) && identical(ab, Manifold{-ba.normal, ba.point_count, ba.points, {}, {}, {}})),
                       "swap changed the points:\n"
                           << describe(ab) << "\n"
                           << describe(ba));

@@ -35,12 +35,7 @@ struct Incline {
   Incline(int degrees, Material material, Pipeline pipeline) : t(with_pipeline(pipeline)) {
     const Fixed angle = mul_div(Fixed::from_int(degrees), "raw:3243f6a89"_fx, 180.0_fx);
     const Quat tilt = from_axis_angle({Fixed{}, Fixed{}, Fixed::one()}, angle);
-    BodyDef ramp;
-    ramp.type = BodyType::static_body;
-    ramp.pose = {{}, tilt};
-    ramp.shapes.push_back({ShapeType::box, {10.0_fx, 0.5_fx, 3.0_fx}, {}, {}, {}});
-    ramp.material = material;
-    t.world.create_body(ramp);
+    t.add_ramp(tilt, material);
     const Vec3 normal = rotate(tilt, {Fixed{}, Fixed::one(), Fixed{}});
     down_slope = -rotate(tilt, {Fixed::one(), Fixed{}, Fixed{}});
     BodyDef cube;

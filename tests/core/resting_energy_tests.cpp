@@ -1,11 +1,16 @@
 // A pile released at rest stays at rest: no kinetic energy appears from
 // nothing. Issue 14 item 3: 5 layers of 4 capsules laid crosswise rolled
-// apart within 10 s. Capsules have no rolling resistance, so any tilt of
-// the capsules they rest on is a slope they roll down; with overlaps below
-// the old 5 mm penetration slop left alone, the uneven overlaps of the
-// first steps (0.015 to 0.26 mm along one capsule) tilted the rails by
-// 1.6e-4 rad, and the top layer rolled down them (KE 3e-4 J at 1 s,
-// 0.04 J at 9 s, then the pile collapsed).
+// apart. Two causes, both measured here:
+// - uneven overlaps below the old 5 mm penetration slop tilted the rails by
+//   1.6e-4 rad and the top layer rolled down them (collapse at ~10 s): the
+//   slop is now 0;
+// - without rolling resistance a capsule rolling along the capsules below
+//   it is a roller bearing: the first steps' unconverged impulses (1.08 J
+//   after step 1) leave every layer rolling in one no-slip mode that no
+//   contact impulse can stop, and the pile's sub-micron tilts (its residual
+//   overlaps) kept accelerating it (+6% kinetic energy in 20 s under the
+//   standard pipeline, collapse at ~55 s). The default rolling resistance
+//   (0.001) stops the roll in the first second.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -22,7 +27,7 @@ namespace {
 
 // 5 layers of 4 capsules (radius 0.1 m, half height 0.8 m), each layer
 // crosswise to the one below, exactly touching.
-std::vector<BodyId> add_capsule_pile(TestWorld& t) {
+std::vector<BodyId> add_capsule_pile(TestWorld& t, Material material = {}) {
   std::vector<BodyId> ids;
   const Quat turned_about_z = about_degrees({Fixed{}, Fixed{}, Fixed::one()}, 90.0_fx);
   const Quat turned_about_x = about_degrees({Fixed::one(), Fixed{}, Fixed{}}, 90.0_fx);
@@ -32,7 +37,7 @@ std::vector<BodyId> add_capsule_pile(TestWorld& t) {
       const Fixed y = 0.1_fx + Fixed::from_int(layer) * 0.2_fx;
       const Pose pose = layer % 2 == 0 ? Pose{{Fixed{}, y, along}, turned_about_z}
                                        : Pose{{along, y, Fixed{}}, turned_about_x};
-      ids.push_back(t.add_capsule(pose, 0.1_fx, 0.8_fx));
+      ids.push_back(t.add_capsule(pose, 0.1_fx, 0.8_fx, material));
     }
   }
   return ids;
@@ -44,12 +49,12 @@ struct Rest {
   double max_move_after_2s = 0;  // m, farthest any capsule got from where it was at 2 s
 };
 
-Rest measure(Pipeline pipeline) {
+Rest measure(Pipeline pipeline, Material material) {
   Settings settings;
   settings.pipeline = pipeline;
   TestWorld t(settings);
-  t.add_ground();
-  const std::vector<BodyId> ids = add_capsule_pile(t);
+  t.add_ground(material);
+  const std::vector<BodyId> ids = add_capsule_pile(t, material);
   t.simulate_steps(120);
   Rest r;
   r.ke_at_2s = to_double(t.world.stats().kinetic_energy);
@@ -67,40 +72,33 @@ Rest measure(Pipeline pipeline) {
 
 }  // namespace
 
-TEST_CASE("a crosswise capsule pile at rest gains no energy over 20 s (guendelman)", "[resting]") {
-  const Rest r = measure(Pipeline::guendelman);
-  INFO("KE at 2 s " << r.ke_at_2s << " J, largest after " << r.max_ke_after_2s << " J, largest move "
-                    << r.max_move_after_2s << " m");
-  CHECK(r.max_ke_after_2s <= r.ke_at_2s);
-  CHECK(r.max_move_after_2s < 0.003);
+TEST_CASE("a crosswise capsule pile at rest gains no energy over 20 s", "[resting]") {
+  // Measured (both pipelines): 0 J at 2 s and after (the report's unit is
+  // 2^-32 J), capsules within 2.4 um of their 2 s places.
+  for (Pipeline pipeline : {Pipeline::standard, Pipeline::guendelman}) {
+    const Rest r = measure(pipeline, Material{});
+    INFO((pipeline == Pipeline::standard ? "standard" : "guendelman")
+         << ": KE at 2 s " << r.ke_at_2s << " J, largest after " << r.max_ke_after_2s << " J, largest move "
+         << r.max_move_after_2s << " m");
+    CHECK(r.max_ke_after_2s <= r.ke_at_2s);
+    CHECK(r.max_move_after_2s < 0.0001);
+  }
 }
 
-TEST_CASE("a crosswise capsule pile at rest keeps its settling energy over 20 s (standard)", "[resting]") {
-  const Rest r = measure(Pipeline::standard);
+// The control: with rolling resistance 0 the standard pipeline's roll stays
+// (3.5e-4 J at 2 s, rising) and the capsules travel centimetres. If this
+// stops failing the test above no longer shows what rolling resistance does.
+TEST_CASE("without rolling resistance the capsule pile keeps rolling (standard)", "[resting]") {
+  Material free_rolling;
+  free_rolling.rolling_resistance = Fixed{};
+  const Rest r = measure(Pipeline::standard, free_rolling);
   INFO("KE at 2 s " << r.ke_at_2s << " J, largest after " << r.max_ke_after_2s << " J, largest move "
                     << r.max_move_after_2s << " m");
-  // Known left: the settling leaves every layer rolling on the one below in
-  // one no-slip mode, at ~1 mm/s (a roller bearing: rolling is neutral
-  // without rolling resistance, and no impulse at a contact line can stop a
-  // roll about it), so the energy only stays near its 2 s value (3.5e-4 J,
-  // +6% by 20 s) and the capsules move up to ~2.2 cm. Bounded here so that
-  // it cannot grow unnoticed; not what the guendelman case above achieves.
-  // The growth is paid for by the pile sinking: kinetic plus potential
-  // energy falls throughout (potential -1.8e-5 J per 2 s, kinetic +2.4e-6
-  // J), as the deepest overlap creeps from 0.34 to 0.43 um by 50 s. At
-  // ~55 s the rolling has carried the layers far enough apart that the pile
-  // falls. Where it starts: the first step, no warm start, leaves 1.08 J
-  // (the shock step leaves a body on several supports that move
-  // differently as the iterations left it); solved one-sided against each
-  // support instead it leaves 2.8e-4 J and no creep, but the rolling mode
-  // stays and a box heap then rocks ten times harder. With linear pushes
-  // only, the glide keeps 1.28e-4 J from 4 s to 20 s.
-  CHECK(r.max_ke_after_2s < 1.1 * r.ke_at_2s);
-  CHECK(r.max_move_after_2s < 0.05);
+  CHECK(r.max_ke_after_2s > r.ke_at_2s);
+  CHECK(r.max_move_after_2s > 0.01);
 }
 
-// With a sleep method on, the standard pipeline's glide above never starts
-// to matter: the pile is asleep 2 s after release and stays so.
+// With a sleep method on the pile is asleep 2 s after release and stays so.
 TEST_CASE("a crosswise capsule pile falls asleep within 2 s (standard)", "[resting]") {
   for (SleepMethod method : {SleepMethod::motion, SleepMethod::still}) {
     Settings settings;

@@ -25,6 +25,17 @@ struct TestWorld {
     return world.create_body(def).id;
   }
 
+  // A static ramp 20 x 1 x 6 m, its centre at the origin, tilted by `tilt`:
+  // its top face passes through tilt applied to (0, 0.5, 0).
+  BodyId add_ramp(Quat tilt, Material material = {}) {
+    BodyDef def;
+    def.type = BodyType::static_body;
+    def.pose = {{}, tilt};
+    def.shapes.push_back({ShapeType::box, {10.0_fx, 0.5_fx, 3.0_fx}, {}, {}, {}});
+    def.material = material;
+    return world.create_body(def).id;
+  }
+
   BodyId add_box(Vec3 position, Vec3 half_extents, Material material = {}) {
     BodyDef def;
     def.pose.position = position;

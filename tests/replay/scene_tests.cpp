@@ -59,7 +59,8 @@ bool same_body(const SceneBody& a, const SceneBody& b) {
          x.angular_velocity == y.angular_velocity && shapes && x.density == y.density && x.mass == y.mass &&
          x.material.static_friction == y.material.static_friction &&
          x.material.dynamic_friction == y.material.dynamic_friction &&
-         x.material.restitution == y.material.restitution && x.linear_damping == y.linear_damping &&
+         x.material.restitution == y.material.restitution &&
+         x.material.rolling_resistance == y.material.rolling_resistance && x.linear_damping == y.linear_damping &&
          x.angular_damping == y.angular_damping;
 }
 
@@ -160,7 +161,8 @@ TEST_CASE("numbers are exact whatever their spelling and key order", "[scene]") 
   const std::string a = R"({
     "format": "bitstep-scene", "version": 1,
     "settings": {"dt": "1/60", "gravity": [0, -9.81, 0], "penetration_slop": 0.005, "velocity_iterations": 8},
-    "materials": {"wood": {"static_friction": 0.5, "dynamic_friction": 0.25, "restitution": 0.1}},
+    "materials": {"wood": {"static_friction": 0.5, "dynamic_friction": 0.25, "restitution": 0.1,
+                           "rolling_resistance": 0.002}},
     "bodies": [{"name": "b", "type": "dynamic", "position": [0.5, 1.5, -2.5], "material": "wood", "density": 1000,
                 "velocity": [0.1, 0, 0], "orientation": {"axis": [0, 1, 0], "degrees": 30},
                 "shapes": [{"type": "box", "half_extents": [0.5, 0.5, 0.5]}]}],
@@ -171,13 +173,15 @@ TEST_CASE("numbers are exact whatever their spelling and key order", "[scene]") 
     "bodies": [{"shapes": [{"half_extents": [5e-1, "raw:80000000", "0.5"], "type": "box"}],
                 "orientation": {"degrees": "30", "axis": [0, "raw:100000000", 0]}, "velocity": ["1/10", 0.0, -0],
                 "density": "1e3", "material": "wood", "position": ["1/2", 15e-1, "-5/2"], "type": "dynamic", "name": "b"}],
-    "materials": {"wood": {"restitution": "1/10", "dynamic_friction": "1/4", "static_friction": 0.5e0}},
+    "materials": {"wood": {"rolling_resistance": "2/1000", "restitution": "1/10", "dynamic_friction": "1/4",
+                           "static_friction": 0.5e0}},
     "settings": {"velocity_iterations": "8", "penetration_slop": 5E-3, "gravity": [0, "-981/100", 0], "dt": "raw:4444444"},
     "version": 1, "format": "bitstep-scene"
   })";
   const Scene first = load_ok(a), second = load_ok(b);
   CHECK(same_scene(first, second));
   CHECK(first.settings.dt == "1/60"_fx);
+  CHECK(first.bodies[0].def.material.rolling_resistance == 0.002_fx);
   CHECK(first.settings.dt.raw() == 0x4444444);
   CHECK(first.settings.gravity.y == fx("-9.81"));
   CHECK(first.bodies[0].def.linear_velocity.x == 0.1_fx);
@@ -239,6 +243,8 @@ TEST_CASE("scene errors name the file, the JSON path and the reason", "[scene]")
           "2147483647.99999999977]");
     CHECK(error_of(scene_text("", R"("materials": {"wood": {"restitution": 1.5}}, )")) ==
           "f.json: $.materials.wood.restitution: outside 0..1");
+    CHECK(error_of(scene_text("", R"("materials": {"wood": {"rolling_resistance": -0.001}}, )")) ==
+          "f.json: $.materials.wood.rolling_resistance: outside 0..1");
     CHECK(error_of(scene_text("", R"("settings": {"velocity_iterations": 0}, )")) ==
           "f.json: $.settings.velocity_iterations: outside 1..1000");
     CHECK(error_of(scene_text("", R"("settings": {"dt": 0}, )")) == "f.json: $.settings.dt: outside 0.0001..0.1 s");
@@ -282,7 +288,7 @@ TEST_CASE("scene errors name the file, the JSON path and the reason", "[scene]")
           "f.json: $.bodies[0].material: unknown material \"stone\" (defined: \"wood\")");
     CHECK(error_of(scene_text("", R"("materials": {"oak wood": {"colour": 1}}, )")) ==
           "f.json: $.materials[\"oak wood\"].colour: unknown key (known keys: static_friction, dynamic_friction, "
-          "restitution)");
+          "restitution, rolling_resistance)");
     std::string many = R"("materials": {)";
     for (int i = 0; i < 1000; ++i) many += (i == 0 ? "" : ", ") + ("\"m" + std::to_string(i) + "\": {}");
     CHECK(error_of(scene_text(R"({"material": "stone", )" + unit_box + "}", many + "}, ")) ==

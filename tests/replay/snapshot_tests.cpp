@@ -95,8 +95,8 @@ TEST_CASE("a corrupt, truncated or wrong-version snapshot is refused and the wor
   refused(std::vector<uint8_t>(good.begin(), good.begin() + static_cast<std::ptrdiff_t>(good.size() - 9)), "truncated");
   refused(std::vector<uint8_t>(good.begin(), good.begin() + 10), "truncated");
   std::vector<uint8_t> version = good;
-  version[8] = 2;
-  refused(version, "version 2");
+  version.at(8) = snapshot_version + 1;  // the next format's image
+  refused(version, "version " + std::to_string(snapshot_version + 1));
   std::vector<uint8_t> magic = good;
   magic[0] = 'X';
   refused(magic, "bad magic");
