@@ -1,4 +1,4 @@
-// The world envelope (DESIGN.md, core/README.md "Bodies and mass"): what a
+// The world envelope (core/README.md "Bodies and mass"): what a
 // body definition and an input may hold. Inside it nothing in the simulation
 // leaves Q32.32 (a checked build aborts on any saturation: inside the
 // envelope that is a bug); outside it a body is refused with the field and

@@ -11,7 +11,7 @@ namespace bitstep {
 
 using namespace bitstep::literals;
 
-// The world envelope (DESIGN.md): checked when a body is created.
+// The world envelope (core/README.md "Bodies and mass"): checked when a body is created.
 namespace envelope {
 inline constexpr Fixed max_position = 16000.0_fx;  // m, |coordinate|
 inline constexpr Fixed min_size = 0.01_fx;         // m, box half-extent, radius, capsule half-height may be 0

@@ -8,11 +8,11 @@
 #include "tests/test_support.h"
 #include "tools/fixed_accuracy.h"
 
-// DESIGN.md's accuracy bounds, measured over edge values plus 10^6 random
+// The design's accuracy bounds (README.md, "Accuracy"), measured over edge values plus 10^6 random
 // operands per function (10^5 in unoptimised builds: test_support.h)
 // against exact integer or long double references (tools/fixed_accuracy.cpp).
 // The table goes to stdout, i.e. the ctest log.
-TEST_CASE("every fixed-point function is within its DESIGN.md ulp bound over 10^6 random operands and the edges",
+TEST_CASE("every fixed-point function is within its documented ulp bound over 10^6 random operands and the edges",
           "[fixed][accuracy]") {
   constexpr uint64_t random_samples = bitstep::test::samples(1000000);
   const std::vector<bitstep::AccuracyRow> rows = bitstep::measure_accuracy(random_samples);
