@@ -10,25 +10,28 @@ Fixed total_normal_impulse(const std::vector<PointRow>& rows, const ManifoldRow&
   return total;
 }
 
-// Rolling resistance: the angular impulse that stops the relative rotation
-// in the contact plane, kept within the disc |j_r| <= c r j_n (Box2D v3's
-// rolling resistance, about two axes in 3D). Warm-started like friction:
-// started from zero every step it lagged what the normal and friction rows
-// it balances had kept, and the lag drove a steady creep proportional to c.
-void solve_rolling(SolverBody& a, SolverBody& b, Manifold& manifold, const ManifoldRow& m, Fixed normal) {
-  const Fixed old0 = manifold.rolling_impulse[0], old1 = manifold.rolling_impulse[1];
-  Fixed new0 = old0 - m.rolling[0].mass * relative_spin(a, b, m.rolling[0]);
-  Fixed new1 = old1 - m.rolling[1].mass * relative_spin(a, b, m.rolling[1]);
-  const Fixed limit = m.rolling_limit * normal;
+// Two rows along an orthonormal pair (friction's tangents, rolling
+// resistance's axes) solved as one: the impulse j that stops the relative
+// rate along both is kept while |j| <= hold j_n, else scaled onto the disc
+// |j| = slide j_n. |j| <= |j0| + |j1|: inside by that bound needs no square
+// root. (An angular-only row has direction 0: its linear terms add exact
+// zeros.)
+void solve_disc(SolverBody& a, SolverBody& b, const Jacobian (&rows)[2], Fixed (&impulse)[2], Fixed hold, Fixed slide,
+                Fixed normal) {
+  const Fixed old0 = impulse[0], old1 = impulse[1];
+  Fixed new0 = old0 - rows[0].mass * relative_velocity(a, b, rows[0]);
+  Fixed new1 = old1 - rows[1].mass * relative_velocity(a, b, rows[1]);
+  const Fixed limit = hold * normal;
   const Fixed magnitude = abs(new0) + abs(new1) <= limit ? Fixed{} : length(Vec3{new0, new1, Fixed{}});
   if (magnitude > limit) {
-    new0 = mul_div(new0, limit, magnitude);
-    new1 = mul_div(new1, limit, magnitude);
+    const Fixed onto = slide * normal;
+    new0 = mul_div(new0, onto, magnitude);
+    new1 = mul_div(new1, onto, magnitude);
   }
-  manifold.rolling_impulse[0] = new0;
-  manifold.rolling_impulse[1] = new1;
-  apply_spin(a, b, m.rolling[0], new0 - old0);
-  apply_spin(a, b, m.rolling[1], new1 - old1);
+  impulse[0] = new0;
+  impulse[1] = new1;
+  apply_impulse(a, b, rows[0], new0 - old0);
+  apply_impulse(a, b, rows[1], new1 - old1);
 }
 
 }  // namespace
@@ -43,21 +46,7 @@ void solve_friction(std::vector<SolverBody>& bodies, const std::vector<PointRow>
   Manifold& manifold = *m.manifold;
   const Fixed normal = total_normal_impulse(rows, m);
 
-  const Fixed old0 = manifold.friction_impulse[0], old1 = manifold.friction_impulse[1];
-  Fixed new0 = old0 - m.tangent[0].mass * relative_velocity(a, b, m.tangent[0]);
-  Fixed new1 = old1 - m.tangent[1].mass * relative_velocity(a, b, m.tangent[1]);
-  // |j_t| <= |j_t0| + |j_t1|: inside the static cone by that bound needs no square root.
-  const Fixed limit = m.static_friction * normal;
-  const Fixed magnitude = abs(new0) + abs(new1) <= limit ? Fixed{} : length(Vec3{new0, new1, Fixed{}});
-  if (magnitude > limit) {
-    const Fixed slide = m.dynamic_friction * normal;
-    new0 = mul_div(new0, slide, magnitude);
-    new1 = mul_div(new1, slide, magnitude);
-  }
-  manifold.friction_impulse[0] = new0;
-  manifold.friction_impulse[1] = new1;
-  apply_impulse(a, b, m.tangent[0], new0 - old0);
-  apply_impulse(a, b, m.tangent[1], new1 - old1);
+  solve_disc(a, b, m.tangent, manifold.friction_impulse, m.static_friction, m.dynamic_friction, normal);
 
   const Fixed old_twist = manifold.twist_impulse;
   Fixed twist = old_twist - m.twist.mass * relative_spin(a, b, m.twist);
@@ -69,7 +58,14 @@ void solve_friction(std::vector<SolverBody>& bodies, const std::vector<PointRow>
   manifold.twist_impulse = twist;
   apply_spin(a, b, m.twist, twist - old_twist);
 
-  if (m.rolling_limit > Fixed{}) solve_rolling(a, b, manifold, m, normal);
+  // Rolling resistance: the angular impulse that stops the relative rotation
+  // in the contact plane, within the disc |j_r| <= c r j_n (Box2D v3's, about
+  // two axes in 3D). Warm-started like friction: started from zero every step
+  // it lagged the normal and friction rows it balances, and the lag drove a
+  // steady creep in proportion to c.
+  if (m.rolling_limit > Fixed{}) {
+    solve_disc(a, b, m.rolling, manifold.rolling_impulse, m.rolling_limit, m.rolling_limit, normal);
+  }
 }
 
 
