@@ -141,9 +141,13 @@ void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
     const Fixed mu_s = sqrt(body_a.material.static_friction * body_b.material.static_friction);
     const Fixed mu_d = sqrt(body_a.material.dynamic_friction * body_b.material.dynamic_friction);
     const Fixed restitution = max(body_a.material.restitution, body_b.material.restitution);
-    const Fixed rolling_limit =
-        sqrt(body_a.material.rolling_resistance * body_b.material.rolling_resistance) *
+    // Box pairs roll on nothing: no square root for them.
+    const Fixed roll_radius =
         max(rolling_radius(body_a.shapes[contact.key.shape_a]), rolling_radius(body_b.shapes[contact.key.shape_b]));
+    const Fixed rolling_limit =
+        roll_radius > Fixed{}
+            ? sqrt(body_a.material.rolling_resistance * body_b.material.rolling_resistance) * roll_radius
+            : Fixed{};
     if (pass == SolvePass::collision && !impacts(settings, body_a, body_b, a, b, m)) continue;
     const size_t first = rows.size();
     const int held = hold_touching_first(m);
@@ -273,8 +277,10 @@ void warm_start(std::vector<SolverBody>& bodies, const std::vector<PointRow>& ro
     apply_impulse(a, b, m.tangent[0], m.manifold->friction_impulse[0]);
     apply_impulse(a, b, m.tangent[1], m.manifold->friction_impulse[1]);
     apply_spin(a, b, m.twist, m.manifold->twist_impulse);
-    apply_spin(a, b, m.rolling[0], m.manifold->rolling_impulse[0]);
-    apply_spin(a, b, m.rolling[1], m.manifold->rolling_impulse[1]);
+    if (m.rolling_limit > Fixed{}) {
+      apply_spin(a, b, m.rolling[0], m.manifold->rolling_impulse[0]);
+      apply_spin(a, b, m.rolling[1], m.manifold->rolling_impulse[1]);
+    }
   }
 }
 
