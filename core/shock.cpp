@@ -301,6 +301,13 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
     const bool support = level[m.a] != level[m.b] && holds_up(m);
     const bool sideways = level[m.a] != level[m.b] && !between_heights && !support;
     if (between_heights && !support) continue;
+    // The higher-ranked body holds the lower-ranked one up (a body leaning
+    // on one ranked after it through another chain): freezing the lower
+    // would press the other down from above. Left to the iterations.
+    const Vec3 from_higher = level[m.a] < level[m.b] ? -m.manifold->normal : m.manifold->normal;
+    const bool lower_rests_on_higher =
+        level[m.a] != level[m.b] && !support && is_support(from_higher, settings.gravity);
+    if (lower_rests_on_higher) continue;
     // Apart: a speculative contact, for the iterations (gluing it would
     // stop a falling body in the air), unless sideways, where it is solved
     // one-sided up to touching and no more.

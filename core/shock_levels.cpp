@@ -75,10 +75,11 @@ void shock_levels(const std::vector<Body>& bodies, const std::vector<Contact>& c
 
   // Sideways: seeds are movable bodies in contact with an immovable one
   // through a contact that does not hold them up; the chains run through
-  // contacts between movable bodies of the same height, and on into bodies
-  // of no height (a car that hops on hitting the pinned box stays pinned). Speculative
-  // contacts count: a body closing in on a pinned one this step is solved
-  // against it (only up to touching: nothing is glued sideways).
+  // contacts between movable bodies of the same height (never from a body
+  // to one that holds it up), and on into bodies of no height (a car that
+  // hops on hitting the pinned box stays pinned). Speculative contacts
+  // count: a body closing in on a pinned one this step is solved against it
+  // (only up to touching: nothing is glued sideways).
   std::vector<Edge>& sideways = levels.sideways;
   sideways.clear();
   std::vector<uint8_t>& seed = levels.seed;
@@ -87,8 +88,11 @@ void shock_levels(const std::vector<Body>& bodies, const std::vector<Contact>& c
     const uint32_t a = c.key.body_a, b = c.key.body_b;
     if (movable(a) && movable(b)) {
       if (height[a] != height[b] && height[a] != not_supported && height[b] != not_supported) continue;
-      sideways.push_back({a, b});
-      sideways.push_back({b, a});
+      // A chain does not run down from a body to the one holding it up: it
+      // ranked a box below the one leaning on it, and the shock step then
+      // froze the leaning box and pressed the other out from under it.
+      if (!is_support(-c.manifold.normal, gravity)) sideways.push_back({a, b});
+      if (!is_support(c.manifold.normal, gravity)) sideways.push_back({b, a});
     } else if (immovable(a) && movable(b) && !is_support(c.manifold.normal, gravity)) {
       seed[b] = 1;
     } else if (immovable(b) && movable(a) && !is_support(-c.manifold.normal, gravity)) {
