@@ -464,6 +464,57 @@ ExperimentResult overlap_recovery(const Variant& variant, const StepConfig& conf
   return run.result;
 }
 
+// Heaps of 27 cubes (half extents 0.06, 0.12, 0.18 m, 1,000 kg/m^3)
+// dropped in three staggered layers of 3 x 3 into a pen 1.6 m square, in
+// `arrangements` arrangements (each shifts the layers by 13 mm more and
+// turns the sizes round). After 30 s a settled heap should not move: error
+// = the farthest any cube moves from 30 s to 40 s (m), over the
+// arrangements; "fell" beyond 1 cm. Boxes leaning on boxes made bitstep's
+// shock step creep by up to ~1 mm/s here (core/README.md).
+ExperimentResult heap_rest(const Variant& variant, const StepConfig& config, const RunOptions& options) {
+  const int arrangements = options.quick ? 2 : 6;
+  ExperimentResult total;
+  double farthest = 0, fastest = 0;
+  for (int v = 0; v < arrangements; ++v) {
+    Run run(variant, config);
+    run.add(ground());
+    for (int side = 0; side < 4; ++side) {
+      BodySpec wall;
+      wall.is_static = true;
+      wall.shapes.push_back({ShapeKind::box, side < 2 ? V3{0.1, 1, 1} : V3{1, 1, 0.1}});
+      wall.position = side < 2 ? V3{side == 0 ? 0.9 : -0.9, 1, 0} : V3{0, 1, side == 2 ? 0.9 : -0.9};
+      wall.static_friction = wall.dynamic_friction = 0.5;
+      run.add(wall);
+    }
+    std::vector<int> cubes;
+    for (int k = 0; k < 27; ++k) {
+      const int layer = k / 9, i = k % 9;
+      const double shift = 0.013 * v;
+      const double h = 0.06 * (1 + (k % 9 + k / 9 + v) % 3);
+      const V3 at{(i % 3 - 1) * 0.45 + layer * (0.05 + shift), 0.25 + layer * 0.45,
+                  (i / 3 - 1) * 0.45 - layer * (0.05 - shift)};
+      cubes.push_back(run.add(box({h, h, h}, at, 1000 * 8 * h * h * h)));
+    }
+    run.simulate(30);
+    std::vector<V3> settled;
+    for (int c : cubes) settled.push_back(run.engine->state(c).position);
+    for (int i = run.steps_for(10); i > 0; --i) {
+      run.step();
+      for (int c : cubes) fastest = std::max(fastest, length(run.engine->state(c).linear_velocity));
+    }
+    for (size_t c = 0; c < cubes.size(); ++c) {
+      farthest = std::max(farthest, length(sub(run.engine->state(cubes[c]).position, settled[c])));
+    }
+    total.wall_ms += run.result.wall_ms;
+    total.simulated_s += run.result.simulated_s;
+  }
+  total.error = farthest;
+  total.failed = farthest > 0.01;
+  total.metrics.emplace_back("arrangements", arrangements);
+  total.metrics.emplace_back("fastest_after_30s_m_per_s", fastest);
+  return total;
+}
+
 // 50 cubes of 0.5 m thrown at 20 m/s at the ground from a 6 x 4 x 6 m
 // region 5 m up (seeded): error = how far any cube's lowest corner ever got
 // below the ground's top, m; also how many end with their centre below it.
@@ -541,6 +592,8 @@ const std::vector<Experiment>& experiments() {
        "5 cubes starting 25% inside each other", true, overlap_recovery},
       {"thrown", "stability", "deepest corner below the ground (m)", "50 cubes thrown at the ground at 20 m/s", true,
        thrown},
+      {"heap_rest", "stability", "farthest move 30-40 s (m)", "heaps of 27 cubes dropped into a pen (quick: 2 of 6)",
+       false, heap_rest},
   };
   return list;
 }
