@@ -50,21 +50,24 @@ void inherit_impulses(const Manifold& old, Manifold& fresh) {
 }  // namespace
 
 void update_contacts(const std::vector<Body>& bodies, const std::vector<BodyPair>& pairs, const Settings& settings,
-                     std::vector<Contact>& contacts, std::vector<Contact>& previous) {
+                     std::vector<Contact>& contacts, std::vector<Contact>& previous, NarrowphaseCache& cache) {
   // A contact between two bodies that cannot move this step (asleep,
   // static, kinematic at rest) is kept as it is, with its impulses: the
   // broadphase reports no pair for it.
   auto kept = [&](const Contact& c) {
     return !needs_contacts(bodies[c.key.body_a]) && !needs_contacts(bodies[c.key.body_b]);
   };
+  cache.next.clear();
   if (pairs.empty()) {
     std::erase_if(contacts, [&](const Contact& c) { return !kept(c); });
+    cache.entries.clear();
     return;
   }
   previous.swap(contacts);  // keeps both buffers' capacity
   contacts.clear();
   contacts.reserve(previous.size());
-  size_t next_old = 0;  // both lists are sorted by key: one merge walk
+  size_t next_old = 0;     // both lists are sorted by key: one merge walk
+  size_t next_cached = 0;  // likewise through the cache
   auto keep_old_before = [&](BodyPair pair) {
     for (; next_old < previous.size() && std::tie(previous[next_old].key.body_a, previous[next_old].key.body_b) <
                                              std::tie(pair.a, pair.b);
@@ -82,11 +85,23 @@ void update_contacts(const std::vector<Body>& bodies, const std::vector<BodyPair
     // so a fast body meets its contact one step early instead of one step deep.
     const Fixed margin = settings.speculative_distance + length(b.linear_velocity - a.linear_velocity) * settings.dt;
     for (size_t sa = 0; sa < a.shapes.size(); ++sa) {
-      const WorldShape shape_a{&a.shapes[sa], compose(a.pose, a.shapes[sa].local)};
       for (size_t sb = 0; sb < b.shapes.size(); ++sb) {
-        const WorldShape shape_b{&b.shapes[sb], compose(b.pose, b.shapes[sb].local)};
         Contact contact{{pair.a, pair.b, static_cast<uint16_t>(sa), static_cast<uint16_t>(sb)}, {}};
-        if (collide(shape_a, shape_b, margin, contact.manifold) == 0) continue;
+        while (next_cached < cache.entries.size() && cache.entries[next_cached].key < contact.key) ++next_cached;
+        const bool same = cache.enabled && next_cached < cache.entries.size() &&
+                          cache.entries[next_cached].key == contact.key && cache.entries[next_cached].pose_a == a.pose &&
+                          cache.entries[next_cached].pose_b == b.pose && cache.entries[next_cached].margin == margin;
+        if (same) {
+          contact.manifold = cache.entries[next_cached].found;
+          ++cache.reused;
+        } else {
+          const WorldShape shape_a{&a.shapes[sa], compose(a.pose, a.shapes[sa].local)};
+          const WorldShape shape_b{&b.shapes[sb], compose(b.pose, b.shapes[sb].local)};
+          if (collide(shape_a, shape_b, margin, contact.manifold) == 0) contact.manifold = Manifold{};
+          ++cache.tested;
+        }
+        if (cache.enabled) cache.next.push_back({contact.key, a.pose, b.pose, margin, contact.manifold});
+        if (contact.manifold.point_count == 0) continue;
         while (next_old < previous.size() && previous[next_old].key < contact.key) ++next_old;
         if (settings.warm_starting && next_old < previous.size() && previous[next_old].key == contact.key) {
           inherit_impulses(previous[next_old].manifold, contact.manifold);
@@ -96,6 +111,7 @@ void update_contacts(const std::vector<Body>& bodies, const std::vector<BodyPair
     }
   }
   keep_old_before({UINT32_MAX, UINT32_MAX});
+  cache.entries.swap(cache.next);  // keeps both buffers' capacity
 }
 
 }  // namespace bitstep

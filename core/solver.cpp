@@ -363,7 +363,12 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
     return;
   }
   if (settings.shock_propagation) propagate_shock(settings, bodies, contacts, scratch);
-  if (!settings.baumgarte) {
+  // Position passes. When no row asks for a push (no overlap beyond the
+  // slop, no impact's displacement), every row computes a zero impulse from
+  // zero push velocities: skipping the passes gives the same bits.
+  const bool anything_to_push =
+      std::any_of(rows.begin(), rows.end(), [](const PointRow& row) { return row.push_target != Fixed{}; });
+  if (!settings.baumgarte && anything_to_push) {
     for (int pass = 0; pass < settings.position_iterations; ++pass) sweep(solver_bodies, rows, pass, solve_push);
   }
   push.linear.assign(bodies.size(), Vec3{});

@@ -102,6 +102,7 @@ CreateResult World::create_body(const BodyDef& def) {
     free_slots_.pop_back();
     body.generation = bodies_[index].generation + 1;
     bodies_[index] = std::move(body);
+    forget_narrowphase(index);  // removal forgot it already; kept as the slot's rule
   } else {
     index = static_cast<uint32_t>(bodies_.size());
     bodies_.push_back(std::move(body));
@@ -124,12 +125,23 @@ bool World::is_alive(BodyId id) const {
   return id.index < bodies_.size() && bodies_[id.index].alive && bodies_[id.index].generation == id.generation;
 }
 
+void World::forget_narrowphase(uint32_t slot) {
+  std::erase_if(narrowphase_cache_.entries,
+                [slot](const NarrowphaseCache::Entry& e) { return e.key.body_a == slot || e.key.body_b == slot; });
+}
+
+void World::set_contact_reuse(bool on) {
+  narrowphase_cache_.enabled = on;
+  narrowphase_cache_.entries.clear();
+}
+
 bool World::remove_body(BodyId id) {
   if (!is_alive(id)) return false;
   Body& body = bodies_[id.index];
   body.alive = false;
   body.shapes.clear();
   free_slots_.push_back(id.index);
+  forget_narrowphase(id.index);
   // Sleeping bodies it touched lose a support: they wake (their islands
   // through them), in time to fall in the next step.
   std::vector<uint32_t> touched;
@@ -314,7 +326,7 @@ void World::find_contacts() {
     proxies_.push_back({i, body_bounds(body).expanded(margin), needs_contacts(body)});
   }
   find_pairs(proxies_, pairs_, broadphase_scratch_);
-  update_contacts(bodies_, pairs_, settings_, contacts_, previous_contacts_);
+  update_contacts(bodies_, pairs_, settings_, contacts_, previous_contacts_, narrowphase_cache_);
 }
 
 void World::solve_contacts() { bitstep::solve_contacts(settings_, bodies_, contacts_, push_, solver_scratch_); }

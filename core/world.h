@@ -7,6 +7,7 @@
 #include "core/body.h"
 #include "core/broadphase.h"
 #include "core/contact.h"
+#include "core/contact_update.h"
 #include "core/envelope.h"
 #include "core/settings.h"
 #include "core/sleep.h"
@@ -67,6 +68,14 @@ class World {
   const std::vector<uint32_t>& free_slots() const { return free_slots_; }
   StepStats stats() const;
 
+  // Exact reuse of last step's narrowphase results where both bodies' poses
+  // did not move by a bit (contact_update.h). On by default; the results are
+  // the same bits either way (tests compare the two). Not state.
+  void set_contact_reuse(bool on);
+  // Shape pairs whose collision test was reused / run, over the world's life.
+  uint64_t reused_shape_pairs() const { return narrowphase_cache_.reused; }
+  uint64_t tested_shape_pairs() const { return narrowphase_cache_.tested; }
+
  private:
   void step_standard();
   void step_guendelman();
@@ -74,6 +83,8 @@ class World {
   void solve_contacts();
   void wake_islands_of(const std::vector<uint32_t>& slots);
   void wake_if_asleep(uint32_t slot);
+  // Drops the narrowphase results of a slot whose body was created or removed.
+  void forget_narrowphase(uint32_t slot);
 
   Settings settings_;
   uint64_t step_count_ = 0;
@@ -85,6 +96,7 @@ class World {
   std::vector<BodyPair> pairs_;
   BroadphaseScratch broadphase_scratch_;
   std::vector<Contact> previous_contacts_;  // workspace of update_contacts
+  NarrowphaseCache narrowphase_cache_;      // cleared when a body is created or removed
   PushVelocities push_;
   SolverScratch solver_scratch_;
   std::vector<uint8_t> touching_;
