@@ -47,6 +47,40 @@ void inherit_impulses(const Manifold& old, Manifold& fresh) {
   }
 }
 
+NarrowphaseCache::Found found_of(const Manifold& m) {
+  NarrowphaseCache::Found found;
+  found.normal = m.normal;
+  found.point_count = m.point_count;
+  for (size_t k = 0; k < found.points.size(); ++k) {
+    found.points[k] = {m.points[k].position, m.points[k].depth, m.points[k].feature};
+  }
+  return found;
+}
+
+// A fresh manifold as collide() wrote it (its impulses zero).
+void restore_found(const NarrowphaseCache::Found& found, Manifold& m) {
+  m = Manifold{};
+  m.normal = found.normal;
+  m.point_count = found.point_count;
+  for (size_t k = 0; k < found.points.size(); ++k) {
+    m.points[k].position = found.points[k].position;
+    m.points[k].depth = found.points[k].depth;
+    m.points[k].feature = found.points[k].feature;
+  }
+}
+
+// Which bodies sit exactly where they sat at last step's narrowphase; then
+// this step's poses become the ones to compare with next step.
+void remember_poses(const std::vector<Body>& bodies, NarrowphaseCache& cache) {
+  const size_t had = cache.poses.size();
+  cache.poses.resize(bodies.size());
+  cache.still.resize(bodies.size());
+  for (size_t i = 0; i < bodies.size(); ++i) {
+    cache.still[i] = i < had && cache.poses[i] == bodies[i].pose;
+    cache.poses[i] = bodies[i].pose;
+  }
+}
+
 }  // namespace
 
 void update_contacts(const std::vector<Body>& bodies, const std::vector<BodyPair>& pairs, const Settings& settings,
@@ -58,6 +92,7 @@ void update_contacts(const std::vector<Body>& bodies, const std::vector<BodyPair
     return !needs_contacts(bodies[c.key.body_a]) && !needs_contacts(bodies[c.key.body_b]);
   };
   cache.next.clear();
+  remember_poses(bodies, cache);
   if (pairs.empty()) {
     std::erase_if(contacts, [&](const Contact& c) { return !kept(c); });
     cache.entries.clear();
@@ -84,15 +119,15 @@ void update_contacts(const std::vector<Body>& bodies, const std::vector<BodyPair
     // far the two bodies close in on each other this step (linear motion),
     // so a fast body meets its contact one step early instead of one step deep.
     const Fixed margin = settings.speculative_distance + length(b.linear_velocity - a.linear_velocity) * settings.dt;
+    const bool both_still = cache.enabled && cache.still[pair.a] && cache.still[pair.b];
     for (size_t sa = 0; sa < a.shapes.size(); ++sa) {
       for (size_t sb = 0; sb < b.shapes.size(); ++sb) {
         Contact contact{{pair.a, pair.b, static_cast<uint16_t>(sa), static_cast<uint16_t>(sb)}, {}};
         while (next_cached < cache.entries.size() && cache.entries[next_cached].key < contact.key) ++next_cached;
-        const bool same = cache.enabled && next_cached < cache.entries.size() &&
-                          cache.entries[next_cached].key == contact.key && cache.entries[next_cached].pose_a == a.pose &&
-                          cache.entries[next_cached].pose_b == b.pose && cache.entries[next_cached].margin == margin;
+        const bool same = both_still && next_cached < cache.entries.size() &&
+                          cache.entries[next_cached].key == contact.key && cache.entries[next_cached].margin == margin;
         if (same) {
-          contact.manifold = cache.entries[next_cached].found;
+          restore_found(cache.entries[next_cached].found, contact.manifold);
           ++cache.reused;
         } else {
           const WorldShape shape_a{&a.shapes[sa], compose(a.pose, a.shapes[sa].local)};
@@ -100,7 +135,7 @@ void update_contacts(const std::vector<Body>& bodies, const std::vector<BodyPair
           if (collide(shape_a, shape_b, margin, contact.manifold) == 0) contact.manifold = Manifold{};
           ++cache.tested;
         }
-        if (cache.enabled) cache.next.push_back({contact.key, a.pose, b.pose, margin, contact.manifold});
+        if (cache.enabled) cache.next.push_back({contact.key, margin, found_of(contact.manifold)});
         if (contact.manifold.point_count == 0) continue;
         while (next_old < previous.size() && previous[next_old].key < contact.key) ++next_old;
         if (settings.warm_starting && next_old < previous.size() && previous[next_old].key == contact.key) {

@@ -3,6 +3,7 @@
 // points inherit their accumulated impulses by feature id.
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include "core/broadphase.h"
@@ -14,20 +15,34 @@ namespace bitstep {
 // Last step's narrowphase results, for exact reuse. collide() is a pure
 // function of the two shapes, their world poses and the margin: a shape pair
 // whose bodies' poses and margin are bit-identical to last step's gets last
-// step's manifold as collide() returned it (impulses are then inherited as
+// step's result as collide() wrote it (impulses are then inherited as
 // always), so a step computes the same bits with or without the cache. A
 // standing structure (no pose moves by a bit) skips its collision tests.
-// Not state: the owner clears it whenever a body is created or removed (a
-// reused slot may hold other shapes), and a restored world starts without it.
+// Not state: the owner drops a slot's entries when its body is removed (the
+// slot may be reused at the same pose by other shapes), and a restored world
+// starts without any.
 struct NarrowphaseCache {
+  // What collide() writes into a fresh manifold (it never touches the
+  // impulses): the normal, the count and the points' geometry, all four.
+  struct Found {
+    Vec3 normal;
+    int point_count = 0;  // 0: the shapes were apart
+    struct Point {
+      Vec3 position;
+      Fixed depth;
+      FeatureId feature = 0;
+    };
+    std::array<Point, max_manifold_points> points{};
+  };
   struct Entry {
     ContactKey key;
-    Pose pose_a, pose_b;
     Fixed margin;
-    Manifold found;  // point_count 0: the shapes were apart
+    Found found;
   };
   std::vector<Entry> entries;  // last step's, sorted by key
   std::vector<Entry> next;     // this step's, while they are found
+  std::vector<Pose> poses;     // per slot: the pose at last step's narrowphase
+  std::vector<uint8_t> still;  // per slot: this step's pose is that one, bit for bit
   bool enabled = true;         // off: every pair is tested (the reuse tests compare both)
   uint64_t reused = 0, tested = 0;  // shape pairs over the world's life (bench figures, not state)
 };
