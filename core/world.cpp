@@ -101,8 +101,7 @@ CreateResult World::create_body(const BodyDef& def) {
     index = free_slots_.back();
     free_slots_.pop_back();
     body.generation = bodies_[index].generation + 1;
-    bodies_[index] = std::move(body);
-    forget_narrowphase(index);  // removal forgot it already; kept as the slot's rule
+    bodies_[index] = std::move(body);  // remove_body forgot the slot's narrowphase results
   } else {
     index = static_cast<uint32_t>(bodies_.size());
     bodies_.push_back(std::move(body));

@@ -83,7 +83,7 @@ class World {
   void solve_contacts();
   void wake_islands_of(const std::vector<uint32_t>& slots);
   void wake_if_asleep(uint32_t slot);
-  // Drops the narrowphase results of a slot whose body was created or removed.
+  // Drops the narrowphase results of a slot whose body is removed.
   void forget_narrowphase(uint32_t slot);
 
   Settings settings_;
@@ -96,7 +96,7 @@ class World {
   std::vector<BodyPair> pairs_;
   BroadphaseScratch broadphase_scratch_;
   std::vector<Contact> previous_contacts_;  // workspace of update_contacts
-  NarrowphaseCache narrowphase_cache_;      // cleared when a body is created or removed
+  NarrowphaseCache narrowphase_cache_;      // a removed body's entries dropped at once
   PushVelocities push_;
   SolverScratch solver_scratch_;
   std::vector<uint8_t> touching_;
