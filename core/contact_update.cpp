@@ -132,7 +132,7 @@ void update_contacts(const std::vector<Body>& bodies, const std::vector<BodyPair
         } else {
           const WorldShape shape_a{&a.shapes[sa], compose(a.pose, a.shapes[sa].local)};
           const WorldShape shape_b{&b.shapes[sb], compose(b.pose, b.shapes[sb].local)};
-          if (collide(shape_a, shape_b, margin, contact.manifold) == 0) contact.manifold = Manifold{};
+          collide(shape_a, shape_b, margin, contact.manifold);  // a fresh manifold, point_count 0 when apart
           ++cache.tested;
         }
         if (cache.enabled) cache.next.push_back({contact.key, margin, found_of(contact.manifold)});
