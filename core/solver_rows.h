@@ -148,6 +148,13 @@ struct ShockEntry {
   bool holds_up;  // between ranks: the lower body holds the other up against gravity
 };
 
+// A body of the rank the shock step is solving, and its velocity from the
+// iterations.
+struct RankBody {
+  uint32_t body;
+  BodyRates velocity;
+};
+
 // The solve's working memory, kept by the world between steps so that a
 // settled scene's step allocates nothing. Never state: every vector is
 // rebuilt from the bodies and contacts before it is read.
@@ -169,6 +176,7 @@ struct SolverScratch {
   std::vector<PointRow> shock_rows;
   std::vector<ManifoldRow> shock_manifolds;
   std::vector<Manifold> accumulated;
+  std::vector<RankBody> rank_bodies;
   std::vector<uint32_t> frozen_bodies;
   std::vector<Fixed> saved_inverse_mass;
   std::vector<Fixed> saved_impulses;  // the contact pass's, kept aside during the collision pass

@@ -185,11 +185,8 @@ TEST_CASE("a pile of spheres in a pen gains no energy once settled", "[resting]"
 // 27 boxes of three sizes (half extents 0.06, 0.12, 0.18 m) dropped in three
 // layers into the pen land in a heap with boxes leaning on boxes. With a
 // sleep method on, the whole heap is asleep 10 s after the drop and stays
-// asleep, its kinetic energy exactly 0, for the next 5 s. Known left, with
-// sleep off: heaps of other arrangements still creep by up to ~1 mm/s
-// where boxes lean on boxes, and some topple late. The shock step drives
-// it: the same heap restarted from its 30 s poses with the shock step off
-// rests without moving a micrometre.
+// asleep, its kinetic energy exactly 0, for the next 5 s. With sleep off,
+// see the next test.
 TEST_CASE("a heap of boxes dropped into a pen falls asleep and stays asleep", "[resting]") {
   for (Pipeline pipeline : {Pipeline::standard, Pipeline::guendelman}) {
     for (SleepMethod method : {SleepMethod::motion, SleepMethod::still}) {
@@ -223,6 +220,44 @@ TEST_CASE("a heap of boxes dropped into a pen falls asleep and stays asleep", "[
     }
   }
 }
+
+// The heap of the test above in another arrangement (its layers shifted
+// 39 mm further, the sizes turned round), sleep off. The shock step's
+// passes over a rank where a box stands on a corner leaning on a box glued
+// to the floor do not converge; on whatever the last pass left, this heap
+// crept: the farthest box moved 20 mm (standard) and 8.5 mm (guendelman)
+// between 40 and 60 s. A rank that does not converge now keeps the
+// iterations' velocities where they already hold it, else each body the
+// lower-energy of the two (shock.cpp): 6 um and 0.4 um. 3,600 steps of 27
+// boxes: optimised builds only (the checked Debug build, ~30x slower here,
+// takes the heap's paths in the sleep test above).
+#if defined(NDEBUG)
+TEST_CASE("a settled heap of boxes in a pen stays put with sleep off", "[resting]") {
+  for (Pipeline pipeline : {Pipeline::standard, Pipeline::guendelman}) {
+    Settings settings;
+    settings.pipeline = pipeline;
+    TestWorld t(settings);
+    add_pen(t);
+    const int turn = 3;
+    const Fixed shift = Fixed::from_int(turn) * 0.013_fx;
+    for (int k = 0; k < 27; ++k) {
+      const int layer = k / 9;
+      const Fixed h = Fixed::from_int(1 + (k % 9 + k / 9 + turn) % 3) * 0.06_fx;
+      t.add_box(drop_spot(k) + Vec3{Fixed::from_int(layer) * shift, Fixed{}, Fixed::from_int(layer) * shift}, {h, h, h});
+    }
+    t.simulate_steps(2400);
+    std::vector<Vec3> at_40s;
+    for (const Body& b : t.world.bodies()) at_40s.push_back(b.pose.position);
+    t.simulate_steps(1200);
+    double moved = 0;
+    for (size_t i = 0; i < at_40s.size(); ++i) {
+      moved = std::max(moved, to_double(length(t.world.bodies()[i].pose.position - at_40s[i])));
+    }
+    INFO((pipeline == Pipeline::standard ? "standard" : "guendelman") << ": farthest move 40-60 s " << moved << " m");
+    CHECK(moved < 0.0002);
+  }
+}
+#endif
 
 // A box (half 0.12 m) wedged between a pen wall, two big boxes (0.18 m) on
 // the floor and a small box (0.06 m) standing on one of them, leaning on
