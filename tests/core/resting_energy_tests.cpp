@@ -229,10 +229,9 @@ TEST_CASE("a heap of boxes dropped into a pen falls asleep and stays asleep", "[
 // between 40 and 60 s. A rank that does not converge now keeps the
 // iterations' velocities where they already hold it, else each body the
 // lower-energy of the two (shock.cpp): 6 um and 0.4 um. 3,600 steps of 27
-// boxes: optimised builds only (the checked Debug build, ~30x slower here,
+// boxes: [slow], Release only (the checked Debug build, ~30x slower here,
 // takes the heap's paths in the sleep test above).
-#if defined(NDEBUG)
-TEST_CASE("a settled heap of boxes in a pen stays put with sleep off", "[resting]") {
+TEST_CASE("a settled heap of boxes in a pen stays put with sleep off", "[resting][slow]") {
   for (Pipeline pipeline : {Pipeline::standard, Pipeline::guendelman}) {
     Settings settings;
     settings.pipeline = pipeline;
@@ -257,7 +256,6 @@ TEST_CASE("a settled heap of boxes in a pen stays put with sleep off", "[resting
     CHECK(moved < 0.0002);
   }
 }
-#endif
 
 // A box (half 0.12 m) wedged between a pen wall, two big boxes (0.18 m) on
 // the floor and a small box (0.06 m) standing on one of them, leaning on
