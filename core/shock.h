@@ -15,8 +15,57 @@
 namespace bitstep {
 
 // Reads scratch.rows and scratch.manifolds, updates scratch.bodies'
-// velocities, uses the scratch's shock vectors.
+// velocities, uses the scratch's shock vectors. In phases:
+// shock_levels ranks the bodies; order_manifolds picks and sorts the
+// manifolds; group_supports finds the bodies held up through several
+// contacts; copy_rows copies the rows the step may change; then rank by
+// rank, passes over the rank's manifolds (settle_unconverged_rank where
+// they do not converge), after which its bodies are immovable.
 void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, const std::vector<Contact>& contacts,
                      SolverScratch& scratch);
+
+// The phases, exposed for their tests.
+
+// The manifolds the shock step solves (positions in manifold_rows), by
+// (rank of the higher body, position): both bodies ranked, and either
+// within a rank, or the lower one holding the higher up, or a sideways
+// contact within one height. Left to the iterations: contacts between
+// heights that are not supports, those by which the higher-ranked body
+// holds the lower up, and speculative (apart) ones that are not sideways.
+void order_manifolds(const Settings& settings, const ShockLevels& levels, const std::vector<ManifoldRow>& manifold_rows,
+                     std::vector<ShockEntry>& order);
+
+// Bodies held up through more than one contact of `order` (by several
+// bodies, or by several shapes of one: a table's four legs on the table
+// below) are glued to all their supports at once (glue_all), else to one
+// at a time. One neither glue can hold (its supports move differently, or
+// its load's centre lies outside each contact alone) is left as the
+// iterations left it: solved against each support in turn, one-sided, it
+// was driven toward whichever rises fastest and, through the rotation that
+// gives it, the bodies above it faster still (that launched the top bricks
+// of wall128 at 90 m/s). Sideways contacts are not supports: a body pressed
+// against a wall or a frozen neighbour is solved against it one-sided.
+// Fills groups: several[body], and each such body's support manifolds
+// (positions in `order`, in order) at entries[begin[body] .. begin[body + 1]).
+void group_supports(size_t body_count, const std::vector<uint32_t>& level, const std::vector<ManifoldRow>& manifold_rows,
+                    const std::vector<ShockEntry>& order, SupportGroups& groups);
+
+// Copies scratch.order's manifolds and rows into scratch.shock_manifolds
+// and scratch.shock_rows, accumulating into copies of the manifolds
+// (scratch.accumulated).
+void copy_rows(SolverScratch& scratch);
+
+// A rank whose passes did not converge: they end at an arbitrary point of
+// an oscillation (a box on one corner leaning on a glued box of its own
+// rank loses ~1% of its rotation per pass; a row whose point is a hair
+// apart hands back the iterations' impulse and the next glue undoes it),
+// and settled heaps crept by ~1 mm/s on what the last pass left. A rank
+// the iterations already hold (held_already: no sideways contact, no
+// touching point approaching faster than 1 mm/s) gets the iterations'
+// velocities back (before_shock); any other keeps, body by body, whichever
+// of its two velocities has the lower kinetic energy: the shock step may
+// stop motion it did not finish solving, never add to it.
+void settle_unconverged_rank(const std::vector<Body>& bodies, const std::vector<RankBody>& before_shock,
+                             bool held_already, std::vector<SolverBody>& solver_bodies);
 
 }  // namespace bitstep

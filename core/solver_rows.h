@@ -148,6 +148,16 @@ struct ShockEntry {
   bool holds_up;  // between ranks: the lower body holds the other up against gravity
 };
 
+// The shock step's bodies held up through several contacts, and each
+// one's support manifolds (shock.cpp, group_supports).
+struct SupportGroups {
+  std::vector<uint32_t> first_support;  // per slot: the first body found holding it up
+  std::vector<uint8_t> several;         // per slot: held up through more than one contact
+  std::vector<uint32_t> begin;          // per slot + 1: where a body's support manifolds begin in `entries`
+  std::vector<uint32_t> entries;        // positions in the shock order, grouped by the body they hold up
+  std::vector<uint32_t> fill;           // per slot, while grouping
+};
+
 // A body of the rank the shock step is solving, and its velocity from the
 // iterations.
 struct RankBody {
@@ -166,11 +176,7 @@ struct SolverScratch {
   // The shock step (shock.cpp).
   ShockLevels levels;
   std::vector<ShockEntry> order;
-  std::vector<uint32_t> first_support;    // per slot
-  std::vector<uint8_t> several_supports;  // per slot
-  std::vector<uint32_t> support_begin;    // per slot + 1: where a body's support manifolds begin in support_entries
-  std::vector<uint32_t> support_entries;  // positions in `order`, grouped by the body they hold up
-  std::vector<uint32_t> support_fill;     // per slot, while grouping
+  SupportGroups supports;
   std::vector<uint8_t> glued_to_all;      // per slot
   std::vector<BodyRates> glued_velocity;  // per slot: the velocity glue_all gave it
   std::vector<PointRow> shock_rows;

@@ -1,0 +1,268 @@
+#include "core/shock_solve.h"
+
+namespace bitstep {
+
+// A copy of j with body a (or b) immovable: its turn is dropped and the
+// effective mass is the other body's alone.
+namespace {
+
+Jacobian frozen(Jacobian j, const SolverBody& a, const SolverBody& b, bool freeze_a) {
+  const bool linear = j.direction != Vec3{};
+  Fixed k;
+  if (freeze_a) {
+    j.turn_a = Vec3{};
+    k = (linear ? b.inverse_mass : Fixed{}) + dot(j.arm_b, j.turn_b);
+  } else {
+    j.turn_b = Vec3{};
+    k = (linear ? a.inverse_mass : Fixed{}) + dot(j.arm_a, j.turn_a);
+  }
+  j.mass = k > Fixed{} ? Fixed::one() / k : Fixed{};
+  return j;
+}
+
+}  // namespace
+
+// The manifold's rows with body a (or b) immovable, made when first needed
+// (the mover's inverse mass is still its own then: a body is frozen only
+// after its level).
+void make_one_sided(ManifoldRow& m, std::vector<PointRow>& rows, const SolverBody& a, const SolverBody& b,
+                    bool freeze_a) {
+  for (size_t k = 0; k < m.count; ++k) rows[m.first + k].normal = frozen(rows[m.first + k].normal, a, b, freeze_a);
+  m.normal = frozen(m.normal, a, b, freeze_a);
+  m.tangent[0] = frozen(m.tangent[0], a, b, freeze_a);
+  m.tangent[1] = frozen(m.tangent[1], a, b, freeze_a);
+  m.twist = frozen(m.twist, a, b, freeze_a);
+  for (Jacobian& row : m.rolling) row = frozen(row, a, b, freeze_a);
+  for (ManifoldRow::Rocking& r : m.rocking) r.row = frozen(r.row, a, b, freeze_a);
+  m.one_sided = true;
+}
+
+// In the shock step a face contact (3 or 4 points) of body `mover` against an
+// immovable support is solved as one block: the impulse that glues the body
+// to the support (relative velocity zero in all six directions: w = w_s and
+// the centroids moving together) is taken whole when the contact can deliver
+// it: every point still pushes, friction and twist stay inside the static
+// cone, and no row asks the surfaces apart. Otherwise (false) the rows are
+// left to the one-by-one pass. Solving the block removes the coupling
+// between friction at the face and the body's rocking that row-by-row
+// passes leave as a slow sideways creep.
+bool glue(SolverBody& mover, const SolverBody& support, const Body& body, bool mover_is_b, const ManifoldRow& m,
+          std::vector<PointRow>& rows) {
+  if (m.count < 3 || !m.rocking[0].active || !m.rocking[1].active) return false;
+  // Only a resting contact: no bounce or bias asks the surfaces apart (a
+  // speculative gap's allowed approach is met by moving together).
+  for (size_t i = 0; i < m.count; ++i) {
+    if (rows[m.first + i].velocity_target > Fixed{}) return false;
+  }
+  const Vec3 r_mover = mover_is_b ? m.offset_b : m.offset_a;
+  const Vec3 r_support = mover_is_b ? m.offset_a : m.offset_b;
+  // Target rates: the support's rigid motion continued to the mover.
+  const Vec3 w = support.velocity.angular;
+  const Vec3 v = support.velocity.linear + cross(w, r_support) - cross(w, r_mover);
+  const Vec3 dv = v - mover.velocity.linear, dw = w - mover.velocity.angular;
+  // Impulse P through the centroid and angular impulse L about it:
+  // m dv = P, I dw = r x P + L (I in world axes, applied through the body frame).
+  const Vec3 impulse = dv * (Fixed::one() / mover.inverse_mass);
+  const Quat q = body.pose.orientation;
+  const Vec3 angular = rotate(q, body.inertia_local * rotate_inverse(q, dw)) - cross(r_mover, impulse);
+  // In the rows' terms (an impulse lambda acts +d on b, -d on a).
+  const Manifold& manifold = *m.manifold;
+  const Vec3 n = manifold.normal;
+  const Vec3 p = mover_is_b ? impulse : -impulse;
+  const Vec3 l = mover_is_b ? angular : -angular;
+  const Fixed normal = dot(p, n);
+  const Fixed friction0 = manifold.friction_impulse[0] + dot(p, m.tangent[0].direction);
+  const Fixed friction1 = manifold.friction_impulse[1] + dot(p, m.tangent[1].direction);
+  const Fixed twist = manifold.twist_impulse + dot(l, n);
+  // The contact's whole impulse this step (the iterations' plus the glue's)
+  // as a fresh point distribution: the total normal impulse shared equally
+  // plus the rocking distributions that give its in-plane moment about the
+  // centroid, lambda0 u0 + lambda1 u1 (a 2 x 2 solve by Cramer's rule). It
+  // must push at every point. Rebuilding it drops whatever the iterations
+  // left in the modes that move nothing (a 4-point face is statically
+  // indeterminate), which would otherwise decide whether the glue holds.
+  Vec3 centroid;
+  for (size_t i = 0; i < m.count; ++i) centroid += rows[m.first + i].point->position;
+  centroid = centroid / Fixed::from_int(static_cast<int32_t>(m.count));
+  Fixed total = normal;
+  Vec3 moment = l - n * dot(l, n);
+  for (size_t i = 0; i < m.count; ++i) {
+    const ContactPoint& point = *rows[m.first + i].point;
+    total += point.normal_impulse;
+    moment += cross(point.position - centroid, n) * point.normal_impulse;
+  }
+  const Vec3 u0 = m.rocking[0].row.arm_b, u1 = m.rocking[1].row.arm_b;
+  const Fixed g00 = dot(u0, u0), g01 = dot(u0, u1), g11 = dot(u1, u1);
+  const Fixed det = g00 * g11 - g01 * g01;
+  if (det < 0.000001_fx) return false;
+  const Fixed b0 = dot(u0, moment), b1 = dot(u1, moment);
+  const Fixed inverse_det = Fixed::one() / det;
+  const Fixed lambda0 = (b0 * g11 - b1 * g01) * inverse_det, lambda1 = (b1 * g00 - b0 * g01) * inverse_det;
+  const Fixed share = total / Fixed::from_int(static_cast<int32_t>(m.count));
+  Fixed point_impulse[max_manifold_points];
+  for (size_t i = 0; i < m.count; ++i) {
+    point_impulse[i] = share + lambda0 * m.rocking[0].alpha[i] + lambda1 * m.rocking[1].alpha[i];
+    if (point_impulse[i] < Fixed{}) return false;
+  }
+  if (length(Vec3{friction0, friction1, Fixed{}}) > m.static_friction * total) return false;
+  if (abs(twist) > m.static_friction * total * m.twist_radius) return false;
+  for (size_t i = 0; i < m.count; ++i) rows[m.first + i].point->normal_impulse = point_impulse[i];
+  m.manifold->friction_impulse[0] = friction0;
+  m.manifold->friction_impulse[1] = friction1;
+  m.manifold->twist_impulse = twist;
+  mover.velocity = {v, w};
+  return true;
+}
+
+
+// A body held up by several supports is glued to all of them at once when
+// they share one rigid motion (within 1 um/s and 1 urad/s: a wall's bricks
+// glued to the ground) and their contacts face the same way (normals within
+// a quarter of a degree): the contacts are taken as one face, as if the
+// supports were one body. Its whole impulse (the iterations' plus the
+// glue's) is rebuilt as a fresh distribution over all the points, which
+// must push at every one, with the friction cone over the sum of the
+// contacts' normal impulses and the twist cone over the points' mean
+// distance from their common centroid. Glued one contact at a time, a
+// running-bond brick had to be held by each half of its base alone (its
+// load's centre lies on the edge between them). The friction found is
+// shared by the contacts in proportion to their normal impulses.
+bool glue_all(SolverBody& mover, const Body& body, const std::vector<SolverBody>& solver_bodies,
+              const std::vector<Body>& bodies, const uint32_t* entries, size_t entry_count,
+              const std::vector<uint32_t>& level, std::vector<ManifoldRow>& manifolds, std::vector<PointRow>& rows) {
+  constexpr Fixed same_motion = 0.000001_fx;  // m/s and rad/s
+  constexpr Fixed same_normal = 0.99999_fx;   // cosine
+  const Vec3 position = body.pose.position;
+  Vec3 n, v, w, centroid;
+  Fixed mu = Fixed::max();
+  int32_t point_count = 0;
+  for (size_t e = 0; e < entry_count; ++e) {
+    const ManifoldRow& m = manifolds[entries[e]];
+    const bool mover_is_b = level[m.a] < level[m.b];
+    const uint32_t support = mover_is_b ? m.a : m.b;
+    const Vec3 up = mover_is_b ? m.manifold->normal : -m.manifold->normal;
+    for (size_t i = 0; i < m.count; ++i) {
+      if (rows[m.first + i].velocity_target > Fixed{}) return false;  // only resting contacts
+      centroid += rows[m.first + i].point->position;
+    }
+    point_count += static_cast<int32_t>(m.count);
+    // The support's rigid motion continued to the mover's centre of mass.
+    const SolverBody& s = solver_bodies[support];
+    const Vec3 w_s = s.velocity.angular;
+    const Vec3 v_s = s.velocity.linear + cross(w_s, position - bodies[support].pose.position);
+    if (e == 0) {
+      n = up;
+      v = v_s;
+      w = w_s;
+    } else {
+      if (dot(up, n) < same_normal) return false;
+      const Vec3 dv = v_s - v, dw = w_s - w;
+      if (max(max(abs(dv.x), abs(dv.y)), abs(dv.z)) > same_motion) return false;
+      if (max(max(abs(dw.x), abs(dw.y)), abs(dw.z)) > same_motion) return false;
+    }
+    mu = min(mu, m.static_friction);
+  }
+  if (point_count < 3) return false;
+  centroid = centroid / Fixed::from_int(point_count);
+  // The glue's impulse on the mover: P through the centroid and an angular
+  // impulse L about it (m dv = P, I dw = r x P + L), as in glue().
+  const Vec3 r_mover = centroid - position;
+  const Vec3 impulse = (v - mover.velocity.linear) * (Fixed::one() / mover.inverse_mass);
+  const Quat q = body.pose.orientation;
+  const Vec3 angular =
+      rotate(q, body.inertia_local * rotate_inverse(q, w - mover.velocity.angular)) - cross(r_mover, impulse);
+  // The whole impulse on the mover: normal, tangential, twist about n at the
+  // centroid and the normal impulses' in-plane moment about it.
+  Fixed total = dot(impulse, n);
+  Vec3 tangential = impulse - n * total;
+  Fixed twist = dot(angular, n);
+  Vec3 moment = angular - n * twist;
+  Fixed radius;
+  for (size_t e = 0; e < entry_count; ++e) {
+    const ManifoldRow& m = manifolds[entries[e]];
+    const Manifold& manifold = *m.manifold;
+    Vec3 middle;
+    for (size_t i = 0; i < m.count; ++i) {
+      const ContactPoint& point = *rows[m.first + i].point;
+      total += point.normal_impulse;
+      moment += cross(point.position - centroid, n) * point.normal_impulse;
+      radius += length(point.position - centroid);
+      middle += point.position;
+    }
+    middle = middle / Fixed::from_int(static_cast<int32_t>(m.count));
+    // An impulse lambda along a row acts +d on b, -d on a; the twist row's
+    // impulse is the same about the mover's up either way.
+    Vec3 friction = m.tangent[0].direction * manifold.friction_impulse[0] +
+                    m.tangent[1].direction * manifold.friction_impulse[1];
+    if (!(level[m.a] < level[m.b])) friction = -friction;
+    tangential += friction;
+    twist += manifold.twist_impulse + dot(cross(middle - centroid, friction), n);
+  }
+  radius = radius / Fixed::from_int(point_count);
+  if (total <= Fixed{}) return false;
+  if (length(tangential) > mu * total) return false;
+  if (abs(twist) > mu * total * radius) return false;
+  // The fresh distribution pi_i = total / k + beta . a_i, a_i = (p_i - c) x n
+  // in the face's plane (e0, e1), with G beta = moment: the least-squares
+  // spread of the points' impulses that gives the moment (sum a_i = 0). The
+  // arms are measured in units of the points' mean distance from c, so G
+  // stays near the point count whatever the size of the face.
+  if (radius < 0.0001_fx) return false;
+  const Fixed inverse_radius = Fixed::one() / radius;
+  const Vec3 axis = abs(n.x) < 0.57735_fx ? Vec3{Fixed::one(), {}, {}} : Vec3{{}, Fixed::one(), {}};
+  const Vec3 e0 = normalize(cross(n, axis));
+  const Vec3 e1 = cross(n, e0);
+  const auto arm = [&](const ContactPoint& point) { return cross((point.position - centroid) * inverse_radius, n); };
+  Fixed g00, g01, g11;
+  for (size_t e = 0; e < entry_count; ++e) {
+    const ManifoldRow& m = manifolds[entries[e]];
+    for (size_t i = 0; i < m.count; ++i) {
+      const Vec3 a = arm(*rows[m.first + i].point);
+      const Fixed a0 = dot(a, e0), a1 = dot(a, e1);
+      g00 += a0 * a0;
+      g01 += a0 * a1;
+      g11 += a1 * a1;
+    }
+  }
+  const Fixed det = g00 * g11 - g01 * g01;
+  if (det < 0.0001_fx) return false;  // the points lie on a line
+  const Fixed b0 = dot(moment, e0) * inverse_radius, b1 = dot(moment, e1) * inverse_radius;
+  const Fixed inverse_det = Fixed::one() / det;
+  const Fixed beta0 = (b0 * g11 - b1 * g01) * inverse_det, beta1 = (b1 * g00 - b0 * g01) * inverse_det;
+  const Fixed share = total / Fixed::from_int(point_count);
+  const auto point_share = [&](const ContactPoint& point) {
+    const Vec3 a = arm(point);
+    return share + beta0 * dot(a, e0) + beta1 * dot(a, e1);
+  };
+  for (size_t e = 0; e < entry_count; ++e) {
+    const ManifoldRow& m = manifolds[entries[e]];
+    for (size_t i = 0; i < m.count; ++i) {
+      if (point_share(*rows[m.first + i].point) < Fixed{}) return false;
+    }
+  }
+  // Held: the points take their shares; each contact the friction in
+  // proportion to its normal impulse, and the twist that keeps the total.
+  for (size_t e = 0; e < entry_count; ++e) {
+    const ManifoldRow& m = manifolds[entries[e]];
+    Manifold& manifold = *m.manifold;
+    Fixed normal;
+    Vec3 middle;
+    for (size_t i = 0; i < m.count; ++i) {
+      ContactPoint& point = *rows[m.first + i].point;
+      point.normal_impulse = point_share(point);
+      normal += point.normal_impulse;
+      middle += point.position;
+    }
+    middle = middle / Fixed::from_int(static_cast<int32_t>(m.count));
+    const Fixed part = normal / total;
+    const Vec3 friction = tangential * part;
+    const Vec3 along = level[m.a] < level[m.b] ? friction : -friction;
+    manifold.friction_impulse[0] = dot(along, m.tangent[0].direction);
+    manifold.friction_impulse[1] = dot(along, m.tangent[1].direction);
+    manifold.twist_impulse = twist * part - dot(cross(middle - centroid, friction), n);
+  }
+  mover.velocity = {v, w};
+  return true;
+}
+
+}  // namespace bitstep

@@ -1,0 +1,141 @@
+// The shock step's phases on their own (core/shock.h): which manifolds it
+// solves and in what order, which bodies it glues to several supports at
+// once, and what a rank whose passes do not converge keeps. The whole step
+// is tested through worlds in stacking_tests.cpp and resting_energy_tests.cpp.
+#include <catch2/catch.hpp>
+
+#include <vector>
+
+#include "core/shock.h"
+
+namespace bitstep {
+namespace {
+
+constexpr Vec3 up{Fixed{}, Fixed::one(), Fixed{}};
+constexpr Vec3 east{Fixed::one(), Fixed{}, Fixed{}};
+
+// A manifold between bodies a and b (normal from a to b) with one point at
+// the given depth (> 0 overlapping, < 0 apart).
+struct Pair {
+  uint32_t a, b;
+  Vec3 normal;
+  Fixed depth;
+};
+
+struct Fixture {
+  ShockLevels levels;
+  std::vector<Manifold> manifolds;
+  std::vector<ManifoldRow> rows;
+
+  Fixture(std::vector<uint32_t> rank, std::vector<uint32_t> height, const std::vector<Pair>& pairs) {
+    levels.rank = std::move(rank);
+    levels.height = std::move(height);
+    manifolds.resize(pairs.size());
+    for (size_t i = 0; i < pairs.size(); ++i) {
+      manifolds[i].normal = pairs[i].normal;
+      manifolds[i].point_count = 1;
+      manifolds[i].points[0].depth = pairs[i].depth;
+      ManifoldRow row;
+      row.a = pairs[i].a;
+      row.b = pairs[i].b;
+      row.count = 1;
+      row.manifold = &manifolds[i];
+      rows.push_back(row);
+    }
+  }
+};
+
+}  // namespace
+
+// Bodies: 0 the ground; 1 a box on it; 2 a box on 1; 3 falling (no rank);
+// 4 pressed against 1 from the side (a sideways chain: rank 2, height 1);
+// 5 a box of height 2 touching 1 from the side; 6 a box beside 2 (rank 2,
+// height 2).
+TEST_CASE("the shock step solves supports, sideways chains and ranks' own contacts, in rank order", "[shock]") {
+  const Settings settings;  // gravity along -y
+  const Fixed apart = -0.001_fx, touching = 0.0001_fx;
+  Fixture f({0, 1, 2, not_supported, 2, 3, 2}, {0, 1, 2, not_supported, 1, 2, 2},
+            {
+                {1, 2, up, touching},      // 0: 1 holds 2 up
+                {0, 1, up, touching},      // 1: the ground holds 1 up
+                {2, 3, up, touching},      // 2: 3 has no rank
+                {1, 4, east, touching},    // 3: sideways within height 1
+                {0, 1, up, apart},         // 4: speculative support: for the iterations
+                {2, 1, -up, touching},     // 5: written the other way round: 1 holds 2 up
+                {1, 5, east, touching},    // 6: between heights, not a support
+                {2, 6, east, touching},    // 7: within rank 2 and height 2
+                {1, 4, east, apart},       // 8: sideways and apart: solved one-sided up to touching
+            });
+  std::vector<ShockEntry> order;
+  order_manifolds(settings, f.levels, f.rows, order);
+  std::vector<uint32_t> indices, levels;
+  std::vector<bool> holds_up;
+  for (const ShockEntry& e : order) {
+    indices.push_back(e.index);
+    levels.push_back(e.level);
+    holds_up.push_back(e.holds_up);
+  }
+  CHECK(indices == std::vector<uint32_t>{1, 0, 3, 5, 7, 8});
+  CHECK(levels == std::vector<uint32_t>{1, 2, 2, 2, 2, 2});
+  CHECK(holds_up == std::vector<bool>{true, true, false, true, false, false});
+}
+
+// Body 1 stands on four legs on body 0 (four contacts with one support),
+// body 2 on body 1 through one contact, body 3 on bodies 1 and 2.
+TEST_CASE("the shock step groups a body's support contacts when it has more than one", "[shock]") {
+  const Settings settings;
+  const Fixed touching = 0.0001_fx;
+  Fixture f({0, 1, 2, 3}, {0, 1, 2, 2},
+            {
+                {0, 1, up, touching},
+                {1, 2, up, touching},
+                {0, 1, up, touching},
+                {1, 3, up, touching},
+                {0, 1, up, touching},
+                {2, 3, up, touching},
+                {0, 1, up, touching},
+            });
+  std::vector<ShockEntry> order;
+  order_manifolds(settings, f.levels, f.rows, order);
+  REQUIRE(order.size() == 7);
+  SupportGroups groups;
+  group_supports(4, f.levels.rank, f.rows, order, groups);
+  CHECK(groups.several == std::vector<uint8_t>{0, 1, 0, 1});
+  // Positions in `order`, whose manifolds are those of body 1's legs and of
+  // body 3's two supports.
+  std::vector<uint32_t> legs(groups.entries.begin() + groups.begin[1], groups.entries.begin() + groups.begin[2]);
+  std::vector<uint32_t> legs_manifolds;
+  for (uint32_t position : legs) legs_manifolds.push_back(order[position].index);
+  CHECK(legs_manifolds == std::vector<uint32_t>{0, 2, 4, 6});
+  CHECK(groups.begin[3] == groups.begin[2]);  // body 2: one support, no group
+  std::vector<uint32_t> top;
+  for (uint32_t k = groups.begin[3]; k < groups.begin[4]; ++k) top.push_back(order[groups.entries[k]].index);
+  CHECK(top == std::vector<uint32_t>{3, 5});
+}
+
+// Two bodies of an unconverged rank: a 2 kg box whose passes left it
+// faster than the iterations did, and a 1 kg one left slower.
+TEST_CASE("a rank whose passes do not converge never leaves a body faster than the iterations did", "[shock]") {
+  std::vector<Body> bodies(2);
+  for (Body& b : bodies) b.inertia_local = Mat33::diagonal({0.1_fx, 0.1_fx, 0.1_fx});
+  std::vector<SolverBody> solver(2);
+  solver[0].inverse_mass = 0.5_fx;
+  solver[1].inverse_mass = Fixed::one();
+  const BodyRates slow{{0.001_fx, Fixed{}, Fixed{}}, {}}, fast{{Fixed{}, -0.002_fx, Fixed{}}, {Fixed{}, Fixed{}, 0.01_fx}};
+  const std::vector<RankBody> before{{0, slow}, {1, fast}, {0, slow}};  // duplicates, as the rank lists them
+  solver[0].velocity = fast;  // where the last pass left them
+  solver[1].velocity = slow;
+
+  SECTION("each body keeps the lower-energy velocity") {
+    settle_unconverged_rank(bodies, before, false, solver);
+    CHECK(solver[0].velocity == slow);
+    CHECK(solver[1].velocity == slow);
+  }
+  SECTION("a rank the iterations already hold gets their velocities back") {
+    settle_unconverged_rank(bodies, before, true, solver);
+    CHECK(solver[0].velocity == slow);
+    CHECK(solver[1].velocity == fast);
+  }
+}
+
+}  // namespace bitstep
