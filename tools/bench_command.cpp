@@ -34,6 +34,7 @@
 #include "tools/bench_bitstep_engine.h"
 #include "tools/bench_experiments.h"
 #include "tools/bench_report.h"
+#include "tools/bench_costs.h"
 #include "tools/bench_scale.h"
 #include "tools/bench_stats.h"
 #include "tools/bench_scene_specs.h"
@@ -52,7 +53,7 @@ struct Options {
   bool quick = false;
   std::string out = "bench-report";
   std::string scenes = "scenes";
-  std::set<std::string> sections{"results", "sweep", "scale", "determinism"};
+  std::set<std::string> sections{"results", "sweep", "scale", "costs", "determinism"};
   std::set<std::string> only;  // experiments; empty: all
   bool peer = true;
 };
@@ -130,6 +131,7 @@ class Bench {
     if (wants("results")) ok = run_results() && ok;
     if (wants("sweep")) ok = run_sweep() && ok;
     if (wants("scale")) ok = run_scale() && ok;
+    if (wants("costs")) ok = run_costs() && ok;
     if (wants("determinism")) ok = run_determinism() && ok;
     const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
     progress.finish();
@@ -180,6 +182,7 @@ class Bench {
       runs += static_cast<int>(selected(true).size() * sweep_dts().size() * sweep_iterations().size()) * variants;
     }
     if (wants("scale")) runs += static_cast<int>(scale_sizes(options_.quick).size()) * 4;
+    if (wants("costs")) runs += static_cast<int>(rollback_scenes().size()) + (peer_.empty() ? 0 : 2);
     if (wants("determinism")) runs += 1;
     return runs;
   }
@@ -384,6 +387,79 @@ class Bench {
                          "set key left top\nset grid\n" + lines);
   }
 
+  // --- costs ---------------------------------------------------------------------
+
+  static std::vector<std::string> rollback_scenes() {
+    return {"stack20.json", "pyramid20.json", "thrown.json", "playground.json"};
+  }
+
+  // Rollbacks from step 60 (1 s in: thrown's cubes in their pile, the
+  // playground's bodies still moving); wall128's peak memory in the peer
+  // program, bitstep's default and Bullet, 10 steps each (every contact of
+  // the standing wall exists from the first step).
+  bool run_costs() {
+    const int rounds = options_.quick ? 10 : 50;
+    for (const std::string& scene : rollback_scenes()) {
+      progress_->advance("rollback " + scene);
+      try {
+        rollback_.push_back(measure_rollback(options_.scenes, scene, 60, rounds));
+      } catch (const std::exception& error) {
+        fmt::print(stderr, "bitstep bench: rollback: {}\n", error.what());
+        return false;
+      }
+    }
+    std::string csv = "scene,from_step,snapshot_bytes,rounds,restore_ms,rollback_ms,frame_share,same_bits\n";
+    for (const RollbackRow& r : rollback_) {
+      csv += fmt::format("{},{},{},{},{:.6g},{:.6g},{:.4g},{}\n", r.scene, r.from_step, r.snapshot_bytes, r.rounds,
+                         r.restore_ms, r.rollback_ms, r.rollback_ms / frame_ms, r.same_bits ? 1 : 0);
+    }
+    if (!write("rollback.csv", csv)) return false;
+    if (peer_.empty()) return true;
+    for (std::string_view variant : {default_variant, peer_variant}) {
+      progress_->advance(fmt::format("memory wall128 {}", variant));
+      std::string output;
+      const std::string command = fmt::format("{} memory {} --variant {} --steps {}", quote(peer_),
+                                              quote(options_.scenes + "/wall128.json"), variant, memory_steps);
+      MemoryRow row{std::string(variant), 0, 0};
+      if (!capture(command, output) || std::sscanf(output.c_str(), "%ld %ld", &row.loaded_kib, &row.peak_kib) != 2) {
+        fmt::print(stderr, "bitstep bench: memory {}: {}\n", variant, output);
+        return false;
+      }
+      memory_.push_back(row);
+    }
+    csv = "scene,engine,steps,loaded_kib,peak_kib\n";
+    for (const MemoryRow& r : memory_) {
+      csv += fmt::format("wall128.json,{},{},{},{}\n", r.engine, memory_steps, r.loaded_kib, r.peak_kib);
+    }
+    return write("memory.csv", csv);
+  }
+
+  std::string costs_section() const {
+    std::string md = fmt::format(
+        "## Costs a game pays\n\nAn {}-frame rollback: restore the snapshot taken at step 60, then {} steps, "
+        "against the {:.1f} ms of a 60 Hz frame (mean of {} rounds; every round must end on the same state "
+        "hash).\n\n| scene | snapshot | restore (ms) | restore + {} steps (ms) | share of the frame | same bits |\n"
+        "|---|---:|---:|---:|---:|---|\n",
+        rollback_frames, rollback_frames, frame_ms, rollback_.empty() ? 0 : rollback_.front().rounds,
+        rollback_frames);
+    for (const RollbackRow& r : rollback_) {
+      md += fmt::format("| {} | {:.1f} KiB | {:.3g} | {:.3g} | {:.0f}% | {} |\n", r.scene,
+                        static_cast<double>(r.snapshot_bytes) / 1024, r.restore_ms, r.rollback_ms,
+                        100 * r.rollback_ms / frame_ms, r.same_bits ? "yes" : "**no**");
+    }
+    if (memory_.empty()) return md + "\nwall128's peak memory: needs the peer program (" + peer_note_ + ").\n\n";
+    md += fmt::format(
+        "\nPeak resident memory of wall128 (8,256 bricks), each engine in a process of its own (the peer "
+        "program), after {} steps; `loaded`: the process after reading the scene, before building the engine.\n\n"
+        "| engine | loaded (MiB) | peak (MiB) |\n|---|---:|---:|\n",
+        memory_steps);
+    for (const MemoryRow& r : memory_) {
+      md += fmt::format("| {} | {:.1f} | {:.1f} |\n", r.engine, static_cast<double>(r.loaded_kib) / 1024,
+                        static_cast<double>(r.peak_kib) / 1024);
+    }
+    return md + "\n";
+  }
+
   // Exponent k of ms/step = c n^k over the sizes of at least 100 bodies.
   PowerLaw scale_fit(const std::string& structure, bool asleep) const {
     std::vector<double> x, y;
@@ -460,6 +536,7 @@ class Bench {
     if (!results_.empty()) md += results_section();
     if (!sweep_.empty()) md += sweep_section();
     if (!scale_.empty()) md += scale_section();
+    if (!rollback_.empty()) md += costs_section();
     if (!hashes_.empty() || !determinism_note_.empty()) md += determinism_section();
     return write("summary.md", md);
   }
@@ -633,6 +710,13 @@ class Bench {
   ProgressBar* progress_ = nullptr;
   std::vector<Row> results_, sweep_;
   std::vector<ScaleRow> scale_;
+  struct MemoryRow {
+    std::string engine;
+    long loaded_kib, peak_kib;
+  };
+  static constexpr int memory_steps = 10;
+  std::vector<RollbackRow> rollback_;
+  std::vector<MemoryRow> memory_;
   std::vector<HashRow> hashes_;
 };
 
@@ -666,8 +750,8 @@ int run_bench_suite(int argc, char** argv) {
     } else if (arg == "--sections" && has_value) {
       options.sections = split(argv[++i]);
       for (const std::string& s : options.sections) {
-        if (s != "results" && s != "sweep" && s != "scale" && s != "determinism") {
-          fmt::print(stderr, "bitstep bench: unknown section '{}' (results, sweep, scale, determinism)\n", s);
+        if (s != "results" && s != "sweep" && s != "scale" && s != "costs" && s != "determinism") {
+          fmt::print(stderr, "bitstep bench: unknown section '{}' (results, sweep, scale, costs, determinism)\n", s);
           return 2;
         }
       }

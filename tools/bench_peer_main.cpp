@@ -6,6 +6,7 @@
 //   PROGRAM list
 //   PROGRAM run EXPERIMENT --variant NAME --dt SECONDS --iterations N [--quick] [--scenes DIR]
 //   PROGRAM hash SCENE --variant NAME --steps N     final state hash, hex
+//   PROGRAM memory SCENE --variant NAME --steps N   peak resident KiB after loading the scene, and after N steps
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -13,6 +14,7 @@
 #include <string_view>
 #include <vector>
 
+#include "tools/bench_costs.h"
 #include "tools/bench_experiments.h"
 #include "tools/bench_peer.h"
 #include "tools/bench_scene_specs.h"
@@ -38,7 +40,7 @@ const Variant* find_variant(const std::vector<Variant>& variants, std::string_vi
 int main(int argc, char** argv) {
   const std::vector<Variant> variants = peer_variants();
   const std::string program = argc > 0 ? argv[0] : "peer";
-  if (argc < 2) return fail(program + ": usage: list | run EXPERIMENT ... | hash SCENE ...");
+  if (argc < 2) return fail(program + ": usage: list | run EXPERIMENT ... | hash SCENE ... | memory SCENE ...");
   const std::string_view command = argv[1];
   if (command == "list") {
     for (const Variant& v : variants) std::printf("%s\n", v.name.c_str());
@@ -79,14 +81,19 @@ int main(int argc, char** argv) {
     std::fputs(serialize(experiment->run(*variant, config, options)).c_str(), stdout);
     return 0;
   }
-  if (command == "hash") {
+  if (command == "hash" || command == "memory") {
     std::vector<BodySpec> specs;
     std::string reason;
     if (!specs_from_scene_file(target, specs, reason)) return fail(program + ": " + reason);
+    const long loaded_kib = peak_resident_kib();
     auto engine = variant->make(config);
     for (const BodySpec& spec : specs) engine->add_body(spec);
     for (long s = 0; s < steps; ++s) engine->step();
-    std::printf("%016llx\n", static_cast<unsigned long long>(engine->state_hash()));
+    if (command == "memory") {
+      std::printf("%ld %ld\n", loaded_kib, peak_resident_kib());
+    } else {
+      std::printf("%016llx\n", static_cast<unsigned long long>(engine->state_hash()));
+    }
     return 0;
   }
   return fail(program + ": unknown command '" + std::string(command) + "'");

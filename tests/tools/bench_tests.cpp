@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "tools/bench_bitstep_engine.h"
+#include "tools/bench_costs.h"
 #include "tools/bench_experiments.h"
 #include "tools/bench_stats.h"
 
@@ -119,6 +120,19 @@ TEST_CASE("bench stability on bitstep: stack20 stands with the shock step and fa
   CHECK(run("stack20", "standard+shock").error < 0.01);
   CHECK_FALSE(run("stack20", "standard+shock").failed);
   CHECK(run("stack20", "standard", 1.0 / 60, 1).failed);
+}
+
+// The costs section's rollback: the snapshot restores the world each round
+// and the 8 re-simulated frames end on one state hash; the thrown cubes are
+// still moving at step 30, so a restore that missed anything would show.
+TEST_CASE("bench rollback: every restore and 8 steps of thrown ends on the same bits", "[bench]") {
+  const RollbackRow row = measure_rollback(BITSTEP_SOURCE_DIR "/scenes", "thrown.json", 30, 3);
+  CHECK(row.same_bits);
+  CHECK(row.rounds == 3);
+  CHECK(row.snapshot_bytes > 50 * 530);  // 50 cubes, each more than its ~530 bytes at rest
+  CHECK(row.rollback_ms > row.restore_ms);
+  CHECK_THROWS_WITH(measure_rollback(BITSTEP_SOURCE_DIR "/scenes", "missing.json", 0, 1),
+                    Catch::Contains("missing.json"));
 }
 
 }  // namespace bitstep::bench

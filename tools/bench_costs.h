@@ -1,0 +1,35 @@
+// `bitstep bench`'s costs section: what a game pays beyond a step.
+// - Rollback: a rollback game restores the state of a past frame and
+//   re-simulates up to 8 frames inside one 60 Hz frame (16.7 ms).
+// - Memory: the peak resident memory of a large scene, bitstep and the
+//   peer each in a process of its own (the peer program's `memory`).
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+namespace bitstep::bench {
+
+inline constexpr int rollback_frames = 8;
+inline constexpr double frame_ms = 1000.0 / 60.0;
+
+struct RollbackRow {
+  std::string scene;          // file name in the scenes folder
+  int from_step = 0;          // the snapshot is taken after this many steps
+  size_t snapshot_bytes = 0;  // the whole world's image
+  int rounds = 0;             // rollbacks timed
+  double restore_ms = 0;      // mean, restore alone
+  double rollback_ms = 0;     // mean, restore + rollback_frames steps
+  bool same_bits = true;      // every round ended at the first round's state hash
+};
+
+// Loads the scene, steps it `from_step` times, snapshots it, then times
+// `rounds` rollbacks (restore + rollback_frames steps), checking each ends
+// on the same state hash. Throws std::runtime_error on a scene that does
+// not load.
+RollbackRow measure_rollback(const std::string& scenes_dir, const std::string& scene, int from_step, int rounds);
+
+// The peak resident set of a process, KiB (getrusage's ru_maxrss).
+long peak_resident_kib();
+
+}  // namespace bitstep::bench
