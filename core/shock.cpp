@@ -49,6 +49,7 @@ bool rank_pass(const std::vector<Body>& bodies, const std::vector<uint32_t>& lev
   const std::vector<ShockEntry>& order = scratch.order;
   const SupportGroups& supports = scratch.supports;
   std::vector<uint8_t>& glued_to_all = scratch.glued_to_all;
+  std::vector<uint8_t>& glued_alone = scratch.glued_alone;
   std::vector<BodyRates>& glued_velocity = scratch.glued_velocity;
   bool changed = false;
   for (size_t i = begin; i < end; ++i) {
@@ -75,8 +76,16 @@ bool rank_pass(const std::vector<Body>& bodies, const std::vector<uint32_t>& lev
             continue;
           }
         }
+        // A body on one support glued in the last pass and not moved since:
+        // its support is frozen, so the glue would find the same again.
+        const bool alone = !supports.several[mover];
+        if (alone && glued_alone[mover] && solver_bodies[mover].velocity == glued_velocity[mover]) continue;
         const bool glued = glue(solver_bodies[mover], solver_bodies[mover_is_b ? m.a : m.b], bodies[mover],
                                 mover_is_b, m, shock_rows);
+        if (alone) {
+          glued_alone[mover] = glued;
+          glued_velocity[mover] = solver_bodies[mover].velocity;
+        }
         if (glued) {
           changed = changed || !(solver_bodies[mover].velocity == before);
           continue;
@@ -264,7 +273,8 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
   group_supports(bodies.size(), level, scratch.manifolds, scratch.order, scratch.supports);
   // Per body, whether it is glued to all its supports at once in this pass.
   scratch.glued_to_all.assign(bodies.size(), 0);
-  scratch.glued_velocity.resize(bodies.size());  // read only where glued_to_all
+  scratch.glued_alone.assign(bodies.size(), 0);
+  scratch.glued_velocity.resize(bodies.size());  // read only where glued_to_all or glued_alone
   copy_rows(scratch);
   // Rank by rank, each made immovable once solved.
   scratch.saved_inverse_mass.clear();

@@ -178,7 +178,8 @@ struct SolverScratch {
   std::vector<ShockEntry> order;
   SupportGroups supports;
   std::vector<uint8_t> glued_to_all;      // per slot
-  std::vector<BodyRates> glued_velocity;  // per slot: the velocity glue_all gave it
+  std::vector<uint8_t> glued_alone;       // per slot: glued to its one support in the last pass
+  std::vector<BodyRates> glued_velocity;  // per slot: the velocity the last glue gave it
   std::vector<PointRow> shock_rows;
   std::vector<ManifoldRow> shock_manifolds;
   std::vector<Manifold> accumulated;
