@@ -188,39 +188,27 @@ void order_manifolds(const Settings& settings, const ShockLevels& levels, const 
 
 void group_supports(size_t body_count, const std::vector<uint32_t>& level, const std::vector<ManifoldRow>& manifold_rows,
                     const std::vector<ShockEntry>& order, SupportGroups& groups) {
-  std::vector<uint32_t>& first_support = groups.first_support;
-  std::vector<uint8_t>& several_supports = groups.several;
-  first_support.assign(body_count, not_supported);
-  several_supports.assign(body_count, 0);
+  const auto mover_of = [&](const ManifoldRow& m) { return level[m.a] < level[m.b] ? m.b : m.a; };
+  // Support manifolds per body (counted in `fill`); several: more than one.
+  std::vector<uint32_t>& fill = groups.fill;
+  fill.assign(body_count, 0);
   for (const ShockEntry& e : order) {
-    if (!e.holds_up) continue;
-    const ManifoldRow& m = manifold_rows[e.index];
-    const bool mover_is_b = level[m.a] < level[m.b];
-    const uint32_t mover = mover_is_b ? m.b : m.a, support = mover_is_b ? m.a : m.b;
-    if (first_support[mover] == not_supported) {
-      first_support[mover] = support;
-    } else {
-      several_supports[mover] = 1;
-    }
+    if (e.holds_up) ++fill[mover_of(manifold_rows[e.index])];
   }
-
+  groups.several.resize(body_count);
+  for (size_t body = 0; body < body_count; ++body) groups.several[body] = fill[body] > 1 ? 1 : 0;
   // Each body with several supports: its support manifolds (positions in
   // `order`), grouped by body (a counting sort: deterministic), in order.
-  std::vector<uint32_t>& support_begin = groups.begin;
-  std::vector<uint32_t>& support_entries = groups.entries;
-  support_begin.assign(body_count + 1, 0);
-  const auto mover_of = [&](const ManifoldRow& m) { return level[m.a] < level[m.b] ? m.b : m.a; };
-  for (const ShockEntry& e : order) {
-    const uint32_t mover = mover_of(manifold_rows[e.index]);
-    if (e.holds_up && several_supports[mover]) ++support_begin[mover + 1];
+  std::vector<uint32_t>& begin = groups.begin;
+  begin.assign(body_count + 1, 0);
+  for (size_t body = 0; body < body_count; ++body) {
+    begin[body + 1] = begin[body] + (groups.several[body] ? fill[body] : 0);
   }
-  for (size_t i = 1; i < support_begin.size(); ++i) support_begin[i] += support_begin[i - 1];
-  support_entries.resize(support_begin.back());
-  std::vector<uint32_t>& fill = groups.fill;
-  fill.assign(support_begin.begin(), support_begin.end() - 1);
+  groups.entries.resize(begin.back());
+  fill.assign(begin.begin(), begin.end() - 1);
   for (uint32_t i = 0; i < order.size(); ++i) {
     const uint32_t mover = mover_of(manifold_rows[order[i].index]);
-    if (order[i].holds_up && several_supports[mover]) support_entries[fill[mover]++] = i;
+    if (order[i].holds_up && groups.several[mover]) groups.entries[fill[mover]++] = i;
   }
 }
 

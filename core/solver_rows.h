@@ -151,11 +151,10 @@ struct ShockEntry {
 // The shock step's bodies held up through several contacts, and each
 // one's support manifolds (shock.cpp, group_supports).
 struct SupportGroups {
-  std::vector<uint32_t> first_support;  // per slot: the first body found holding it up
   std::vector<uint8_t> several;         // per slot: held up through more than one contact
   std::vector<uint32_t> begin;          // per slot + 1: where a body's support manifolds begin in `entries`
   std::vector<uint32_t> entries;        // positions in the shock order, grouped by the body they hold up
-  std::vector<uint32_t> fill;           // per slot, while grouping
+  std::vector<uint32_t> fill;           // per slot, while grouping (counts, then fill positions)
 };
 
 // A body of the rank the shock step is solving, and its velocity from the
