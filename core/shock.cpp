@@ -9,9 +9,10 @@ namespace bitstep {
 
 namespace {
 
-// A rank whose touching points the iterations left approaching no faster
-// than this is held already (see the end of propagate_shock), m/s.
-constexpr Fixed quiet_approach = 0.001_fx;
+// A rank whose touching contacts the iterations left approaching, sliding
+// and twisting no faster than this is held already (moving_at_contacts,
+// settle_unconverged_rank), m/s.
+constexpr Fixed quiet_motion = 0.001_fx;
 
 // Twice the kinetic energy per unit mass, J/kg: |v|^2 + w . (I / m) w.
 // I / m is taken in the body frame, where it is at most about size^2, so
@@ -19,22 +20,6 @@ constexpr Fixed quiet_approach = 0.001_fx;
 Fixed energy_per_mass(const Body& body, const BodyRates& rates, Fixed inverse_mass) {
   const Vec3 w = rotate_inverse(body.pose.orientation, rates.angular);
   return dot(rates.linear, rates.linear) + dot(w, (body.inertia_local * inverse_mass) * w);
-}
-
-// Whether the iterations left some touching point of the rank approaching
-// faster than `speed` (m/s), against the velocities of the ranks below as
-// the shock step left them.
-bool approaching(const std::vector<SolverBody>& solver_bodies, const std::vector<ManifoldRow>& manifolds,
-                 const std::vector<PointRow>& rows, size_t begin, size_t end, Fixed speed) {
-  for (size_t i = begin; i < end; ++i) {
-    const ManifoldRow& m = manifolds[i];
-    for (size_t k = 0; k < m.count; ++k) {
-      const PointRow& row = rows[m.first + k];
-      if (row.point->depth < -touch_tolerance) continue;
-      if (relative_velocity(solver_bodies[m.a], solver_bodies[m.b], row.normal) < -speed) return true;
-    }
-  }
-  return false;
 }
 
 // One pass over the rank's manifolds [begin, end) of scratch.shock_manifolds:
@@ -112,21 +97,17 @@ void solve_rank(const Settings& settings, const std::vector<Body>& bodies, const
   const std::vector<ManifoldRow>& shock_manifolds = scratch.shock_manifolds;
   const std::vector<ShockEntry>& order = scratch.order;
   const uint32_t rank = order[begin].level;
-  // The iterations' velocities of the rank's bodies (with duplicates), and
-  // whether the rank has a sideways contact (a body pressed against one
-  // ranked below it, not held up by it).
+  // The iterations' velocities of the rank's bodies (with duplicates).
   std::vector<RankBody>& before_shock = scratch.rank_bodies;
   before_shock.clear();
-  bool sideways = false;
   for (size_t i = begin; i < end; ++i) {
     const ManifoldRow& m = shock_manifolds[i];
     for (uint32_t body : {m.a, m.b}) {
       if (level[body] == rank) before_shock.push_back({body, solver_bodies[body].velocity});
     }
-    sideways = sideways || (level[m.a] != level[m.b] && !order[i].holds_up);
   }
   const bool held_already =
-      !sideways && !approaching(solver_bodies, shock_manifolds, scratch.shock_rows, begin, end, quiet_approach);
+      !moving_at_contacts(solver_bodies, shock_manifolds, scratch.shock_rows, begin, end, quiet_motion);
   bool converged = false;
   for (int pass = 0; pass < settings.shock_iterations && !converged; ++pass) {
     converged = !rank_pass(bodies, level, scratch, begin, end, pass);
@@ -239,6 +220,28 @@ void copy_rows(SolverScratch& scratch) {
     m.first = first;
     shock_manifolds.push_back(m);
   }
+}
+
+bool moving_at_contacts(const std::vector<SolverBody>& solver_bodies, const std::vector<ManifoldRow>& manifolds,
+                        const std::vector<PointRow>& rows, size_t begin, size_t end, Fixed speed) {
+  for (size_t i = begin; i < end; ++i) {
+    const ManifoldRow& m = manifolds[i];
+    const SolverBody& a = solver_bodies[m.a];
+    const SolverBody& b = solver_bodies[m.b];
+    bool touching = false;
+    for (size_t k = 0; k < m.count; ++k) {
+      const PointRow& row = rows[m.first + k];
+      if (row.point->depth < -touch_tolerance) continue;
+      touching = true;
+      if (relative_velocity(a, b, row.normal) < -speed) return true;
+    }
+    if (!touching) continue;
+    if (abs(relative_velocity(a, b, m.tangent[0])) > speed || abs(relative_velocity(a, b, m.tangent[1])) > speed) {
+      return true;
+    }
+    if (abs(relative_spin(a, b, m.twist)) * m.twist_radius > speed) return true;
+  }
+  return false;
 }
 
 void settle_unconverged_rank(const std::vector<Body>& bodies, const std::vector<RankBody>& before_shock,

@@ -55,13 +55,24 @@ void group_supports(size_t body_count, const std::vector<uint32_t>& level, const
 // (scratch.accumulated).
 void copy_rows(SolverScratch& scratch);
 
+// Whether some touching contact among manifolds [begin, end) (their rows
+// in `rows`) moves faster than `speed` (m/s) at the bodies' velocities: a
+// point approaching, or the surfaces sliding or twisting at the manifold's
+// centre. Called before a rank's passes, with the ranks below as the shock
+// step left them: a box the iterations carried along on a rocking support,
+// once the shock step has stopped the support, slides on it, and kept
+// sliding at 0.6 mm/s for good while only approach was looked at.
+bool moving_at_contacts(const std::vector<SolverBody>& solver_bodies, const std::vector<ManifoldRow>& manifolds,
+                        const std::vector<PointRow>& rows, size_t begin, size_t end, Fixed speed);
+
 // A rank whose passes did not converge: they end at an arbitrary point of
 // an oscillation (a box on one corner leaning on a glued box of its own
 // rank loses ~1% of its rotation per pass; a row whose point is a hair
 // apart hands back the iterations' impulse and the next glue undoes it),
 // and settled heaps crept by ~1 mm/s on what the last pass left. A rank
-// the iterations already hold (held_already: no sideways contact, no
-// touching point approaching faster than 1 mm/s) gets the iterations'
+// the iterations already hold (held_already: at every touching contact,
+// against the ranks below as the shock step left them, no point approaching
+// and no sliding or twisting faster than 1 mm/s) gets the iterations'
 // velocities back (before_shock); any other keeps, body by body, whichever
 // of its two velocities has the lower kinetic energy: the shock step may
 // stop motion it did not finish solving, never add to it.

@@ -138,4 +138,50 @@ TEST_CASE("a rank whose passes do not converge never leaves a body faster than t
   }
 }
 
+// Body 0, a support the shock step has just stopped, and body 1 resting on
+// it through one touching point at the centre (arms zero, so each row
+// reads the plain difference of the velocities along its direction).
+TEST_CASE("a rank is held already only if nothing approaches, slides or twists at its contacts", "[shock]") {
+  Manifold manifold;
+  manifold.normal = up;
+  manifold.point_count = 1;
+  manifold.points[0].depth = 0.0001_fx;
+  ManifoldRow m;
+  m.a = 0;
+  m.b = 1;
+  m.first = 0;
+  m.count = 1;
+  m.manifold = &manifold;
+  m.normal.direction = up;
+  m.tangent[0].direction = east;
+  m.tangent[1].direction = Vec3{Fixed{}, Fixed{}, Fixed::one()};
+  m.twist.arm_a = m.twist.arm_b = up;
+  m.twist_radius = 0.1_fx;
+  PointRow row;
+  row.a = 0;
+  row.b = 1;
+  row.normal.direction = up;
+  row.point = &manifold.points[0];
+  const std::vector<ManifoldRow> manifolds{m};
+  const std::vector<PointRow> rows{row};
+  std::vector<SolverBody> solver(2);
+  const Fixed quiet = 0.001_fx;
+  const auto moving = [&] { return moving_at_contacts(solver, manifolds, rows, 0, 1, quiet); };
+
+  CHECK_FALSE(moving());
+  solver[1].velocity.linear = {0.0006_fx, -0.0005_fx, Fixed{}};
+  CHECK_FALSE(moving());  // slower than 1 mm/s either way
+  solver[1].velocity.linear = {0.0015_fx, Fixed{}, Fixed{}};
+  CHECK(moving());  // carried along by a support that has stopped: slides
+  solver[0].velocity.linear = solver[1].velocity.linear;
+  CHECK_FALSE(moving());  // the support moves with it
+  solver[1].velocity.linear = {0.0015_fx, -0.002_fx, Fixed{}};
+  CHECK(moving());  // approaching at 2 mm/s
+  solver[1].velocity.linear = solver[0].velocity.linear;
+  solver[1].velocity.angular = {Fixed{}, 0.02_fx, Fixed{}};
+  CHECK(moving());  // twisting: 0.02 rad/s at 0.1 m is 2 mm/s
+  manifold.points[0].depth = -0.001_fx;
+  CHECK_FALSE(moving());  // apart: not a contact that holds anything
+}
+
 }  // namespace bitstep
