@@ -97,17 +97,21 @@ void solve_rank(const Settings& settings, const std::vector<Body>& bodies, const
   const std::vector<ManifoldRow>& shock_manifolds = scratch.shock_manifolds;
   const std::vector<ShockEntry>& order = scratch.order;
   const uint32_t rank = order[begin].level;
-  // The iterations' velocities of the rank's bodies (with duplicates).
+  // The iterations' velocities of the rank's bodies (with duplicates), and
+  // whether the rank has a sideways contact (a body pressed against one
+  // ranked below it, not held up by it).
   std::vector<RankBody>& before_shock = scratch.rank_bodies;
   before_shock.clear();
+  bool sideways = false;
   for (size_t i = begin; i < end; ++i) {
     const ManifoldRow& m = shock_manifolds[i];
     for (uint32_t body : {m.a, m.b}) {
       if (level[body] == rank) before_shock.push_back({body, solver_bodies[body].velocity});
     }
+    sideways = sideways || (level[m.a] != level[m.b] && !order[i].holds_up);
   }
   const bool held_already =
-      !moving_at_contacts(solver_bodies, shock_manifolds, scratch.shock_rows, begin, end, quiet_motion);
+      !sideways && !moving_at_contacts(solver_bodies, shock_manifolds, scratch.shock_rows, begin, end, quiet_motion);
   bool converged = false;
   for (int pass = 0; pass < settings.shock_iterations && !converged; ++pass) {
     converged = !rank_pass(bodies, level, scratch, begin, end, pass);

@@ -70,10 +70,10 @@ bool moving_at_contacts(const std::vector<SolverBody>& solver_bodies, const std:
 // rank loses ~1% of its rotation per pass; a row whose point is a hair
 // apart hands back the iterations' impulse and the next glue undoes it),
 // and settled heaps crept by ~1 mm/s on what the last pass left. A rank
-// the iterations already hold (held_already: at every touching contact,
-// against the ranks below as the shock step left them, no point approaching
-// and no sliding or twisting faster than 1 mm/s) gets the iterations'
-// velocities back (before_shock); any other keeps, body by body, whichever
+// the iterations already hold (held_already: no sideways contact, and at
+// every touching contact, against the ranks below as the shock step left
+// them, no point approaching and no sliding or twisting faster than 1 mm/s)
+// gets the iterations' velocities back (before_shock); any other keeps, body by body, whichever
 // of its two velocities has the lower kinetic energy: the shock step may
 // stop motion it did not finish solving, never add to it.
 void settle_unconverged_rank(const std::vector<Body>& bodies, const std::vector<RankBody>& before_shock,
