@@ -2,7 +2,7 @@
 
 namespace bitstep {
 
-// A copy of j with body a (or b) immovable: its turn is dropped and the
+// A copy of j with body a (or b) immovable: its linear part and turn are dropped and the
 // effective mass is the other body's alone.
 namespace {
 
@@ -10,10 +10,10 @@ Jacobian frozen(Jacobian j, const SolverBody& a, const SolverBody& b, bool freez
   const bool linear = j.direction != Vec3{};
   Fixed k;
   if (freeze_a) {
-    j.turn_a = Vec3{};
+    j.linear_a = j.turn_a = Vec3{};
     k = (linear ? b.inverse_mass : Fixed{}) + dot(j.arm_b, j.turn_b);
   } else {
-    j.turn_b = Vec3{};
+    j.linear_b = j.turn_b = Vec3{};
     k = (linear ? a.inverse_mass : Fixed{}) + dot(j.arm_a, j.turn_a);
   }
   j.mass = k > Fixed{} ? Fixed::one() / k : Fixed{};

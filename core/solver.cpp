@@ -19,7 +19,7 @@ void tangent_basis(Vec3 n, Vec3& t1, Vec3& t2) {
 }
 
 Jacobian make_jacobian(const SolverBody& a, const SolverBody& b, Vec3 ra, Vec3 rb, Vec3 d) {
-  Jacobian j{d, cross(ra, d), cross(rb, d), {}, {}, {}};
+  Jacobian j{d, cross(ra, d), cross(rb, d), d * a.inverse_mass, d * b.inverse_mass, {}, {}, {}};
   j.turn_a = a.inverse_inertia * j.arm_a;
   j.turn_b = b.inverse_inertia * j.arm_b;
   // J M^-1 J^T = 1/m_a + 1/m_b + (r_a x d) . I_a^-1 (r_a x d) + (r_b x d) . I_b^-1 (r_b x d)
@@ -30,7 +30,7 @@ Jacobian make_jacobian(const SolverBody& a, const SolverBody& b, Vec3 ra, Vec3 r
 
 // The angular row (w_b - w_a) . n: no linear part, arms n.
 Jacobian make_twist(const SolverBody& a, const SolverBody& b, Vec3 n) {
-  Jacobian j{Vec3{}, n, n, a.inverse_inertia * n, b.inverse_inertia * n, {}};
+  Jacobian j{Vec3{}, n, n, Vec3{}, Vec3{}, a.inverse_inertia * n, b.inverse_inertia * n, {}};
   const Fixed k = dot(n, j.turn_a) + dot(n, j.turn_b);
   j.mass = k > Fixed{} ? Fixed::one() / k : Fixed{};
   return j;

@@ -19,9 +19,9 @@ Fixed total_normal_impulse(const std::vector<PointRow>& rows, const ManifoldRow&
 void solve_disc(SolverBody& a, SolverBody& b, const Jacobian (&rows)[2], Fixed (&impulse)[2], Fixed hold, Fixed slide,
                 Fixed normal) {
   const Fixed old0 = impulse[0], old1 = impulse[1];
-  Fixed new0 = old0 - rows[0].mass * relative_velocity(a, b, rows[0]);
-  Fixed new1 = old1 - rows[1].mass * relative_velocity(a, b, rows[1]);
-  const Fixed limit = hold * normal;
+  Fixed new0 = old0 - mul_in_range(rows[0].mass, relative_velocity(a, b, rows[0]));
+  Fixed new1 = old1 - mul_in_range(rows[1].mass, relative_velocity(a, b, rows[1]));
+  const Fixed limit = mul_in_range(hold, normal);
   const Fixed magnitude = abs(new0) + abs(new1) <= limit ? Fixed{} : length(Vec3{new0, new1, Fixed{}});
   if (magnitude > limit) {
     const Fixed onto = slide * normal;
@@ -49,7 +49,7 @@ void solve_friction(std::vector<SolverBody>& bodies, const std::vector<PointRow>
   solve_disc(a, b, m.tangent, manifold.friction_impulse, m.static_friction, m.dynamic_friction, normal);
 
   const Fixed old_twist = manifold.twist_impulse;
-  Fixed twist = old_twist - m.twist.mass * relative_spin(a, b, m.twist);
+  Fixed twist = old_twist - mul_in_range(m.twist.mass, relative_spin(a, b, m.twist));
   const Fixed twist_limit = m.static_friction * normal * m.twist_radius;
   if (abs(twist) > twist_limit) {
     const Fixed slide = m.dynamic_friction * normal * m.twist_radius;
@@ -74,7 +74,7 @@ void solve_manifold_normal(std::vector<SolverBody>& bodies, std::vector<PointRow
   SolverBody& a = bodies[m.a];
   SolverBody& b = bodies[m.b];
   const Fixed vn = relative_velocity(a, b, m.normal);
-  Fixed share = m.share_mass * (m.velocity_target - vn);
+  Fixed share = mul_in_range(m.share_mass, m.velocity_target - vn);
   // Each point's accumulated impulse stays >= 0.
   for (size_t i = m.first; i < m.first + m.count; ++i) share = max(share, -rows[i].point->normal_impulse);
   for (size_t i = m.first; i < m.first + m.count; ++i) rows[i].point->normal_impulse += share;
@@ -88,19 +88,19 @@ void solve_rocking(std::vector<SolverBody>& bodies, std::vector<PointRow>& rows,
   SolverBody& b = bodies[m.b];
   for (const ManifoldRow::Rocking& r : m.rocking) {
     if (!r.active) continue;
-    Fixed lambda = -r.row.mass * relative_spin(a, b, r.row);
+    Fixed lambda = -mul_in_range(r.row.mass, relative_spin(a, b, r.row));
     // jn_i + lambda alpha_i >= 0 for every point; the bound -jn_i / alpha_i
     // is divided out only for a point that would pull.
     for (size_t i = 0; i < m.count; ++i) {
       const Fixed alpha = r.alpha[i];
       const Fixed jn = rows[m.first + i].point->normal_impulse;
-      if (jn + lambda * alpha >= Fixed{}) continue;
+      if (jn + mul_in_range(lambda, alpha) >= Fixed{}) continue;
       if (alpha > Fixed{}) lambda = max(lambda, -jn / alpha);
       if (alpha < Fixed{}) lambda = min(lambda, jn / -alpha);
     }
     for (size_t i = 0; i < m.count; ++i) {
       ContactPoint& p = *rows[m.first + i].point;
-      p.normal_impulse = max(p.normal_impulse + lambda * r.alpha[i], Fixed{});
+      p.normal_impulse = max(p.normal_impulse + mul_in_range(lambda, r.alpha[i]), Fixed{});
     }
     apply_spin(a, b, r.row, lambda);
   }

@@ -27,15 +27,18 @@ struct SolverBody {
   Mat33 inverse_inertia;  // world frame
 };
 
-// One row of a contact constraint along a unit direction d, precomputed
-// once per step: the relative velocity along d is
+// One row of a constraint along a unit direction d (a constraint part, after
+// Jolt's AxisConstraintPart), precomputed once per step: the relative
+// velocity along d is
 //   J v = d . (v_b - v_a) + (r_b x d) . w_b - (r_a x d) . w_a
 // and an impulse lambda changes v_a by -lambda d / m_a, w_a by
-// -lambda I_a^-1 (r_a x d), and b the opposite way. Keeping r x d and
-// I^-1 (r x d) turns every solver update into scalar-times-vector work.
+// -lambda I_a^-1 (r_a x d), and b the opposite way. Keeping d / m, r x d and
+// I^-1 (r x d) turns every solver update into scalar-times-vector work. An
+// angular row (twist, rocking, rolling) has d = 0 and no linear part.
 struct Jacobian {
   Vec3 direction;
   Vec3 arm_a, arm_b;          // r_a x d, r_b x d
+  Vec3 linear_a, linear_b;    // d / m_a, d / m_b (zero for an immovable body)
   Vec3 turn_a, turn_b;        // I_a^-1 (r_a x d), I_b^-1 (r_b x d)
   Fixed mass;                 // 1 / (J M^-1 J^T), kg
 };
@@ -89,55 +92,72 @@ struct ManifoldRow {
   Fixed rolling_limit;
 };
 
-// J (a, b) for either rate of the two bodies.
+// Inside the solver no product or sum can leave the Q32.32 range, so they
+// skip the saturation test (mul_in_range, sum_products_in_range; the checked
+// build still faults): the envelope bounds speeds by 500 m/s and 100 rad/s,
+// sizes by 50 m (arms below 100 m), 1 / m by 100 kg^-1 and I^-1 by ~10^6
+// (kg m^2)^-1, so J v stays below ~10^5 and an impulse's velocity change
+// below the envelope's speeds; the range is 2^31 (~2.1e9).
+
+// J (a, b) for either rate of the two bodies: nine exact products, rounded
+// once.
 inline Fixed relative_rate(const BodyRates& a, const BodyRates& b, const Jacobian& j) {
-  return dot(b.linear - a.linear, j.direction) + dot(b.angular, j.arm_b) - dot(a.angular, j.arm_a);
+  const Vec3 dv = b.linear - a.linear;
+  const Fixed rates[9] = {dv.x, dv.y, dv.z, b.angular.x, b.angular.y, b.angular.z,
+                          -a.angular.x, -a.angular.y, -a.angular.z};
+  const Fixed rows[9] = {j.direction.x, j.direction.y, j.direction.z, j.arm_b.x, j.arm_b.y, j.arm_b.z,
+                         j.arm_a.x, j.arm_a.y, j.arm_a.z};
+  return sum_products_in_range(rates, rows);
 }
 
-// Applies lambda along J to one rate of the two bodies (inverse masses
-// inverse_mass_a, inverse_mass_b).
-inline void apply_rate(BodyRates& a, BodyRates& b, Fixed inverse_mass_a, Fixed inverse_mass_b, const Jacobian& j,
-                       Fixed lambda) {
-  a.linear -= j.direction * (lambda * inverse_mass_a);
-  a.angular -= j.turn_a * lambda;
-  b.linear += j.direction * (lambda * inverse_mass_b);
-  b.angular += j.turn_b * lambda;
+// v lambda, each component rounded once.
+inline Vec3 scaled(Vec3 v, Fixed lambda) {
+  return {mul_in_range(v.x, lambda), mul_in_range(v.y, lambda), mul_in_range(v.z, lambda)};
+}
+
+// Applies lambda along J to one rate of the two bodies.
+inline void apply_rate(BodyRates& a, BodyRates& b, const Jacobian& j, Fixed lambda) {
+  a.linear -= scaled(j.linear_a, lambda);
+  a.angular -= scaled(j.turn_a, lambda);
+  b.linear += scaled(j.linear_b, lambda);
+  b.angular += scaled(j.turn_b, lambda);
 }
 
 // The same for an angular-only row (direction zero: twist and rocking),
 // skipping the linear terms.
 inline Fixed relative_spin(const SolverBody& a, const SolverBody& b, const Jacobian& j) {
-  return dot(b.velocity.angular, j.arm_b) - dot(a.velocity.angular, j.arm_a);
+  const Vec3 wa = a.velocity.angular, wb = b.velocity.angular;
+  const Fixed rates[6] = {wb.x, wb.y, wb.z, -wa.x, -wa.y, -wa.z};
+  const Fixed rows[6] = {j.arm_b.x, j.arm_b.y, j.arm_b.z, j.arm_a.x, j.arm_a.y, j.arm_a.z};
+  return sum_products_in_range(rates, rows);
 }
 inline void apply_spin(SolverBody& a, SolverBody& b, const Jacobian& j, Fixed lambda) {
-  a.velocity.angular -= j.turn_a * lambda;
-  b.velocity.angular += j.turn_b * lambda;
+  a.velocity.angular -= scaled(j.turn_a, lambda);
+  b.velocity.angular += scaled(j.turn_b, lambda);
 }
 
 inline Fixed relative_velocity(const SolverBody& a, const SolverBody& b, const Jacobian& j) {
   return relative_rate(a.velocity, b.velocity, j);
 }
 inline void apply_impulse(SolverBody& a, SolverBody& b, const Jacobian& j, Fixed lambda) {
-  apply_rate(a.velocity, b.velocity, a.inverse_mass, b.inverse_mass, j, lambda);
+  apply_rate(a.velocity, b.velocity, j, lambda);
 }
 
 // One point row on either rate: the accumulated impulse (normal or split)
 // moves toward the target rate and stays >= 0 unless the row is an equality.
-inline void solve_point(BodyRates& a, BodyRates& b, Fixed inverse_mass_a, Fixed inverse_mass_b, const Jacobian& j,
-                        Fixed& accumulated, Fixed target, bool equality = false) {
-  Fixed total = accumulated + j.mass * (target - relative_rate(a, b, j));
+inline void solve_point(BodyRates& a, BodyRates& b, const Jacobian& j, Fixed& accumulated, Fixed target,
+                        bool equality = false) {
+  Fixed total = accumulated + mul_in_range(j.mass, target - relative_rate(a, b, j));
   if (!equality) total = max(total, Fixed{});
   const Fixed delta = total - accumulated;
   accumulated = total;
-  apply_rate(a, b, inverse_mass_a, inverse_mass_b, j, delta);
+  apply_rate(a, b, j, delta);
 }
 inline void solve_normal(SolverBody& a, SolverBody& b, const PointRow& row) {
-  solve_point(a.velocity, b.velocity, a.inverse_mass, b.inverse_mass, row.normal, row.point->normal_impulse,
-              row.velocity_target);
+  solve_point(a.velocity, b.velocity, row.normal, row.point->normal_impulse, row.velocity_target);
 }
 inline void solve_push(SolverBody& a, SolverBody& b, const PointRow& row) {
-  solve_point(a.push, b.push, a.inverse_mass, b.inverse_mass, row.normal, row.point->split_impulse, row.push_target,
-              row.impact);
+  solve_point(a.push, b.push, row.normal, row.point->split_impulse, row.push_target, row.impact);
 }
 
 // A manifold in the shock step's order: by the support level of its higher

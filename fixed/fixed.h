@@ -97,6 +97,20 @@ constexpr Fixed round(Fixed a) {
 constexpr Fixed mul_add(Fixed a, Fixed b, Fixed c) { return Fixed::from_raw(raw::mul_add<Wide>(a.raw(), b.raw(), c.raw())); }
 constexpr Fixed mul_div(Fixed a, Fixed b, Fixed c) { return Fixed::from_raw(raw::mul_div<Wide>(a.raw(), b.raw(), c.raw())); }
 
+// The solver's forms: a * b and sum_i a_i b_i rounded once, without the
+// saturation test, for operands the world envelope keeps far inside the
+// range (raw::sum_products_in_range; the checked build still faults).
+constexpr Fixed mul_in_range(Fixed a, Fixed b) { return Fixed::from_raw(raw::mul_in_range<Wide>(a.raw(), b.raw())); }
+template <size_t N>
+constexpr Fixed sum_products_in_range(const Fixed (&a)[N], const Fixed (&b)[N]) {
+  int64_t ra[N] = {}, rb[N] = {};
+  for (size_t i = 0; i < N; ++i) {
+    ra[i] = a[i].raw();
+    rb[i] = b[i].raw();
+  }
+  return Fixed::from_raw(raw::sum_products_in_range<Wide, N>(ra, rb));
+}
+
 // Square root, correctly rounded. sqrt of a negative value is 0.
 Fixed sqrt(Fixed a);
 // 1 / sqrt(a) within 1 ulp; a <= 0 saturates to max().

@@ -7,6 +7,7 @@
 // sign + unsigned magnitude, or as two's complement in unsigned words.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <type_traits>
 
@@ -265,6 +266,46 @@ constexpr int64_t mul_sub_mul(int64_t a, int64_t b, int64_t c, int64_t d) {
   const int64_t r = sum.to_raw(saturated);
   BITSTEP_FAULT_IF(saturated, "cross", "result out of range, saturated", a, b);
   return r;
+}
+
+// The solver's forms (core/solver_rows.h): sum_i a_i b_i rounded once like
+// dot3 (and a b like mul), without the saturation test, for operands that
+// the world envelope keeps far inside the range. In range the result is
+// bit-identical to dot3 / mul. Out of range it is the low 64 bits of the
+// rounded sum (every backend the same bits), and the checked build faults.
+template <class U, size_t N>
+constexpr int64_t sum_products_in_range(const int64_t (&a)[N], const int64_t (&b)[N]) {
+  uint64_t result = 0;
+#if defined(BITSTEP_HAS_NATIVE_128)
+  if constexpr (use_native_fast_path<U>) {
+    // Two's complement mod 2^128: each product fits (|a b| <= 2^126), the
+    // sum wraps without undefined behaviour in unsigned arithmetic.
+    native_u128 sum = 0;
+    for (size_t i = 0; i < N; ++i) sum += static_cast<native_u128>(native_i128{a[i]} * b[i]);
+    const uint64_t bias = ((uint64_t{1} << 31) - 1) + ((static_cast<uint64_t>(sum) >> 32) & 1u);
+    result = static_cast<uint64_t>((sum + bias) >> fraction_bits);
+  } else
+#endif
+  {
+    U sum{};
+    for (size_t i = 0; i < N; ++i) sum = sum + signed_product<U>(a[i], b[i]);
+    const uint64_t bias = ((uint64_t{1} << 31) - 1) + ((sum.lo() >> 32) & 1u);
+    result = ((sum + U{bias}) >> fraction_bits).lo();
+  }
+  if constexpr (checked_build) {
+    Accumulator<U> exact;
+    for (size_t i = 0; i < N; ++i) exact.add_product(a[i], b[i]);
+    bool saturated = false;
+    exact.to_raw(saturated);
+    BITSTEP_FAULT_IF(saturated, "sum_products_in_range", "result out of range", a[0], b[0]);
+  }
+  return static_cast<int64_t>(result);
+}
+
+template <class U>
+constexpr int64_t mul_in_range(int64_t a, int64_t b) {
+  const int64_t as[1] = {a}, bs[1] = {b};
+  return sum_products_in_range<U, 1>(as, bs);
 }
 
 // a + b and a - b wrap modulo 2^64 (two's complement), computed in uint64_t.

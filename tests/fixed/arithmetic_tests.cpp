@@ -476,3 +476,24 @@ TEST_CASE("floor, ceil and round: round takes ties to even (0.5 -> 0, 1.5 -> 2, 
     }
   }
 }
+
+// The solver's forms give the bits of * and of a fused sum wherever those
+// do not saturate: operands up to 2^20 in value (raw < 2^52), as the world
+// envelope bounds velocities, arms and impulses far below that.
+TEST_CASE("mul_in_range and sum_products_in_range equal * and the fused sum in range", "[arithmetic]") {
+  SplitMix64 rng{0x51A};
+  for (uint64_t i = 0; i < random_count; ++i) {
+    const int64_t a0 = random_raw(rng, 52), b0 = random_raw(rng, 40), a1 = random_raw(rng, 48);
+    const int64_t b1 = random_raw(rng, 44), a2 = random_raw(rng, 36), b2 = random_raw(rng, 50);
+    REQUIRE_QUIETLY(mul_in_range(raw(a0), raw(b0)) == raw(a0) * raw(b0), show(raw(a0)) + " * " + show(raw(b0)));
+    const Fixed as[3] = {raw(a0), raw(a1), raw(a2)}, bs[3] = {raw(b0), raw(b1), raw(b2)};
+    const Fixed sum = sum_products_in_range(as, bs);
+    U exact = product(a0, b0) + product(a1, b1) + product(a2, b2);
+    REQUIRE_QUIETLY(rounds_correctly(sum.raw(), exact, uint64_t{1} << 32), show(sum));
+  }
+  // A tie rounds to even: 0.5 ulp + 1 ulp = 1.5 ulp -> 2 ulp; 0.5 ulp -> 0.
+  const Fixed half_ulp[2] = {raw(1), raw(3)}, halves[2] = {raw(half_raw), raw(half_raw)};
+  CHECK(sum_products_in_range(half_ulp, halves).raw() == 2);
+  const Fixed one_term[1] = {raw(1)}, one_half[1] = {raw(half_raw)};
+  CHECK(sum_products_in_range(one_term, one_half).raw() == 0);
+}

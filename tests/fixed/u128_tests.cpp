@@ -530,6 +530,12 @@ __attribute__((noinline)) Bits r_dot3(int64_t a0, int64_t b0, int64_t a1, int64_
   return bits_of(raw::dot3<U>(a0, b0, a1, b1, a2, b2));
 }
 template <class U>
+__attribute__((noinline)) Bits r_sum3_in_range(int64_t a0, int64_t b0, int64_t a1, int64_t b1, int64_t a2,
+                                               int64_t b2) {
+  const int64_t a[3] = {a0, a1, a2}, b[3] = {b0, b1, b2};
+  return bits_of(raw::sum_products_in_range<U, 3>(a, b));
+}
+template <class U>
 __attribute__((noinline)) Bits r_mul_sub_mul(int64_t a, int64_t b, int64_t c, int64_t d) {
   return bits_of(raw::mul_sub_mul<U>(a, b, c, d));
 }
@@ -720,6 +726,16 @@ TEST_CASE("raw mul, div, mul_div, mul_add, dot3, mul_sub_mul give the same bits 
               return accumulator_saturates(sum);
             })),
       totals);
+  // Out of range too: the low 64 bits of the rounded sum, the same on both.
+  require_algorithm(sweep("raw::sum_products_in_range", algorithm_count, 0x16, &r_sum3_in_range<N>,
+                          &r_sum3_in_range<P>, edges6, gen6, checked_skip<T6>([](const T6& t) {
+                            raw::Accumulator<Wide> sum;
+                            sum.add_product(std::get<0>(t), std::get<1>(t));
+                            sum.add_product(std::get<2>(t), std::get<3>(t));
+                            sum.add_product(std::get<4>(t), std::get<5>(t));
+                            return accumulator_saturates(sum);
+                          })),
+                    totals);
   std::vector<T4> edges4;
   for (int64_t a : signed_edges)
     for (int64_t b : signed_edges) edges4.emplace_back(a, b, b, wrap_add(a, -1));
