@@ -120,12 +120,28 @@ void gather_bodies(const std::vector<Body>& bodies, std::vector<SolverBody>& out
   }
 }
 
+// What a manifold's pose-dependent rows are computed from (row_cache.h),
+// its points already in row order.
+RowInputs row_inputs(const Contact& contact, const Body& body_a, const Body& body_b, const SolverBody& a,
+                     const SolverBody& b, int held) {
+  const Manifold& m = contact.manifold;
+  RowInputs in{contact.key, body_a.pose.position, body_b.pose.position, a.inverse_mass, b.inverse_mass,
+               a.inverse_inertia, b.inverse_inertia, m.normal, m.point_count, held, {}};
+  for (int i = 0; i < m.point_count; ++i) in.points[static_cast<size_t>(i)] = m.points[static_cast<size_t>(i)].position;
+  return in;
+}
+
+// `cache` (null: build every row) reuses last step's rows (`last_rows`,
+// `last_manifolds`) for a manifold whose RowInputs did not change by a bit.
 void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
                   const std::vector<SolverBody>& solver_bodies, const std::vector<BodyRates>& start_velocities,
                   std::vector<Contact>& contacts, SolvePass pass, std::vector<PointRow>& rows,
-                  std::vector<ManifoldRow>& manifold_rows) {
+                  std::vector<ManifoldRow>& manifold_rows, RowCache* cache, const std::vector<PointRow>& last_rows,
+                  const std::vector<ManifoldRow>& last_manifolds) {
   rows.clear();
   manifold_rows.clear();
+  if (cache) cache->next.clear();
+  size_t cursor = 0;
   const Fixed inverse_dt = Fixed::one() / settings.dt;
   for (Contact& contact : contacts) {
     const uint32_t ia = contact.key.body_a, ib = contact.key.body_b;
@@ -151,12 +167,22 @@ void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
     if (pass == SolvePass::collision && !impacts(settings, body_a, body_b, a, b, m)) continue;
     const size_t first = rows.size();
     const int held = hold_touching_first(m);
+    const RowCache::Entry* reuse = nullptr;
+    if (cache) {
+      const RowInputs inputs = row_inputs(contact, body_a, body_b, a, b, held);
+      reuse = cache->find(inputs, cursor);
+      cache->next.push_back({inputs, first, manifold_rows.size()});
+      ++(reuse ? cache->reused : cache->built);
+    }
     Vec3 centroid;
     Fixed target;
     for (int i = 0; i < m.point_count; ++i) {
       ContactPoint& p = m.points[static_cast<size_t>(i)];
       const Vec3 ra = p.position - body_a.pose.position, rb = p.position - body_b.pose.position;
-      PointRow row{ia, ib, make_jacobian(a, b, ra, rb, m.normal), {}, {}, &p};
+      PointRow row{ia, ib,
+                   reuse ? last_rows[reuse->first_row + static_cast<size_t>(i)].normal
+                         : make_jacobian(a, b, ra, rb, m.normal),
+                   {}, {}, &p};
       const Fixed approach = relative_velocity(a, b, row.normal);
       // A gap (depth < 0) may close by depth / dt this step: speculative contact.
       row.velocity_target = p.depth < Fixed{} ? p.depth * inverse_dt : Fixed{};
@@ -237,26 +263,44 @@ void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
       rows.push_back(row);
     }
     const Fixed count = Fixed::from_int(held);
-    centroid = centroid / count;
-    Fixed radius;
-    for (int i = 0; i < held; ++i) radius += length(m.points[static_cast<size_t>(i)].position - centroid);
-    const Vec3 ra = centroid - body_a.pose.position, rb = centroid - body_b.pose.position;
-    manifold_rows.push_back({ia, ib, first, static_cast<size_t>(held), make_jacobian(a, b, ra, rb, m.normal),
-                             {make_jacobian(a, b, ra, rb, t1), make_jacobian(a, b, ra, rb, t2)},
-                             make_twist(a, b, m.normal), ra, rb, target / count, radius / count, mu_s, mu_d, &m,
-                             {make_rocking(a, b, m, held, centroid, t1), make_rocking(a, b, m, held, centroid, t2)},
-                             {}, false, {}, Fixed{}});
+    if (reuse) {
+      // The same Jacobians, offsets, twist radius and rocking rows as last
+      // step's (rolling rows too where last step built them).
+      manifold_rows.push_back(last_manifolds[reuse->manifold_row]);
+      ManifoldRow& face = manifold_rows.back();
+      face.first = first;
+      face.velocity_target = target / count;
+      face.static_friction = mu_s;
+      face.dynamic_friction = mu_d;
+      face.manifold = &m;
+      face.one_sided = false;
+    } else {
+      centroid = centroid / count;
+      Fixed radius;
+      for (int i = 0; i < held; ++i) radius += length(m.points[static_cast<size_t>(i)].position - centroid);
+      const Vec3 ra = centroid - body_a.pose.position, rb = centroid - body_b.pose.position;
+      manifold_rows.push_back({ia, ib, first, static_cast<size_t>(held), make_jacobian(a, b, ra, rb, m.normal),
+                               {make_jacobian(a, b, ra, rb, t1), make_jacobian(a, b, ra, rb, t2)},
+                               make_twist(a, b, m.normal), ra, rb, target / count, radius / count, mu_s, mu_d, &m,
+                               {make_rocking(a, b, m, held, centroid, t1), make_rocking(a, b, m, held, centroid, t2)},
+                               {}, false, {}, Fixed{}});
+      ManifoldRow& face = manifold_rows.back();
+      face.share_mass = face.normal.mass / count;
+    }
     // A resting face (3 or more touching points asking for no relative
     // speed) has three normal degrees of freedom, its centroid row and two
     // rocking rows, which keep every point pushing: its point rows would only
     // redistribute impulse between the points, so the iterations skip them.
     ManifoldRow& face = manifold_rows.back();
-    face.share_mass = face.normal.mass / count;
     if (rolling_limit > Fixed{}) {
-      face.rolling[0] = make_twist(a, b, t1);
-      face.rolling[1] = make_twist(a, b, t2);
+      if (!reuse || face.rolling_limit == Fixed{}) {
+        face.rolling[0] = make_twist(a, b, t1);
+        face.rolling[1] = make_twist(a, b, t2);
+      }
       face.rolling_limit = rolling_limit;
     } else {
+      face.rolling[0] = face.rolling[1] = Jacobian{};
+      face.rolling_limit = Fixed{};
       m.rolling_impulse[0] = m.rolling_impulse[1] = Fixed{};
     }
     const size_t held_end = first + static_cast<size_t>(held);
@@ -339,7 +383,21 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
   std::vector<ManifoldRow>& manifold_rows = scratch.manifolds;
   gather_bodies(bodies, solver_bodies);
   if (kind == SolvePass::collision) save_impulses(contacts, scratch.saved_impulses);
-  prepare_rows(settings, bodies, solver_bodies, scratch.start_velocities, contacts, kind, rows, manifold_rows);
+  // The last cached solve's rows move aside before this one builds its own;
+  // the collision pass builds every row (its manifolds are those that hit).
+  if (scratch.rows_from_cached_solve) {
+    std::swap(rows, scratch.last_rows);
+    std::swap(manifold_rows, scratch.last_manifolds);
+    scratch.rows_from_cached_solve = false;
+  }
+  RowCache& cache = scratch.row_cache;
+  const bool cached = cache.enabled && kind != SolvePass::collision;
+  prepare_rows(settings, bodies, solver_bodies, scratch.start_velocities, contacts, kind, rows, manifold_rows,
+               cached ? &cache : nullptr, scratch.last_rows, scratch.last_manifolds);
+  if (cached) {
+    std::swap(cache.entries, cache.next);
+    scratch.rows_from_cached_solve = true;
+  }
   if (settings.warm_starting && kind != SolvePass::collision) {
     warm_start(solver_bodies, rows, manifold_rows);
   } else {

@@ -7,6 +7,7 @@
 
 #include "core/body.h"
 #include "core/manifold.h"
+#include "core/row_cache.h"
 #include "core/shock_levels.h"
 
 namespace bitstep {
@@ -206,6 +207,12 @@ struct SolverScratch {
   std::vector<uint32_t> frozen_bodies;
   std::vector<Fixed> saved_inverse_mass;
   std::vector<Fixed> saved_impulses;  // the contact pass's, kept aside during the collision pass
+  // Exact reuse of the pose-dependent row parts (row_cache.h): the last
+  // cached solve's rows, moved aside before the next solve builds its own.
+  RowCache row_cache;
+  std::vector<PointRow> last_rows;
+  std::vector<ManifoldRow> last_manifolds;
+  bool rows_from_cached_solve = false;  // rows / manifolds hold the last cached solve's
 };
 
 // Friction (tangents and twist) at the centroid of a manifold, within the

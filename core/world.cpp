@@ -132,6 +132,8 @@ void World::forget_narrowphase(uint32_t slot) {
 void World::set_contact_reuse(bool on) {
   narrowphase_cache_.enabled = on;
   narrowphase_cache_.entries.clear();
+  solver_scratch_.row_cache.enabled = on;
+  solver_scratch_.row_cache.entries.clear();
 }
 
 bool World::remove_body(BodyId id) {

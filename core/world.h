@@ -69,12 +69,17 @@ class World {
   StepStats stats() const;
 
   // Exact reuse of last step's narrowphase results where both bodies' poses
-  // did not move by a bit (contact_update.h). On by default; the results are
-  // the same bits either way (tests compare the two). Not state.
+  // did not move by a bit (contact_update.h), and of a manifold's
+  // pose-dependent solver rows where everything they are computed from is
+  // bit-identical (row_cache.h). On by default; the results are the same
+  // bits either way (tests compare the two). Not state.
   void set_contact_reuse(bool on);
   // Shape pairs whose collision test was reused / run, over the world's life.
   uint64_t reused_shape_pairs() const { return narrowphase_cache_.reused; }
   uint64_t tested_shape_pairs() const { return narrowphase_cache_.tested; }
+  // Manifolds whose solver rows were reused / built, over the world's life.
+  uint64_t reused_manifold_rows() const { return solver_scratch_.row_cache.reused; }
+  uint64_t built_manifold_rows() const { return solver_scratch_.row_cache.built; }
 
  private:
   void step_standard();

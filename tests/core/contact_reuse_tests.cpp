@@ -1,8 +1,10 @@
 // The narrowphase's exact reuse (core/contact_update.h): a shape pair whose
 // two poses and margin did not change by a bit gets last step's collision
-// result. A world stepped with it and one stepped without it must hold the
-// same bits after every step, including when a slot is reused by a body with
-// other shapes at the very pose of the one removed from it.
+// result; and the solver's (core/row_cache.h): a manifold whose rows'
+// inputs did not change by a bit gets last step's Jacobians. A world stepped
+// with both and one stepped without must hold the same bits after every
+// step, including when a slot is reused by a body with other shapes at the
+// very pose of the one removed from it.
 #include <catch2/catch.hpp>
 
 #include <functional>
@@ -61,6 +63,7 @@ void build_stack(TestWorld& t) {
 struct Comparison {
   int first_difference = 0;
   uint64_t reused = 0;
+  uint64_t reused_rows = 0;  // manifolds whose rows were reused
 };
 Comparison compare(const Settings& settings, int steps, const std::function<void(TestWorld&, int)>& between) {
   TestWorld with(settings), without(settings);
@@ -76,7 +79,9 @@ Comparison compare(const Settings& settings, int steps, const std::function<void
     if (result.first_difference == 0 && !same_state(with.world, without.world)) result.first_difference = step;
   }
   result.reused = with.world.reused_shape_pairs();
+  result.reused_rows = with.world.reused_manifold_rows();
   CHECK(without.world.reused_shape_pairs() == 0);
+  CHECK(without.world.reused_manifold_rows() == 0);
   return result;
 }
 
@@ -87,9 +92,11 @@ TEST_CASE("a standing stack reuses its collision tests and keeps the same bits",
     Settings settings;
     settings.pipeline = pipeline;
     const Comparison c = compare(settings, 120, [](TestWorld&, int) {});
-    INFO((pipeline == Pipeline::standard ? "standard" : "guendelman") << ": reused " << c.reused);
+    INFO((pipeline == Pipeline::standard ? "standard" : "guendelman") << ": reused " << c.reused << " pairs, "
+                                                                       << c.reused_rows << " manifolds' rows");
     CHECK(c.first_difference == 0);
-    CHECK(c.reused > 0);  // the cache was used, or this test would prove nothing
+    CHECK(c.reused > 0);  // the caches were used, or this test would prove nothing
+    CHECK(c.reused_rows > 0);
   }
 }
 

@@ -33,7 +33,8 @@ std::vector<std::string> golden_replays() {
 }
 
 // Runs a replay; the hash chain it produces. Without `contact_reuse` the
-// narrowphase tests every shape pair afresh every step.
+// narrowphase tests every shape pair afresh every step and the solver
+// builds every row.
 std::vector<uint64_t> replay_chain(const Replay& replay, uint64_t& scene_hash, bool contact_reuse = true) {
   World world(replay.scene.settings);
   std::string reason;
@@ -42,7 +43,7 @@ std::vector<uint64_t> replay_chain(const Replay& replay, uint64_t& scene_hash, b
   scene_hash = state_hash(world);
   std::vector<uint64_t> hashes;
   run_inputs(world, replay.inputs, replay.steps, hashes);
-  if (!contact_reuse) CHECK(world.reused_shape_pairs() == 0);
+  if (!contact_reuse) CHECK(world.reused_shape_pairs() + world.reused_manifold_rows() == 0);
   return hashes;
 }
 
@@ -102,14 +103,16 @@ bool left_to_optimised_builds(const std::string& path) {
 }  // namespace
 
 // The narrowphase reuses last step's result for a shape pair whose poses
-// and margin did not change by a bit (core/contact_update.h); the recorded
-// chains were made with it on. Off, every replay must give the same hash at
+// and margin did not change by a bit (core/contact_update.h), the solver a
+// manifold's rows whose inputs did not (core/row_cache.h); the recorded
+// chains were made with both on. Off, every replay must give the same hash at
 // every step. Unoptimised builds run seven replays that cover what the reuse
 // must get right (a standing pyramid hit by a spawned sphere, a thrown pile
 // settling and sleeping with spawns, removals and wakes, a body removed from
 // a stack, spheres and capsules, guendelman's predicted poses) and leave the
 // rest to the optimised builds, where all of them run.
-TEST_CASE("every golden replay gives the same chain with the narrowphase's reuse off", "[replay][golden]") {
+TEST_CASE("every golden replay gives the same chain with the narrowphase's and the rows' reuse off",
+          "[replay][golden]") {
   std::vector<std::string> paths = golden_replays();
 #if !defined(NDEBUG)
   std::erase_if(paths, [](const std::string& path) {

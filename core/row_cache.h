@@ -1,0 +1,55 @@
+// Exact reuse of last step's pose-dependent row parts. A manifold's
+// Jacobians (arms, d / m, I^-1 (r x d), effective masses), rocking, twist and
+// rolling rows, centroid offsets and twist radius are a pure function of
+// RowInputs: the two bodies' centres of mass, inverse masses and world
+// inverse inertias, the normal and the points in row order (with how many
+// touch). Where every one of those is bit-identical to last step's for the
+// same contact key, the rows are copied from last step's instead of built
+// again, so a step computes the same bits with or without the cache. Only
+// the velocity-dependent parts (targets, impacts, resting faces, friction
+// coefficients) are computed every step. A standing structure skips the
+// row setup's products and divisions. Not state: no invalidation is needed
+// (the inputs are compared in full), and a restored world starts empty.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/contact.h"
+#include "fixed/mat33.h"
+
+namespace bitstep {
+
+struct RowInputs {
+  ContactKey key;
+  Vec3 centre_a, centre_b;  // m: the bodies' centres of mass
+  Fixed inverse_mass_a, inverse_mass_b;
+  Mat33 inverse_inertia_a, inverse_inertia_b;  // world frame, as the solve uses them
+  Vec3 normal;
+  int point_count = 0, held = 0;                        // points; of them touching (rows first)
+  std::array<Vec3, max_manifold_points> points{};      // positions in row order, zero past the count
+  friend bool operator==(const RowInputs&, const RowInputs&) = default;
+};
+
+struct RowCache {
+  struct Entry {
+    RowInputs inputs;
+    size_t first_row;     // its point rows in last step's rows
+    size_t manifold_row;  // its manifold row in last step's manifold rows
+  };
+  std::vector<Entry> entries;  // the last cached solve's, sorted by key
+  std::vector<Entry> next;     // this solve's, while its rows are built
+  bool enabled = true;         // off: every row is built (the reuse tests compare both)
+  uint64_t reused = 0, built = 0;  // manifolds, over the world's life (figures, not state)
+
+  // Last step's entry with exactly these inputs, or null. Called in key
+  // order within a solve; `cursor` walks the entries once.
+  const Entry* find(const RowInputs& inputs, size_t& cursor) const {
+    while (cursor < entries.size() && entries[cursor].inputs.key < inputs.key) ++cursor;
+    if (cursor < entries.size() && entries[cursor].inputs == inputs) return &entries[cursor];
+    return nullptr;
+  }
+};
+
+}  // namespace bitstep
