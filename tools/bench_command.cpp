@@ -8,6 +8,9 @@
 //                second, with the Pareto front marked;
 //   scale        ms/step against body count, awake and asleep, with the
 //                exponent of a power-law fit;
+//   speed        CPU ms/step of bitstep's default and Bullet in standing,
+//                impact and settled phases of shipped scenes, and the ratio;
+//   costs        an 8-frame rollback's cost and wall128's peak memory;
 //   determinism  the final state hash of bitstep and Bullet from the peer
 //                programs built at -O0 and at -O3 -ffast-math.
 // Everything goes into a report directory: CSV per experiment, summary.md,
@@ -38,6 +41,7 @@
 #include "tools/bench_scale.h"
 #include "tools/bench_stats.h"
 #include "tools/bench_scene_specs.h"
+#include "tools/bench_speed.h"
 #include "tools/progress_bar.h"
 
 namespace bitstep {
@@ -53,7 +57,7 @@ struct Options {
   bool quick = false;
   std::string out = "bench-report";
   std::string scenes = "scenes";
-  std::set<std::string> sections{"results", "sweep", "scale", "costs", "determinism"};
+  std::set<std::string> sections{"results", "sweep", "scale", "speed", "costs", "determinism"};
   std::set<std::string> only;  // experiments; empty: all
   bool peer = true;
 };
@@ -131,6 +135,7 @@ class Bench {
     if (wants("results")) ok = run_results() && ok;
     if (wants("sweep")) ok = run_sweep() && ok;
     if (wants("scale")) ok = run_scale() && ok;
+    if (wants("speed")) ok = run_speed() && ok;
     if (wants("costs")) ok = run_costs() && ok;
     if (wants("determinism")) ok = run_determinism() && ok;
     const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
@@ -182,6 +187,7 @@ class Bench {
       runs += static_cast<int>(selected(true).size() * sweep_dts().size() * sweep_iterations().size()) * variants;
     }
     if (wants("scale")) runs += static_cast<int>(scale_sizes(options_.quick).size()) * 4;
+    if (wants("speed") && !peer_.empty()) runs += static_cast<int>(speed_cases().size()) * speed_rounds() * 2;
     if (wants("costs")) runs += static_cast<int>(rollback_scenes().size()) + (peer_.empty() ? 0 : 2);
     if (wants("determinism")) runs += 1;
     return runs;
@@ -387,6 +393,35 @@ class Bench {
                          "set key left top\nset grid\n" + lines);
   }
 
+  // --- speed ---------------------------------------------------------------------
+
+  int speed_rounds() const { return options_.quick ? 3 : 7; }
+
+  // Every case, bitstep's default then Bullet in each round, in the peer
+  // program (so both are the same build).
+  bool run_speed() {
+    if (peer_.empty()) return true;
+    for (const SpeedCase& c : speed_cases()) speed_.push_back({c, {}, {}});
+    for (int round = 0; round < speed_rounds(); ++round) {
+      for (SpeedRow& row : speed_) {
+        for (std::string_view variant : {default_variant, peer_variant}) {
+          progress_->advance(fmt::format("speed {} {} {}", row.c.scene, row.c.phase, variant));
+          std::string output;
+          const std::string command =
+              fmt::format("{} speed {} --variant {} --from {} --steps {}", quote(peer_),
+                          quote(options_.scenes + "/" + row.c.scene), variant, row.c.from_step, row.c.steps);
+          double ms = 0;
+          if (!capture(command, output) || std::sscanf(output.c_str(), "%lf", &ms) != 1) {
+            fmt::print(stderr, "bitstep bench: speed {} {}: {}\n", row.c.scene, variant, output);
+            return false;
+          }
+          (variant == peer_variant ? row.bullet_ms : row.bitstep_ms).push_back(ms);
+        }
+      }
+    }
+    return write("speed.csv", speed_csv(speed_));
+  }
+
   // --- costs ---------------------------------------------------------------------
 
   static std::vector<std::string> rollback_scenes() {
@@ -536,6 +571,7 @@ class Bench {
     if (!results_.empty()) md += results_section();
     if (!sweep_.empty()) md += sweep_section();
     if (!scale_.empty()) md += scale_section();
+    if (!speed_.empty()) md += speed_section(speed_, std::string(default_variant));
     if (!rollback_.empty()) md += costs_section();
     if (!hashes_.empty() || !determinism_note_.empty()) md += determinism_section();
     return write("summary.md", md);
@@ -710,6 +746,7 @@ class Bench {
   ProgressBar* progress_ = nullptr;
   std::vector<Row> results_, sweep_;
   std::vector<ScaleRow> scale_;
+  std::vector<SpeedRow> speed_;
   struct MemoryRow {
     std::string engine;
     long loaded_kib, peak_kib;
@@ -750,8 +787,9 @@ int run_bench_suite(int argc, char** argv) {
     } else if (arg == "--sections" && has_value) {
       options.sections = split(argv[++i]);
       for (const std::string& s : options.sections) {
-        if (s != "results" && s != "sweep" && s != "scale" && s != "costs" && s != "determinism") {
-          fmt::print(stderr, "bitstep bench: unknown section '{}' (results, sweep, scale, costs, determinism)\n", s);
+        if (s != "results" && s != "sweep" && s != "scale" && s != "speed" && s != "costs" && s != "determinism") {
+          fmt::print(stderr,
+                     "bitstep bench: unknown section '{}' (results, sweep, scale, speed, costs, determinism)\n", s);
           return 2;
         }
       }

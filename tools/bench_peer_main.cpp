@@ -7,6 +7,7 @@
 //   PROGRAM run EXPERIMENT --variant NAME --dt SECONDS --iterations N [--quick] [--scenes DIR]
 //   PROGRAM hash SCENE --variant NAME --steps N     final state hash, hex
 //   PROGRAM memory SCENE --variant NAME --steps N   peak resident KiB after loading the scene, and after N steps
+//   PROGRAM speed SCENE --variant NAME --from K --steps N   CPU ms per step of N steps after K
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -18,6 +19,7 @@
 #include "tools/bench_experiments.h"
 #include "tools/bench_peer.h"
 #include "tools/bench_scene_specs.h"
+#include "tools/bench_speed.h"
 
 namespace {
 
@@ -51,7 +53,7 @@ int main(int argc, char** argv) {
   StepConfig config;
   RunOptions options;
   std::string variant_name;
-  long steps = 0;
+  long steps = 0, from = 0;
   for (int i = 3; i < argc; ++i) {
     const std::string_view arg = argv[i];
     const bool has_value = i + 1 < argc;
@@ -63,6 +65,8 @@ int main(int argc, char** argv) {
       config.iterations = std::atoi(argv[++i]);
     } else if (arg == "--steps" && has_value) {
       steps = std::strtol(argv[++i], nullptr, 10);
+    } else if (arg == "--from" && has_value) {
+      from = std::strtol(argv[++i], nullptr, 10);
     } else if (arg == "--quick") {
       options.quick = true;
     } else if (arg == "--scenes" && has_value) {
@@ -81,13 +85,18 @@ int main(int argc, char** argv) {
     std::fputs(serialize(experiment->run(*variant, config, options)).c_str(), stdout);
     return 0;
   }
-  if (command == "hash" || command == "memory") {
+  if (command == "hash" || command == "memory" || command == "speed") {
     std::vector<BodySpec> specs;
     std::string reason;
     if (!specs_from_scene_file(target, specs, reason)) return fail(program + ": " + reason);
     const long loaded_kib = peak_resident_kib();
     auto engine = variant->make(config);
     for (const BodySpec& spec : specs) engine->add_body(spec);
+    if (command == "speed") {
+      if (from < 0 || steps < 1 || from > 100000 || steps > 100000) return fail(program + ": --from 0-100000, --steps 1-100000");
+      std::printf("%.9g\n", cpu_ms_per_step(*engine, static_cast<int>(from), static_cast<int>(steps)));
+      return 0;
+    }
     for (long s = 0; s < steps; ++s) engine->step();
     if (command == "memory") {
       std::printf("%ld %ld\n", loaded_kib, peak_resident_kib());

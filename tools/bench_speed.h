@@ -1,0 +1,39 @@
+// `bitstep bench`'s speed section: bitstep's default variant against Bullet
+// in the phases a game meets (a structure standing, a pile during its impact
+// and once settled), as CPU time per step. Each engine runs in the peer
+// program, a process of its own per round; the rounds alternate the engines
+// so that both meet the same load on a shared machine, and the table keeps
+// the median of each.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "tools/bench_engine.h"
+
+namespace bitstep::bench {
+
+struct SpeedCase {
+  std::string scene;  // file name in the scenes folder
+  std::string phase;  // what the timed steps show
+  int from_step = 0;  // steps run before the timing starts
+  int steps = 0;      // steps timed
+};
+
+const std::vector<SpeedCase>& speed_cases();
+
+// Steps `from_step` times, then returns the process CPU time per step (ms)
+// of the next `steps` steps.
+double cpu_ms_per_step(Engine& engine, int from_step, int steps);
+
+struct SpeedRow {
+  SpeedCase c;
+  std::vector<double> bitstep_ms, bullet_ms;  // one per round
+};
+
+double median(std::vector<double> values);
+std::string speed_csv(const std::vector<SpeedRow>& rows);
+// The summary's section: a table of medians and bitstep / Bullet ratios.
+std::string speed_section(const std::vector<SpeedRow>& rows, const std::string& bitstep_variant);
+
+}  // namespace bitstep::bench
