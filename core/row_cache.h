@@ -1,11 +1,11 @@
 // Exact reuse of last step's pose-dependent row parts. A manifold's
 // Jacobians (arms, d / m, I^-1 (r x d), effective masses), rocking, twist and
-// rolling rows, centroid offsets and twist radius are a pure function of
-// RowInputs: the two bodies' centres of mass, inverse masses and world
-// inverse inertias, the normal and the points in row order (with how many
-// touch). Where every one of those is bit-identical to last step's for the
-// same contact key, the rows are copied from last step's instead of built
-// again, so a step computes the same bits with or without the cache. Only
+// rolling rows, centroid offsets and twist radius are a pure function of the
+// two bodies' centres of mass, inverse masses and world inverse inertias
+// (BodyRowInputs) and of the normal and the points in row order, with how
+// many touch (RowInputs). Where every one of those is bit-identical to last
+// step's for the same contact key, the rows are copied from last step's
+// instead of built again, so a step computes the same bits with or without the cache. Only
 // the velocity-dependent parts (targets, impacts, resting faces, friction
 // coefficients) are computed every step. A standing structure skips the
 // row setup's products and divisions. Not state: no invalidation is needed
@@ -21,15 +21,22 @@
 
 namespace bitstep {
 
+// A manifold's own inputs; the bodies' are compared once per body (below).
 struct RowInputs {
   ContactKey key;
-  Vec3 centre_a, centre_b;  // m: the bodies' centres of mass
-  Fixed inverse_mass_a, inverse_mass_b;
-  Mat33 inverse_inertia_a, inverse_inertia_b;  // world frame, as the solve uses them
   Vec3 normal;
-  int point_count = 0, held = 0;                        // points; of them touching (rows first)
-  std::array<Vec3, max_manifold_points> points{};      // positions in row order, zero past the count
+  int point_count = 0, held = 0;                    // points; of them touching (rows first)
+  std::array<Vec3, max_manifold_points> points{};  // positions in row order, zero past the count
   friend bool operator==(const RowInputs&, const RowInputs&) = default;
+};
+
+// A body's inputs to its rows: centre of mass, inverse mass and world
+// inverse inertia, as the solve uses them (zero mass for a sleeping body).
+struct BodyRowInputs {
+  Vec3 centre;
+  Fixed inverse_mass;
+  Mat33 inverse_inertia;
+  friend bool operator==(const BodyRowInputs&, const BodyRowInputs&) = default;
 };
 
 struct RowCache {
@@ -40,12 +47,27 @@ struct RowCache {
   };
   std::vector<Entry> entries;  // the last cached solve's, sorted by key
   std::vector<Entry> next;     // this solve's, while its rows are built
+  std::vector<BodyRowInputs> bodies;  // per slot, at the last cached solve
+  std::vector<uint8_t> still;         // per slot: this solve's inputs are those, bit for bit
   bool enabled = true;         // off: every row is built (the reuse tests compare both)
   uint64_t reused = 0, built = 0;  // manifolds, over the world's life (figures, not state)
 
-  // Last step's entry with exactly these inputs, or null. Called in key
-  // order within a solve; `cursor` walks the entries once.
+  // Marks each slot still or not against the last cached solve, and keeps
+  // this solve's inputs for the next.
+  void compare_bodies(const std::vector<BodyRowInputs>& now) {
+    bodies.resize(now.size());
+    still.resize(now.size());
+    for (size_t i = 0; i < now.size(); ++i) {
+      still[i] = bodies[i] == now[i];
+      bodies[i] = now[i];
+    }
+  }
+
+  // Last step's entry with exactly these inputs (both bodies still), or
+  // null. Called in key order within a solve; `cursor` walks the entries
+  // once.
   const Entry* find(const RowInputs& inputs, size_t& cursor) const {
+    if (!still[inputs.key.body_a] || !still[inputs.key.body_b]) return nullptr;
     while (cursor < entries.size() && entries[cursor].inputs.key < inputs.key) ++cursor;
     if (cursor < entries.size() && entries[cursor].inputs == inputs) return &entries[cursor];
     return nullptr;

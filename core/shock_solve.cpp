@@ -2,8 +2,8 @@
 
 namespace bitstep {
 
-// A copy of j with body a (or b) immovable: its linear part and turn are dropped and the
-// effective mass is the other body's alone.
+// A copy of a row with body a (or b) immovable: its linear part and turn
+// are dropped and the effective mass is the other body's alone.
 namespace {
 
 Jacobian frozen(Jacobian j, const SolverBody& a, const SolverBody& b, bool freeze_a) {
@@ -20,6 +20,19 @@ Jacobian frozen(Jacobian j, const SolverBody& a, const SolverBody& b, bool freez
   return j;
 }
 
+AngularPart frozen(AngularPart j, bool freeze_a) {
+  Fixed k;
+  if (freeze_a) {
+    j.turn_a = Vec3{};
+    k = dot(j.axis, j.turn_b);
+  } else {
+    j.turn_b = Vec3{};
+    k = dot(j.axis, j.turn_a);
+  }
+  j.mass = k > Fixed{} ? Fixed::one() / k : Fixed{};
+  return j;
+}
+
 }  // namespace
 
 // The manifold's rows with body a (or b) immovable, made when first needed
@@ -31,9 +44,9 @@ void make_one_sided(ManifoldRow& m, std::vector<PointRow>& rows, const SolverBod
   m.normal = frozen(m.normal, a, b, freeze_a);
   m.tangent[0] = frozen(m.tangent[0], a, b, freeze_a);
   m.tangent[1] = frozen(m.tangent[1], a, b, freeze_a);
-  m.twist = frozen(m.twist, a, b, freeze_a);
-  for (Jacobian& row : m.rolling) row = frozen(row, a, b, freeze_a);
-  for (ManifoldRow::Rocking& r : m.rocking) r.row = frozen(r.row, a, b, freeze_a);
+  m.twist = frozen(m.twist, freeze_a);
+  for (AngularPart& row : m.rolling) row = frozen(row, freeze_a);
+  for (ManifoldRow::Rocking& r : m.rocking) r.row = frozen(r.row, freeze_a);
   m.one_sided = true;
 }
 
@@ -91,7 +104,7 @@ bool glue(SolverBody& mover, const SolverBody& support, const Body& body, bool m
     total += point.normal_impulse;
     moment += cross(point.position - centroid, n) * point.normal_impulse;
   }
-  const Vec3 u0 = m.rocking[0].row.arm_b, u1 = m.rocking[1].row.arm_b;
+  const Vec3 u0 = m.rocking[0].row.axis, u1 = m.rocking[1].row.axis;
   const Fixed g00 = dot(u0, u0), g01 = dot(u0, u1), g11 = dot(u1, u1);
   const Fixed det = g00 * g11 - g01 * g01;
   if (det < 0.000001_fx) return false;

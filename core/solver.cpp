@@ -28,9 +28,9 @@ Jacobian make_jacobian(const SolverBody& a, const SolverBody& b, Vec3 ra, Vec3 r
   return j;
 }
 
-// The angular row (w_b - w_a) . n: no linear part, arms n.
-Jacobian make_twist(const SolverBody& a, const SolverBody& b, Vec3 n) {
-  Jacobian j{Vec3{}, n, n, Vec3{}, Vec3{}, a.inverse_inertia * n, b.inverse_inertia * n, {}};
+// The angular row (w_b - w_a) . n.
+AngularPart make_twist(const SolverBody& a, const SolverBody& b, Vec3 n) {
+  AngularPart j{n, a.inverse_inertia * n, b.inverse_inertia * n, {}};
   const Fixed k = dot(n, j.turn_a) + dot(n, j.turn_b);
   j.mass = k > Fixed{} ? Fixed::one() / k : Fixed{};
   return j;
@@ -122,11 +122,9 @@ void gather_bodies(const std::vector<Body>& bodies, std::vector<SolverBody>& out
 
 // What a manifold's pose-dependent rows are computed from (row_cache.h),
 // its points already in row order.
-RowInputs row_inputs(const Contact& contact, const Body& body_a, const Body& body_b, const SolverBody& a,
-                     const SolverBody& b, int held) {
+RowInputs row_inputs(const Contact& contact, int held) {
   const Manifold& m = contact.manifold;
-  RowInputs in{contact.key, body_a.pose.position, body_b.pose.position, a.inverse_mass, b.inverse_mass,
-               a.inverse_inertia, b.inverse_inertia, m.normal, m.point_count, held, {}};
+  RowInputs in{contact.key, m.normal, m.point_count, held, {}};
   for (int i = 0; i < m.point_count; ++i) in.points[static_cast<size_t>(i)] = m.points[static_cast<size_t>(i)].position;
   return in;
 }
@@ -169,7 +167,7 @@ void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
     const int held = hold_touching_first(m);
     const RowCache::Entry* reuse = nullptr;
     if (cache) {
-      const RowInputs inputs = row_inputs(contact, body_a, body_b, a, b, held);
+      const RowInputs inputs = row_inputs(contact, held);
       reuse = cache->find(inputs, cursor);
       cache->next.push_back({inputs, first, manifold_rows.size()});
       ++(reuse ? cache->reused : cache->built);
@@ -299,7 +297,7 @@ void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
       }
       face.rolling_limit = rolling_limit;
     } else {
-      face.rolling[0] = face.rolling[1] = Jacobian{};
+      face.rolling[0] = face.rolling[1] = AngularPart{};
       face.rolling_limit = Fixed{};
       m.rolling_impulse[0] = m.rolling_impulse[1] = Fixed{};
     }
@@ -392,6 +390,14 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
   }
   RowCache& cache = scratch.row_cache;
   const bool cached = cache.enabled && kind != SolvePass::collision;
+  if (cached) {
+    std::vector<BodyRowInputs>& now = scratch.body_row_inputs;
+    now.resize(bodies.size());
+    for (size_t i = 0; i < bodies.size(); ++i) {
+      now[i] = {bodies[i].pose.position, solver_bodies[i].inverse_mass, solver_bodies[i].inverse_inertia};
+    }
+    cache.compare_bodies(now);
+  }
   prepare_rows(settings, bodies, solver_bodies, scratch.start_velocities, contacts, kind, rows, manifold_rows,
                cached ? &cache : nullptr, scratch.last_rows, scratch.last_manifolds);
   if (cached) {

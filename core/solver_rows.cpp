@@ -14,9 +14,9 @@ Fixed total_normal_impulse(const std::vector<PointRow>& rows, const ManifoldRow&
 // resistance's axes) solved as one: the impulse j that stops the relative
 // rate along both is kept while |j| <= hold j_n, else scaled onto the disc
 // |j| = slide j_n. |j| <= |j0| + |j1|: inside by that bound needs no square
-// root. (An angular-only row has direction 0: its linear terms add exact
-// zeros.)
-void solve_disc(SolverBody& a, SolverBody& b, const Jacobian (&rows)[2], Fixed (&impulse)[2], Fixed hold, Fixed slide,
+// root.
+template <class Part>
+void solve_disc(SolverBody& a, SolverBody& b, const Part (&rows)[2], Fixed (&impulse)[2], Fixed hold, Fixed slide,
                 Fixed normal) {
   const Fixed old0 = impulse[0], old1 = impulse[1];
   Fixed new0 = old0 - mul_in_range(rows[0].mass, relative_velocity(a, b, rows[0]));

@@ -44,6 +44,16 @@ struct Jacobian {
   Fixed mass;                 // 1 / (J M^-1 J^T), kg
 };
 
+// An angular-only row (after Jolt's AngleConstraintPart: twist, rocking,
+// rolling resistance): J v = (w_b - w_a) . u, and an impulse lambda turns a
+// by -lambda I_a^-1 u and b by +lambda I_b^-1 u. No linear part and one
+// axis for both bodies: 80 bytes where a Jacobian takes 176.
+struct AngularPart {
+  Vec3 axis;            // u
+  Vec3 turn_a, turn_b;  // I_a^-1 u, I_b^-1 u (zero for an immovable body)
+  Fixed mass;           // 1 / (u . I_a^-1 u + u . I_b^-1 u), kg m^2
+};
+
 // One contact point as a constraint: a normal row (n from a to b) asking
 // J v >= velocity_target with impulse >= 0.
 struct PointRow {
@@ -69,7 +79,7 @@ struct ManifoldRow {
   size_t first, count;  // its points in the point-row list
   Jacobian normal;      // at the centroid
   Jacobian tangent[2];  // at the centroid
-  Jacobian twist;       // angular only: (w_b - w_a) . n
+  AngularPart twist;    // (w_b - w_a) . n
   Vec3 offset_a, offset_b;  // m: the centroid from each body's centre of mass
   Fixed velocity_target;
   Fixed twist_radius;   // m: mean distance of the points from the centroid
@@ -79,7 +89,7 @@ struct ManifoldRow {
   // of point impulses lambda alpha_i with sum alpha_i = 0 (no net force), so
   // its net effect is the angular impulse lambda u (see make_rocking).
   struct Rocking {
-    Jacobian row;  // angular only, along u
+    AngularPart row;  // along u
     Fixed alpha[max_manifold_points];
     bool active = false;
   } rocking[2];
@@ -89,7 +99,7 @@ struct ManifoldRow {
   // tangents, their impulse within rolling_limit times the manifold's total
   // normal impulse (m: the pair's c times the rolling radius). 0: no rows,
   // as between two boxes.
-  Jacobian rolling[2] = {};
+  AngularPart rolling[2] = {};
   Fixed rolling_limit;
 };
 
@@ -124,15 +134,15 @@ inline void apply_rate(BodyRates& a, BodyRates& b, const Jacobian& j, Fixed lamb
   b.angular += scaled(j.turn_b, lambda);
 }
 
-// The same for an angular-only row (direction zero: twist and rocking),
-// skipping the linear terms.
-inline Fixed relative_spin(const SolverBody& a, const SolverBody& b, const Jacobian& j) {
-  const Vec3 wa = a.velocity.angular, wb = b.velocity.angular;
+// The same for an angular part: (w_b - w_a) . u as six exact products
+// rounded once.
+inline Fixed relative_spin(const SolverBody& a, const SolverBody& b, const AngularPart& j) {
+  const Vec3 wa = a.velocity.angular, wb = b.velocity.angular, u = j.axis;
   const Fixed rates[6] = {wb.x, wb.y, wb.z, -wa.x, -wa.y, -wa.z};
-  const Fixed rows[6] = {j.arm_b.x, j.arm_b.y, j.arm_b.z, j.arm_a.x, j.arm_a.y, j.arm_a.z};
+  const Fixed rows[6] = {u.x, u.y, u.z, u.x, u.y, u.z};
   return sum_products_in_range(rates, rows);
 }
-inline void apply_spin(SolverBody& a, SolverBody& b, const Jacobian& j, Fixed lambda) {
+inline void apply_spin(SolverBody& a, SolverBody& b, const AngularPart& j, Fixed lambda) {
   a.velocity.angular -= scaled(j.turn_a, lambda);
   b.velocity.angular += scaled(j.turn_b, lambda);
 }
@@ -142,6 +152,13 @@ inline Fixed relative_velocity(const SolverBody& a, const SolverBody& b, const J
 }
 inline void apply_impulse(SolverBody& a, SolverBody& b, const Jacobian& j, Fixed lambda) {
   apply_rate(a.velocity, b.velocity, j, lambda);
+}
+// J v and an impulse for either part (solve_disc takes both).
+inline Fixed relative_velocity(const SolverBody& a, const SolverBody& b, const AngularPart& j) {
+  return relative_spin(a, b, j);
+}
+inline void apply_impulse(SolverBody& a, SolverBody& b, const AngularPart& j, Fixed lambda) {
+  apply_spin(a, b, j, lambda);
 }
 
 // One point row on either rate: the accumulated impulse (normal or split)
@@ -210,6 +227,7 @@ struct SolverScratch {
   // Exact reuse of the pose-dependent row parts (row_cache.h): the last
   // cached solve's rows, moved aside before the next solve builds its own.
   RowCache row_cache;
+  std::vector<BodyRowInputs> body_row_inputs;  // this solve's, per slot
   std::vector<PointRow> last_rows;
   std::vector<ManifoldRow> last_manifolds;
   bool rows_from_cached_solve = false;  // rows / manifolds hold the last cached solve's

@@ -155,7 +155,7 @@ TEST_CASE("a rank is held already only if nothing approaches, slides or twists a
   m.normal.direction = up;
   m.tangent[0].direction = east;
   m.tangent[1].direction = Vec3{Fixed{}, Fixed{}, Fixed::one()};
-  m.twist.arm_a = m.twist.arm_b = up;
+  m.twist.axis = up;
   m.twist_radius = 0.1_fx;
   PointRow row;
   row.a = 0;
