@@ -90,17 +90,22 @@ void solve_rocking(std::vector<SolverBody>& bodies, std::vector<PointRow>& rows,
     if (!r.active) continue;
     Fixed lambda = -mul_in_range(r.row.mass, relative_spin(a, b, r.row));
     // jn_i + lambda alpha_i >= 0 for every point; the bound -jn_i / alpha_i
-    // is divided out only for a point that would pull.
+    // is divided out only for a point that would pull. Unclamped (the
+    // usual case), the sums checked are the new impulses as they are.
+    Fixed next[max_manifold_points];
+    bool clamped = false;
     for (size_t i = 0; i < m.count; ++i) {
       const Fixed alpha = r.alpha[i];
       const Fixed jn = rows[m.first + i].point->normal_impulse;
-      if (jn + mul_in_range(lambda, alpha) >= Fixed{}) continue;
+      next[i] = jn + mul_in_range(lambda, alpha);
+      if (next[i] >= Fixed{}) continue;
+      clamped = true;
       if (alpha > Fixed{}) lambda = max(lambda, -jn / alpha);
       if (alpha < Fixed{}) lambda = min(lambda, jn / -alpha);
     }
     for (size_t i = 0; i < m.count; ++i) {
       ContactPoint& p = *rows[m.first + i].point;
-      p.normal_impulse = max(p.normal_impulse + mul_in_range(lambda, r.alpha[i]), Fixed{});
+      p.normal_impulse = clamped ? max(p.normal_impulse + mul_in_range(lambda, r.alpha[i]), Fixed{}) : next[i];
     }
     apply_spin(a, b, r.row, lambda);
   }
