@@ -50,8 +50,10 @@ struct NarrowphaseCache {
 // `contacts` holds last step's contacts on entry and this step's on return,
 // both sorted by key. `previous` is workspace (last step's contacts are moved
 // there while this step's are found), kept by the caller so that a settled
-// step allocates nothing.
+// step allocates nothing. `turn_speed` holds, per slot, how fast the body's
+// farthest point moves by its rotation alone (|w| r, m/s).
 void update_contacts(const std::vector<Body>& bodies, const std::vector<BodyPair>& pairs, const Settings& settings,
-                     std::vector<Contact>& contacts, std::vector<Contact>& previous, NarrowphaseCache& cache);
+                     const std::vector<Fixed>& turn_speed, std::vector<Contact>& contacts,
+                     std::vector<Contact>& previous, NarrowphaseCache& cache);
 
 }  // namespace bitstep

@@ -319,15 +319,18 @@ void World::move_contacts_back() {
 
 void World::find_contacts() {
   proxies_.clear();
+  turn_speed_.assign(bodies_.size(), Fixed{});
   for (uint32_t i = 0; i < bodies_.size(); ++i) {
     const Body& body = bodies_[i];
     if (!body.alive) continue;
-    // Grown by the speculative distance and this step's motion (contact_update.cpp).
-    const Fixed margin = settings_.speculative_distance + length(body.linear_velocity) * settings_.dt;
+    if (body.angular_velocity != Vec3{}) turn_speed_[i] = length(body.angular_velocity) * body_radius(body);
+    // Grown by the speculative distance and this step's motion, the turn's
+    // included (contact_update.cpp).
+    const Fixed margin = settings_.speculative_distance + (length(body.linear_velocity) + turn_speed_[i]) * settings_.dt;
     proxies_.push_back({i, body_bounds(body).expanded(margin), needs_contacts(body)});
   }
   find_pairs(proxies_, pairs_, broadphase_scratch_);
-  update_contacts(bodies_, pairs_, settings_, contacts_, previous_contacts_, narrowphase_cache_);
+  update_contacts(bodies_, pairs_, settings_, turn_speed_, contacts_, previous_contacts_, narrowphase_cache_);
 }
 
 void World::solve_contacts() { bitstep::solve_contacts(settings_, bodies_, contacts_, push_, solver_scratch_); }

@@ -101,6 +101,7 @@ class World {
   std::vector<BodyPair> pairs_;
   BroadphaseScratch broadphase_scratch_;
   std::vector<Contact> previous_contacts_;  // workspace of update_contacts
+  std::vector<Fixed> turn_speed_;           // per slot: |w| times the body's reach (m/s), this step
   NarrowphaseCache narrowphase_cache_;      // a removed body's entries dropped at once
   PushVelocities push_;
   SolverScratch solver_scratch_;

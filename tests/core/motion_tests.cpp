@@ -130,3 +130,35 @@ TEST_CASE("a cube thrown down at 100 m/s lands on the ground and stops at a thin
     CHECK(farthest <= 19.99 - 0.05 + 0.0001);
   }
 }
+
+// A 2 m plank spinning about its centre 0.9 m above the ground (no gravity):
+// its tips sweep down to y = -0.1 at w r, far faster than its centre moves
+// (which is not at all). Contacts are kept for the turn too, so the tips
+// meet the ground in the step they reach it. Kept for the centre's motion
+// only, they went 38 mm (10 rad/s) to 100 mm (30 rad/s) deep.
+TEST_CASE("a fast-spinning plank's tips meet the ground instead of sweeping into it", "[motion]") {
+  for (Pipeline pipeline : {Pipeline::standard, Pipeline::guendelman}) {
+    for (Fixed spin : {10.0_fx, 30.0_fx, 100.0_fx}) {
+      Settings settings = settings_for(pipeline, SleepMethod::off);
+      settings.gravity = Vec3{};
+      TestWorld t(settings);
+      t.add_ground();
+      BodyDef plank;
+      plank.pose.position = {Fixed{}, 0.9_fx, Fixed{}};
+      plank.shapes.push_back({ShapeType::box, {1.0_fx, 0.05_fx, 0.25_fx}, {}, {}, {}});
+      plank.angular_velocity = {Fixed{}, Fixed{}, spin};
+      const BodyId id = t.world.create_body(plank).id;
+      double deepest = 0;
+      for (int step = 0; step < 60; ++step) {
+        t.world.step();
+        const Pose pose = t.body(id).pose;
+        for (int c = 0; c < 8; ++c) {
+          const Vec3 corner{(c & 1) ? 1.0_fx : -1.0_fx, (c & 2) ? 0.05_fx : -0.05_fx, (c & 4) ? 0.25_fx : -0.25_fx};
+          deepest = std::max(deepest, -to_double(pose.apply(corner).y));
+        }
+      }
+      INFO(name_of(pipeline) << " at " << to_double(spin) << " rad/s: deepest corner " << deepest << " m");
+      CHECK(deepest < 0.0001);
+    }
+  }
+}
