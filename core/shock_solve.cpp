@@ -7,14 +7,13 @@ namespace bitstep {
 namespace {
 
 Jacobian frozen(Jacobian j, const SolverBody& a, const SolverBody& b, bool freeze_a) {
-  const bool linear = j.direction != Vec3{};
   Fixed k;
   if (freeze_a) {
     j.linear_a = j.turn_a = Vec3{};
-    k = (linear ? b.inverse_mass : Fixed{}) + dot(j.arm_b, j.turn_b);
+    k = b.inverse_mass + dot(j.arm_b, j.turn_b);
   } else {
     j.linear_b = j.turn_b = Vec3{};
-    k = (linear ? a.inverse_mass : Fixed{}) + dot(j.arm_a, j.turn_a);
+    k = a.inverse_mass + dot(j.arm_a, j.turn_a);
   }
   j.mass = k > Fixed{} ? Fixed::one() / k : Fixed{};
   return j;

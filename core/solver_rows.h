@@ -34,8 +34,8 @@ struct SolverBody {
 //   J v = d . (v_b - v_a) + (r_b x d) . w_b - (r_a x d) . w_a
 // and an impulse lambda changes v_a by -lambda d / m_a, w_a by
 // -lambda I_a^-1 (r_a x d), and b the opposite way. Keeping d / m, r x d and
-// I^-1 (r x d) turns every solver update into scalar-times-vector work. An
-// angular row (twist, rocking, rolling) has d = 0 and no linear part.
+// I^-1 (r x d) turns every solver update into scalar-times-vector work.
+// Angular rows (twist, rocking, rolling) are AngularParts, below.
 struct Jacobian {
   Vec3 direction;
   Vec3 arm_a, arm_b;          // r_a x d, r_b x d
