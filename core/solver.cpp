@@ -10,6 +10,10 @@ namespace bitstep {
 
 namespace {
 
+// Manifolds per worker below which the sweeps stay on one thread: waking the
+// workers costs more than they save.
+constexpr size_t min_parallel_manifolds = 32;
+
 // An orthonormal pair perpendicular to the unit vector n (fixed choice, so
 // warm-started friction impulses keep their meaning between steps).
 void tangent_basis(Vec3 n, Vec3& t1, Vec3& t2) {
@@ -375,7 +379,7 @@ void write_velocities(const std::vector<SolverBody>& solver_bodies, std::vector<
 }  // namespace
 
 void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::vector<Contact>& contacts,
-                    PushVelocities& push, SolverScratch& scratch, SolvePass kind) {
+                    PushVelocities& push, SolverScratch& scratch, SolvePass kind, Executor* executor) {
   std::vector<SolverBody>& solver_bodies = scratch.bodies;
   std::vector<PointRow>& rows = scratch.rows;
   std::vector<ManifoldRow>& manifold_rows = scratch.manifolds;
@@ -413,13 +417,33 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
       m.manifold->rolling_impulse[0] = m.manifold->rolling_impulse[1] = Fixed{};
     }
   }
-  for (int pass = 0; pass < settings.velocity_iterations; ++pass) {
-    for (const ManifoldRow& m : manifold_rows) solve_friction(solver_bodies, rows, m);
-    for (const ManifoldRow& m : manifold_rows) solve_manifold_normal(solver_bodies, rows, m);
-    for (const ManifoldRow& m : manifold_rows) solve_rocking(solver_bodies, rows, m);
-    sweep(solver_bodies, rows, pass, [](SolverBody& a, SolverBody& b, const PointRow& row) {
-      if (!row.in_resting_face) solve_normal(a, b, row);
-    });
+  // The same sweeps, in the same order for every body, on the executor's
+  // workers (ordered_sweeps.h) where there is enough to share.
+  bool parallel = executor && executor->workers() > 1 &&
+                  manifold_rows.size() >= min_parallel_manifolds * static_cast<size_t>(executor->workers());
+  if (parallel) {
+    std::vector<SweepStep>& steps = scratch.sweeps.steps;
+    steps.clear();
+    for (int pass = 0; pass < settings.velocity_iterations; ++pass) {
+      steps.insert(steps.end(), {{SweepKind::friction, false},
+                                 {SweepKind::manifold_normal, false},
+                                 {SweepKind::rocking, false},
+                                 {SweepKind::point_normal, pass % 2 == 1}});
+    }
+    std::vector<uint8_t>& movable = scratch.sweeps.movable;
+    movable.resize(bodies.size());
+    for (size_t i = 0; i < bodies.size(); ++i) movable[i] = is_awake_dynamic(bodies[i]) ? 1 : 0;
+    parallel = run_ordered_sweeps(*executor, steps, movable, solver_bodies, rows, manifold_rows, scratch.sweeps);
+  }
+  if (!parallel) {
+    for (int pass = 0; pass < settings.velocity_iterations; ++pass) {
+      for (const ManifoldRow& m : manifold_rows) solve_friction(solver_bodies[m.a], solver_bodies[m.b], rows, m);
+      for (const ManifoldRow& m : manifold_rows) solve_manifold_normal(solver_bodies[m.a], solver_bodies[m.b], rows, m);
+      for (const ManifoldRow& m : manifold_rows) solve_rocking(solver_bodies[m.a], solver_bodies[m.b], rows, m);
+      sweep(solver_bodies, rows, pass, [](SolverBody& a, SolverBody& b, const PointRow& row) {
+        if (!row.in_resting_face) solve_normal(a, b, row);
+      });
+    }
   }
   if (kind == SolvePass::collision) {
     restore_impulses(scratch.saved_impulses, contacts);
@@ -433,7 +457,13 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
   const bool anything_to_push =
       std::any_of(rows.begin(), rows.end(), [](const PointRow& row) { return row.push_target != Fixed{}; });
   if (!settings.baumgarte && anything_to_push) {
-    for (int pass = 0; pass < settings.position_iterations; ++pass) sweep(solver_bodies, rows, pass, solve_push);
+    std::vector<SweepStep>& steps = scratch.sweeps.steps;
+    steps.clear();
+    for (int pass = 0; pass < settings.position_iterations; ++pass) steps.push_back({SweepKind::point_push, pass % 2 == 1});
+    if (!parallel ||
+        !run_ordered_sweeps(*executor, steps, scratch.sweeps.movable, solver_bodies, rows, manifold_rows, scratch.sweeps)) {
+      for (int pass = 0; pass < settings.position_iterations; ++pass) sweep(solver_bodies, rows, pass, solve_push);
+    }
   }
   push.linear.assign(bodies.size(), Vec3{});
   push.angular.assign(bodies.size(), Vec3{});

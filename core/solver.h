@@ -9,6 +9,7 @@
 
 #include "core/body.h"
 #include "core/contact.h"
+#include "core/executor.h"
 #include "core/solver_rows.h"
 
 namespace bitstep {
@@ -28,7 +29,10 @@ enum class SolvePass : uint8_t {
   contact,    // guendelman: inelastic after the forces, split impulse, shock step
 };
 
+// `executor` (null: the caller's thread alone) spreads the iterations and
+// position passes over its workers; the result is the same bits.
 void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::vector<Contact>& contacts,
-                    PushVelocities& push, SolverScratch& scratch, SolvePass pass = SolvePass::standard);
+                    PushVelocities& push, SolverScratch& scratch, SolvePass pass = SolvePass::standard,
+                    Executor* executor = nullptr);
 
 }  // namespace bitstep

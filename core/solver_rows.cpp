@@ -40,9 +40,7 @@ void solve_disc(SolverBody& a, SolverBody& b, const Part (&rows)[2], Fixed (&imp
 // within the static cone |j_t| <= mu_s j_n (j_n the manifold's total normal
 // impulse), else scaled onto the dynamic cone mu_d j_n; the twist likewise
 // with the cone scaled by the points' mean radius; then rolling resistance.
-void solve_friction(std::vector<SolverBody>& bodies, const std::vector<PointRow>& rows, const ManifoldRow& m) {
-  SolverBody& a = bodies[m.a];
-  SolverBody& b = bodies[m.b];
+void solve_friction(SolverBody& a, SolverBody& b, const std::vector<PointRow>& rows, const ManifoldRow& m) {
   Manifold& manifold = *m.manifold;
   const Fixed normal = total_normal_impulse(rows, m);
 
@@ -69,10 +67,8 @@ void solve_friction(std::vector<SolverBody>& bodies, const std::vector<PointRow>
 }
 
 
-void solve_manifold_normal(std::vector<SolverBody>& bodies, std::vector<PointRow>& rows, const ManifoldRow& m) {
+void solve_manifold_normal(SolverBody& a, SolverBody& b, std::vector<PointRow>& rows, const ManifoldRow& m) {
   if (m.count < 2) return;  // a single point is its own centroid
-  SolverBody& a = bodies[m.a];
-  SolverBody& b = bodies[m.b];
   const Fixed vn = relative_velocity(a, b, m.normal);
   Fixed share = mul_in_range(m.share_mass, m.velocity_target - vn);
   // Each point's accumulated impulse stays >= 0.
@@ -83,9 +79,7 @@ void solve_manifold_normal(std::vector<SolverBody>& bodies, std::vector<PointRow
 
 // Drives the relative rocking rate to zero, keeping every point's
 // accumulated normal impulse >= 0 (contacts push, never pull).
-void solve_rocking(std::vector<SolverBody>& bodies, std::vector<PointRow>& rows, const ManifoldRow& m) {
-  SolverBody& a = bodies[m.a];
-  SolverBody& b = bodies[m.b];
+void solve_rocking(SolverBody& a, SolverBody& b, std::vector<PointRow>& rows, const ManifoldRow& m) {
   for (const ManifoldRow::Rocking& r : m.rocking) {
     if (!r.active) continue;
     Fixed lambda = -mul_in_range(r.row.mass, relative_spin(a, b, r.row));
@@ -114,12 +108,14 @@ void solve_rocking(std::vector<SolverBody>& bodies, std::vector<PointRow>& rows,
 // One pass over a manifold: friction, the centroid row, rocking, then its
 // points (in alternating direction).
 void solve_manifold(std::vector<SolverBody>& bodies, std::vector<PointRow>& rows, const ManifoldRow& m, int pass) {
-  solve_friction(bodies, rows, m);
-  solve_manifold_normal(bodies, rows, m);
-  solve_rocking(bodies, rows, m);
+  SolverBody& a = bodies[m.a];
+  SolverBody& b = bodies[m.b];
+  solve_friction(a, b, rows, m);
+  solve_manifold_normal(a, b, rows, m);
+  solve_rocking(a, b, rows, m);
   for (size_t k = 0; k < m.count; ++k) {
     const PointRow& row = rows[m.first + (pass % 2 == 0 ? k : m.count - 1 - k)];
-    solve_normal(bodies[row.a], bodies[row.b], row);
+    solve_normal(a, b, row);
   }
 }
 

@@ -7,6 +7,7 @@
 
 #include "core/body.h"
 #include "core/manifold.h"
+#include "core/ordered_sweeps.h"
 #include "core/row_cache.h"
 #include "core/shock_levels.h"
 
@@ -231,15 +232,17 @@ struct SolverScratch {
   std::vector<PointRow> last_rows;
   std::vector<ManifoldRow> last_manifolds;
   bool rows_from_cached_solve = false;  // rows / manifolds hold the last cached solve's
+  // The iterations and position passes on several workers (ordered_sweeps.h).
+  OrderedSweeps sweeps;
 };
 
 // Friction (tangents and twist) at the centroid of a manifold, within the
 // static or dynamic cone of its total normal impulse.
-void solve_friction(std::vector<SolverBody>& bodies, const std::vector<PointRow>& rows, const ManifoldRow& m);
+void solve_friction(SolverBody& a, SolverBody& b, const std::vector<PointRow>& rows, const ManifoldRow& m);
 // The centroid row: equal shares of a normal impulse through the centroid.
-void solve_manifold_normal(std::vector<SolverBody>& bodies, std::vector<PointRow>& rows, const ManifoldRow& m);
+void solve_manifold_normal(SolverBody& a, SolverBody& b, std::vector<PointRow>& rows, const ManifoldRow& m);
 // The rocking rows: relative rotation about the in-plane axes, no point pulling.
-void solve_rocking(std::vector<SolverBody>& bodies, std::vector<PointRow>& rows, const ManifoldRow& m);
+void solve_rocking(SolverBody& a, SolverBody& b, std::vector<PointRow>& rows, const ManifoldRow& m);
 // One pass over a manifold: friction, the centroid row, rocking, then its
 // points (in alternating direction with the pass).
 void solve_manifold(std::vector<SolverBody>& bodies, std::vector<PointRow>& rows, const ManifoldRow& m, int pass);

@@ -255,9 +255,9 @@ void World::step_guendelman() {
   }
   move_contacts_back();
   if (settings_.sleep_method != SleepMethod::off) wake_islands(settings_, bodies_, contacts_, sleep_scratch_, false);
-  bitstep::solve_contacts(settings_, bodies_, contacts_, push_, solver_scratch_, SolvePass::collision);
+  bitstep::solve_contacts(settings_, bodies_, contacts_, push_, solver_scratch_, SolvePass::collision, executor_);
   bitstep::integrate_velocities(settings_, bodies_);
-  bitstep::solve_contacts(settings_, bodies_, contacts_, push_, solver_scratch_, SolvePass::contact);
+  bitstep::solve_contacts(settings_, bodies_, contacts_, push_, solver_scratch_, SolvePass::contact, executor_);
 }
 
 // Whether a body's motion this step (its centre's, and its farthest point's
@@ -339,7 +339,9 @@ void World::find_contacts() {
   update_contacts(bodies_, pairs_, settings_, turn_speed_, contacts_, previous_contacts_, narrowphase_cache_);
 }
 
-void World::solve_contacts() { bitstep::solve_contacts(settings_, bodies_, contacts_, push_, solver_scratch_); }
+void World::solve_contacts() {
+  bitstep::solve_contacts(settings_, bodies_, contacts_, push_, solver_scratch_, SolvePass::standard, executor_);
+}
 
 StepStats World::stats() const {
   StepStats s;

@@ -289,9 +289,10 @@ void run_inputs(World& world, const std::vector<Input>& inputs, int64_t steps, s
   }
 }
 
-Verification verify_replay(const Replay& replay, int64_t dump_step, std::string* dump) {
+Verification verify_replay(const Replay& replay, int64_t dump_step, std::string* dump, Executor* executor) {
   Verification v;
   World world(replay.scene.settings);
+  world.set_executor(executor);
   v.built = build_world(replay.scene, world, v.reason);
   if (!v.built) return v;
   v.scene_hash = state_hash(world);

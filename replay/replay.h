@@ -88,7 +88,9 @@ struct Verification {
   uint64_t snapshot_checksum = 0;  // of the snapshot image after the last step (the same bytes in every build)
   bool ok() const { return built && scene_matches && divergent_step == 0; }
 };
-Verification verify_replay(const Replay& replay, int64_t dump_step = -1, std::string* dump = nullptr);
+// `executor` (null: one thread) steps the world (World::set_executor).
+Verification verify_replay(const Replay& replay, int64_t dump_step = -1, std::string* dump = nullptr,
+                           Executor* executor = nullptr);
 
 // The replay as JSON text (hashes as 16 hex digits).
 std::string replay_json(const Replay& replay, const std::string& engine_version);

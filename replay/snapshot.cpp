@@ -235,6 +235,7 @@ std::optional<std::string> restore(std::span<const uint8_t> image, World& world)
   if (trailer.u64() != XXH3_64bits(image.data(), body_end)) return std::string("checksum mismatch: the image is corrupt");
   try {
     World restored = read_world(image.subspan(header_bytes, static_cast<size_t>(payload_size)));
+    restored.set_executor(world.executor());  // how it steps, not state: kept
     world = std::move(restored);
   } catch (const Corrupt& corrupt) {
     return corrupt.reason;

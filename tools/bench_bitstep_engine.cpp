@@ -5,6 +5,7 @@
 
 #include "core/world.h"
 #include "replay/state_hash.h"
+#include "replay/thread_pool.h"
 
 namespace bitstep::bench {
 
@@ -35,7 +36,9 @@ Shape to_shape(const ShapeSpec& spec) {
 
 class BitstepEngine final : public Engine {
  public:
-  explicit BitstepEngine(const Settings& settings) : world_(settings) {}
+  BitstepEngine(const Settings& settings, int threads) : world_(settings), pool_(threads > 1 ? std::make_unique<ThreadPool>(threads) : nullptr) {
+    world_.set_executor(pool_.get());
+  }
 
   int add_body(const BodySpec& spec) override {
     BodyDef def;
@@ -67,6 +70,7 @@ class BitstepEngine final : public Engine {
 
  private:
   World world_;
+  std::unique_ptr<ThreadPool> pool_;  // null on one thread
   std::vector<BodyId> ids_;
 };
 
@@ -82,7 +86,7 @@ Settings settings_for(const StepConfig& config, Pipeline pipeline, bool shock) {
 
 template <Pipeline pipeline, bool shock>
 std::unique_ptr<Engine> make(const StepConfig& config) {
-  return std::make_unique<BitstepEngine>(settings_for(config, pipeline, shock));
+  return std::make_unique<BitstepEngine>(settings_for(config, pipeline, shock), config.threads);
 }
 
 }  // namespace

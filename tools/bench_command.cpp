@@ -187,7 +187,7 @@ class Bench {
       runs += static_cast<int>(selected(true).size() * sweep_dts().size() * sweep_iterations().size()) * variants;
     }
     if (wants("scale")) runs += static_cast<int>(scale_sizes(options_.quick).size()) * 4;
-    if (wants("speed") && !peer_.empty()) runs += static_cast<int>(speed_cases().size()) * speed_rounds() * 2;
+    if (wants("speed") && !peer_.empty()) runs += static_cast<int>(speed_cases().size()) * speed_rounds() * 3;
     if (wants("costs")) runs += static_cast<int>(rollback_scenes().size()) + (peer_.empty() ? 0 : 2);
     if (wants("determinism")) runs += 1;
     return runs;
@@ -401,21 +401,30 @@ class Bench {
   // program (so both are the same build).
   bool run_speed() {
     if (peer_.empty()) return true;
-    for (const SpeedCase& c : speed_cases()) speed_.push_back({c, {}, {}});
+    for (const SpeedCase& c : speed_cases()) speed_.push_back({c, {}, {}, {}, {}});
     for (int round = 0; round < speed_rounds(); ++round) {
       for (SpeedRow& row : speed_) {
-        for (std::string_view variant : {default_variant, peer_variant}) {
-          progress_->advance(fmt::format("speed {} {} {}", row.c.scene, row.c.phase, variant));
+        for (const int run : {0, 1, 2}) {  // bitstep, Bullet, bitstep on speed_threads
+          const std::string_view variant = run == 1 ? peer_variant : default_variant;
+          const int threads = run == 2 ? speed_threads : 1;
+          progress_->advance(fmt::format("speed {} {} {} on {}", row.c.scene, row.c.phase, variant, threads));
           std::string output;
           const std::string command =
-              fmt::format("{} speed {} --variant {} --from {} --steps {}", quote(peer_),
-                          quote(options_.scenes + "/" + row.c.scene), variant, row.c.from_step, row.c.steps);
-          double ms = 0;
-          if (!capture(command, output) || std::sscanf(output.c_str(), "%lf", &ms) != 1) {
+              fmt::format("{} speed {} --variant {} --from {} --steps {} --threads {}", quote(peer_),
+                          quote(options_.scenes + "/" + row.c.scene), variant, row.c.from_step, row.c.steps, threads);
+          double cpu = 0, wall = 0;
+          if (!capture(command, output) || std::sscanf(output.c_str(), "%lf %lf", &cpu, &wall) != 2) {
             fmt::print(stderr, "bitstep bench: speed {} {}: {}\n", row.c.scene, variant, output);
             return false;
           }
-          (variant == peer_variant ? row.bullet_ms : row.bitstep_ms).push_back(ms);
+          if (run == 0) {
+            row.bitstep_ms.push_back(cpu);
+            row.one_thread_wall_ms.push_back(wall);
+          } else if (run == 1) {
+            row.bullet_ms.push_back(cpu);
+          } else {
+            row.threads_wall_ms.push_back(wall);
+          }
         }
       }
     }

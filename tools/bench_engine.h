@@ -52,6 +52,7 @@ struct StepConfig {
   double dt = 1.0 / 60.0;  // s
   int iterations = 10;     // velocity iterations
   V3 gravity{0, -9.81, 0};
+  int threads = 1;  // workers stepping a bitstep world (the same bits for any count); peers use one
 };
 
 class Engine {

@@ -7,7 +7,8 @@
 //   PROGRAM run EXPERIMENT --variant NAME --dt SECONDS --iterations N [--quick] [--scenes DIR]
 //   PROGRAM hash SCENE --variant NAME --steps N     final state hash, hex
 //   PROGRAM memory SCENE --variant NAME --steps N   peak resident KiB after loading the scene, and after N steps
-//   PROGRAM speed SCENE --variant NAME --from K --steps N   CPU ms per step of N steps after K
+//   PROGRAM speed SCENE --variant NAME --from K --steps N [--threads T]
+//                                                  CPU and wall-clock ms per step of N steps after K
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -67,6 +68,8 @@ int main(int argc, char** argv) {
       steps = std::strtol(argv[++i], nullptr, 10);
     } else if (arg == "--from" && has_value) {
       from = std::strtol(argv[++i], nullptr, 10);
+    } else if (arg == "--threads" && has_value) {
+      config.threads = std::atoi(argv[++i]);
     } else if (arg == "--quick") {
       options.quick = true;
     } else if (arg == "--scenes" && has_value) {
@@ -78,6 +81,7 @@ int main(int argc, char** argv) {
   const Variant* variant = find_variant(variants, variant_name);
   if (variant == nullptr) return fail(program + ": unknown variant '" + variant_name + "'");
   if (!(config.dt > 0) || config.iterations < 1) return fail(program + ": --dt and --iterations must be positive");
+  if (config.threads < 1 || config.threads > 64) return fail(program + ": --threads 1-64");
 
   if (command == "run") {
     const Experiment* experiment = find_experiment(target);
@@ -94,7 +98,8 @@ int main(int argc, char** argv) {
     for (const BodySpec& spec : specs) engine->add_body(spec);
     if (command == "speed") {
       if (from < 0 || steps < 1 || from > 100000 || steps > 100000) return fail(program + ": --from 0-100000, --steps 1-100000");
-      std::printf("%.9g\n", cpu_ms_per_step(*engine, static_cast<int>(from), static_cast<int>(steps)));
+      const StepTimes t = ms_per_step(*engine, static_cast<int>(from), static_cast<int>(steps));
+      std::printf("%.9g %.9g\n", t.cpu, t.wall);
       return 0;
     }
     for (long s = 0; s < steps; ++s) engine->step();

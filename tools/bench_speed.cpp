@@ -1,6 +1,7 @@
 #include "tools/bench_speed.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <ctime>
 
@@ -34,11 +35,14 @@ const std::vector<SpeedCase>& speed_cases() {
   return cases;
 }
 
-double cpu_ms_per_step(Engine& engine, int from_step, int steps) {
+StepTimes ms_per_step(Engine& engine, int from_step, int steps) {
   for (int i = 0; i < from_step; ++i) engine.step();
-  const double start = cpu_ms();
+  const double cpu_start = cpu_ms();
+  const auto wall_start = std::chrono::steady_clock::now();
   for (int i = 0; i < steps; ++i) engine.step();
-  return (cpu_ms() - start) / std::max(steps, 1);
+  const double wall = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wall_start).count();
+  const double n = std::max(steps, 1);
+  return {(cpu_ms() - cpu_start) / n, wall / n};
 }
 
 double median(std::vector<double> values) {
@@ -49,12 +53,15 @@ double median(std::vector<double> values) {
 }
 
 std::string speed_csv(const std::vector<SpeedRow>& rows) {
-  std::string csv = "scene,phase,from_step,steps,round,bitstep_cpu_ms_per_step,bullet_cpu_ms_per_step\n";
+  std::string csv =
+      "scene,phase,from_step,steps,round,bitstep_cpu_ms_per_step,bullet_cpu_ms_per_step,bitstep_wall_ms_per_step,"
+      "bitstep_" + std::to_string(speed_threads) + "_threads_wall_ms_per_step\n";
+  const auto at = [](const std::vector<double>& v, size_t k) { return k < v.size() ? v[k] : 0.0; };
   for (const SpeedRow& r : rows) {
     for (size_t k = 0; k < r.bitstep_ms.size(); ++k) {
       csv += r.c.scene + "," + r.c.phase + "," + std::to_string(r.c.from_step) + "," + std::to_string(r.c.steps) +
-             "," + std::to_string(k + 1) + format(",%.6g", r.bitstep_ms[k]) +
-             format(",%.6g\n", k < r.bullet_ms.size() ? r.bullet_ms[k] : 0.0);
+             "," + std::to_string(k + 1) + format(",%.6g", r.bitstep_ms[k]) + format(",%.6g", at(r.bullet_ms, k)) +
+             format(",%.6g,%.6g\n", at(r.one_thread_wall_ms, k), at(r.threads_wall_ms, k));
     }
   }
   return csv;
@@ -66,14 +73,21 @@ std::string speed_section(const std::vector<SpeedRow>& rows, const std::string& 
                    bitstep_variant + "` and Bullet, each in a process of its own, median of " +
                    std::to_string(rounds) +
                    " alternating rounds (speed.csv has every round). Instruction counts need hardware "
-                   "counters, which this machine does not offer.\n\n"
-                   "| scene | phase | steps timed | bitstep ms/step | Bullet ms/step | bitstep / Bullet |\n"
-                   "|---|---|---:|---:|---:|---:|\n";
+                   "counters, which this machine does not offer. The last two columns: bitstep's wall-clock "
+                   "ms per step on " + std::to_string(speed_threads) +
+                   " workers (`--threads`), the same bits, and its speed-up over one thread's wall clock; "
+                   "below 64 manifolds, or where contact order is not local (a pile whose slots are "
+                   "scattered), the sweeps stay on one thread.\n\n"
+                   "| scene | phase | steps timed | bitstep ms/step | Bullet ms/step | bitstep / Bullet | " +
+                   std::to_string(speed_threads) + " threads ms/step | speed-up |\n"
+                   "|---|---|---:|---:|---:|---:|---:|---:|\n";
   for (const SpeedRow& r : rows) {
     const double ours = median(r.bitstep_ms), theirs = median(r.bullet_ms);
+    const double one = median(r.one_thread_wall_ms), shared = median(r.threads_wall_ms);
     md += "| " + r.c.scene + " | " + r.c.phase + " | " + std::to_string(r.c.from_step) + "-" +
           std::to_string(r.c.from_step + r.c.steps) + format(" | %.3g | %.3g | ", ours, theirs) +
-          (theirs > 0 ? format("%.2fx |\n", ours / theirs) : std::string("- |\n"));
+          (theirs > 0 ? format("%.2fx | ", ours / theirs) : std::string("- | ")) +
+          (shared > 0 ? format("%.3g | %.2fx |\n", shared, one / shared) : std::string("- | - |\n"));
   }
   return md + "\n";
 }

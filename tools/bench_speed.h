@@ -22,13 +22,21 @@ struct SpeedCase {
 
 const std::vector<SpeedCase>& speed_cases();
 
-// Steps `from_step` times, then returns the process CPU time per step (ms)
-// of the next `steps` steps.
-double cpu_ms_per_step(Engine& engine, int from_step, int steps);
+// Steps `from_step` times, then returns the process CPU time (all threads)
+// and the wall-clock time per step (ms) of the next `steps` steps.
+struct StepTimes {
+  double cpu = 0, wall = 0;
+};
+StepTimes ms_per_step(Engine& engine, int from_step, int steps);
+
+// Workers of the speed section's threaded column.
+constexpr int speed_threads = 2;
 
 struct SpeedRow {
   SpeedCase c;
-  std::vector<double> bitstep_ms, bullet_ms;  // one per round
+  // One per round: CPU ms/step of bitstep and Bullet on one thread; wall
+  // ms/step of bitstep on one thread and on speed_threads.
+  std::vector<double> bitstep_ms, bullet_ms, one_thread_wall_ms, threads_wall_ms;
 };
 
 double median(std::vector<double> values);

@@ -12,6 +12,7 @@
 #include "tools/file_output.h"
 #include "replay/state_dump.h"
 #include "replay/state_hash.h"
+#include "tools/thread_option.h"
 
 namespace bitstep {
 
@@ -30,10 +31,16 @@ bool parse_steps(const char* text, int64_t& out) {
 int record_command(int argc, char** argv, const char* engine_version) {
   std::string scene_path, inputs_path, output, settings_text;
   int64_t steps = -1;
+  int threads = 1;
   for (int i = 0; i < argc; ++i) {
     const std::string arg = argv[i];
     const bool has_value = i + 1 < argc;
-    if (arg == "--inputs" && has_value) {
+    if (arg == "--threads" && has_value) {
+      if (!parse_threads(argv[++i], threads)) {
+        fmt::print(stderr, "bitstep record: --threads needs an integer 1..{}, got '{}'\n", max_threads, argv[i]);
+        return 2;
+      }
+    } else if (arg == "--inputs" && has_value) {
       inputs_path = argv[++i];
     } else if (arg == "--steps" && has_value) {
       if (!parse_steps(argv[++i], steps)) {
@@ -53,7 +60,8 @@ int record_command(int argc, char** argv, const char* engine_version) {
   }
   if (scene_path.empty() || steps < 0 || output.empty()) {
     fmt::print(stderr,
-               "bitstep record: usage: bitstep record SCENE [--inputs FILE] [--settings JSON] --steps N -o REPLAY\n");
+               "bitstep record: usage: bitstep record SCENE [--inputs FILE] [--settings JSON] [--threads N] --steps N "
+               "-o REPLAY\n");
     return 2;
   }
   auto loaded = load_scene_file(scene_path);
@@ -98,6 +106,8 @@ int record_command(int argc, char** argv, const char* engine_version) {
     fmt::print(stderr, "bitstep record: {}: {}\n", scene_path, reason);
     return 1;
   }
+  const std::unique_ptr<ThreadPool> pool = make_pool(threads);
+  world.set_executor(pool.get());
   replay.scene_hash = state_hash(world);
   run_inputs(world, replay.inputs, steps, replay.hashes);
   if (!write_file_atomically(output, replay_json(replay, std::string("bitstep ") + engine_version), reason)) {
@@ -113,9 +123,15 @@ int verify_command(int argc, char** argv) {
   std::vector<std::string> paths;
   int64_t dump_step = -1;
   std::string dump_path;
+  int threads = 1;
   for (int i = 0; i < argc; ++i) {
     const std::string arg = argv[i];
-    if (arg == "--dump-at" && i + 2 < argc) {
+    if (arg == "--threads" && i + 1 < argc) {
+      if (!parse_threads(argv[++i], threads)) {
+        fmt::print(stderr, "bitstep verify: --threads needs an integer 1..{}, got '{}'\n", max_threads, argv[i]);
+        return 2;
+      }
+    } else if (arg == "--dump-at" && i + 2 < argc) {
       if (!parse_steps(argv[++i], dump_step)) {
         fmt::print(stderr, "bitstep verify: --dump-at needs a step 0..100000000, got '{}'\n", argv[i]);
         return 2;
@@ -129,9 +145,12 @@ int verify_command(int argc, char** argv) {
     }
   }
   if (paths.empty() || (!dump_path.empty() && paths.size() != 1)) {
-    fmt::print(stderr, "bitstep verify: usage: bitstep verify REPLAY... | bitstep verify REPLAY --dump-at STEP FILE\n");
+    fmt::print(stderr,
+               "bitstep verify: usage: bitstep verify [--threads N] REPLAY... | bitstep verify REPLAY --dump-at STEP "
+               "FILE\n");
     return 2;
   }
+  const std::unique_ptr<ThreadPool> pool = make_pool(threads);
   bool all_match = true;
   for (const std::string& path : paths) {
     auto loaded = load_replay_file(path, true);
@@ -142,7 +161,7 @@ int verify_command(int argc, char** argv) {
     }
     const Replay& replay = std::get<Replay>(loaded);
     std::string dump;
-    const Verification v = verify_replay(replay, dump_step, dump_path.empty() ? nullptr : &dump);
+    const Verification v = verify_replay(replay, dump_step, dump_path.empty() ? nullptr : &dump, pool.get());
     if (!dump_path.empty()) {
       std::string reason;
       if (dump_step > replay.steps) {

@@ -19,6 +19,7 @@
 #include "replay/state_hash.h"
 #include "tools/body_trace.h"
 #include "tools/file_output.h"
+#include "tools/thread_option.h"
 
 namespace bitstep {
 
@@ -37,6 +38,7 @@ struct RunOptions {
   std::string trace_path;       // --trace: every body's pose and velocities
   long long trace_every = 1;
   std::string trace_format;     // "csv", "jsonl", or empty: from the extension
+  int threads = 1;              // --threads: workers stepping the world (the same bits for any count)
 };
 
 double to_double(Fixed f) { return static_cast<double>(f.raw()) * 0x1p-32; }
@@ -54,6 +56,10 @@ std::string parse_options(int argc, char** argv, RunOptions& o) {
     const bool has_value = i + 1 < argc;
     if (arg == "--json") {
       o.json = true;
+    } else if (arg == "--threads" && has_value) {
+      if (!parse_threads(argv[++i], o.threads)) {
+        return fmt::format("--threads needs an integer 1..{}, got '{}'", max_threads, argv[i]);
+      }
     } else if (arg == "--steps" && has_value) {
       if (!parse_count(argv[++i], o.steps)) return fmt::format("--steps needs a non-negative integer, got '{}'", argv[i]);
     } else if (arg == "--seconds" && has_value) {
@@ -161,6 +167,8 @@ int run_scene_command(int argc, char** argv) {
     fmt::print(stderr, "bitstep run: {}: {}\n", options.scene_path, reason);
     return 1;
   }
+  const std::unique_ptr<ThreadPool> pool = make_pool(options.threads);
+  world.set_executor(pool.get());
   if (!options.restore_path.empty()) {
     std::string bytes;
     if (!read_text_file(options.restore_path, bytes, reason)) {

@@ -15,6 +15,7 @@
 #include <new>
 #include <vector>
 
+#include "replay/thread_pool.h"
 #include "tests/core/test_world.h"
 
 namespace {
@@ -108,4 +109,25 @@ TEST_CASE("a settled world's step allocates nothing, in both pipelines and every
       CHECK(allocations_over(t, 60) == 0);
     }
   }
+}
+
+// The solver's sweeps shared among workers (core/ordered_sweeps.h) plan in
+// workspace too: a settled pyramid of 120 boxes (~330 manifolds, enough to
+// share) on two workers.
+TEST_CASE("a settled pyramid's step on two workers allocates nothing", "[allocation][threads]") {
+  ThreadPool pool(2);
+  TestWorld t;
+  t.add_ground();
+  const Vec3 cube{0.25_fx, 0.25_fx, 0.25_fx};
+  for (int row = 0; row < 15; ++row) {
+    for (int k = 0; k < 15 - row; ++k) {
+      const Fixed x = Fixed::from_int(2 * k + row - 14) * 0.26_fx;
+      t.add_box({x, 0.25_fx + Fixed::from_int(row) * 0.5_fx, Fixed{}}, cube);
+    }
+  }
+  t.world.set_executor(&pool);
+  t.simulate_steps(60);
+  const uint64_t shared_before = t.world.shared_sweep_runs();
+  CHECK(allocations_over(t, 60) == 0);
+  CHECK(t.world.shared_sweep_runs() > shared_before);  // the workers did run
 }

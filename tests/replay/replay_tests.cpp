@@ -13,6 +13,7 @@
 #include "replay/replay.h"
 #include "replay/state_dump.h"
 #include "replay/state_hash.h"
+#include "replay/thread_pool.h"
 #include "tests/replay/test_scenes.h"
 
 using namespace bitstep;
@@ -34,16 +35,19 @@ std::vector<std::string> golden_replays() {
 
 // Runs a replay; the hash chain it produces. Without `contact_reuse` the
 // narrowphase tests every shape pair afresh every step and the solver
-// builds every row.
-std::vector<uint64_t> replay_chain(const Replay& replay, uint64_t& scene_hash, bool contact_reuse = true) {
+// builds every row; `executor` steps the world on its workers.
+std::vector<uint64_t> replay_chain(const Replay& replay, uint64_t& scene_hash, bool contact_reuse = true,
+                                   Executor* executor = nullptr, uint64_t* shared_sweep_runs = nullptr) {
   World world(replay.scene.settings);
   std::string reason;
   REQUIRE(build_world(replay.scene, world, reason));
   world.set_contact_reuse(contact_reuse);
+  world.set_executor(executor);
   scene_hash = state_hash(world);
   std::vector<uint64_t> hashes;
   run_inputs(world, replay.inputs, replay.steps, hashes);
   if (!contact_reuse) CHECK(world.reused_shape_pairs() + world.reused_manifold_rows() == 0);
+  if (shared_sweep_runs) *shared_sweep_runs += world.shared_sweep_runs();
   return hashes;
 }
 
@@ -100,19 +104,12 @@ bool left_to_optimised_builds(const std::string& path) {
 #endif
 }
 
-}  // namespace
-
-// The narrowphase reuses last step's result for a shape pair whose poses
-// and margin did not change by a bit (core/contact_update.h), the solver a
-// manifold's rows whose inputs did not (core/row_cache.h); the recorded
-// chains were made with both on. Off, every replay must give the same hash at
-// every step. Unoptimised builds run seven replays that cover what the reuse
-// must get right (a standing pyramid hit by a spawned sphere, a thrown pile
-// settling and sleeping with spawns, removals and wakes, a body removed from
-// a stack, spheres and capsules, guendelman's predicted poses) and leave the
-// rest to the optimised builds, where all of them run.
-TEST_CASE("every golden replay gives the same chain with the narrowphase's and the rows' reuse off",
-          "[replay][golden]") {
+// Unoptimised builds run seven replays that cover what the reuse and the
+// threads must get right (a standing pyramid hit by a spawned sphere, a
+// thrown pile settling and sleeping with spawns, removals and wakes, a body
+// removed from a stack, spheres and capsules, guendelman's predicted poses)
+// and leave the rest to the optimised builds, where all of them run.
+std::vector<std::string> replays_of_this_build() {
   std::vector<std::string> paths = golden_replays();
 #if !defined(NDEBUG)
   std::erase_if(paths, [](const std::string& path) {
@@ -124,6 +121,19 @@ TEST_CASE("every golden replay gives the same chain with the narrowphase's and t
   });
   REQUIRE(paths.size() == 7);
 #endif
+  return paths;
+}
+
+}  // namespace
+
+// The narrowphase reuses last step's result for a shape pair whose poses
+// and margin did not change by a bit (core/contact_update.h), the solver a
+// manifold's rows whose inputs did not (core/row_cache.h); the recorded
+// chains were made with both on. Off, every replay must give the same hash at
+// every step.
+TEST_CASE("every golden replay gives the same chain with the narrowphase's and the rows' reuse off",
+          "[replay][golden]") {
+  const std::vector<std::string> paths = replays_of_this_build();
   for (const std::string& path : paths) {
     INFO(path);
     auto loaded = load_replay_file(path, true);
@@ -131,6 +141,28 @@ TEST_CASE("every golden replay gives the same chain with the narrowphase's and t
     const Replay& replay = std::get<Replay>(loaded);
     uint64_t scene_hash = 0;
     CHECK(first_divergent_step(replay.hashes, replay_chain(replay, scene_hash, false)) == 0);
+  }
+}
+
+// The solver's sweeps on several workers keep every body's updates in the
+// one-thread order (core/ordered_sweeps.h): the same chain for any count,
+// more workers than cores included (8 on CI's 2).
+TEST_CASE("every golden replay reproduces its hash chain on 2, 3 and 8 workers", "[replay][golden][threads]") {
+  const std::vector<std::string> paths = replays_of_this_build();
+  for (const int workers : {2, 3, 8}) {
+    ThreadPool pool(workers);
+    uint64_t shared_runs = 0;
+    for (const std::string& path : paths) {
+      INFO(path << " on " << workers << " workers");
+      auto loaded = load_replay_file(path, true);
+      if (const ReplayError* error = std::get_if<ReplayError>(&loaded)) FAIL(error->message());
+      const Replay& replay = std::get<Replay>(loaded);
+      uint64_t scene_hash = 0;
+      CHECK(first_divergent_step(replay.hashes, replay_chain(replay, scene_hash, true, &pool, &shared_runs)) == 0);
+    }
+    // Shared, not left on one thread: the standing pyramid and the walls are
+    // (977 runs on 2 and 3 workers, 616 on 8, in Release).
+    CHECK(shared_runs > 10);
   }
 }
 

@@ -62,24 +62,27 @@ TEST_CASE("fit_power_law recovers the exponent of exact power laws", "[bench]") 
 TEST_CASE("the speed table reports medians of the rounds and their ratio", "[bench]") {
   CHECK(median({3, 1, 2}) == 2);
   CHECK(median({4, 1, 3, 2}) == 2.5);
-  SpeedRow row{{"stack20.json", "standing", 60, 240}, {3, 1, 2}, {1, 2, 0.5}};
+  SpeedRow row{{"stack20.json", "standing", 60, 240}, {3, 1, 2}, {1, 2, 0.5}, {4, 3, 5}, {2, 2.5, 3}};
   const std::string md = speed_section({row}, "standard+shock");
-  CHECK(md.find("| stack20.json | standing | 60-300 | 2 | 1 | 2.00x |") != std::string::npos);
+  // Wall clock: 4 ms on one thread, 2.5 on two (medians): 1.60x.
+  CHECK(md.find("| stack20.json | standing | 60-300 | 2 | 1 | 2.00x | 2.5 | 1.60x |") != std::string::npos);
   CHECK(md.find("median of 3 alternating rounds") != std::string::npos);
-  CHECK(speed_csv({row}).find("stack20.json,standing,60,240,3,2,0.5\n") != std::string::npos);
+  CHECK(speed_csv({row}).find("stack20.json,standing,60,240,3,2,0.5,5,3\n") != std::string::npos);
 }
 
-TEST_CASE("the speed section times the steps after the warm-up, in CPU time", "[bench]") {
+TEST_CASE("the speed section times the steps after the warm-up, in CPU and wall-clock time", "[bench]") {
   for (const Variant& v : bitstep_variants()) {
     if (v.name != "standard+shock") continue;
-    auto engine = v.make(StepConfig{});
+    StepConfig two_workers;
+    two_workers.threads = 2;
+    auto engine = v.make(two_workers);
     BodySpec ball;
     ball.shapes.push_back({ShapeKind::sphere, {}, 0.5});
     ball.position = {0, 10, 0};
     ball.mass = 1;
     engine->add_body(ball);
-    const double ms = cpu_ms_per_step(*engine, 30, 30);
-    CHECK(std::isfinite(ms));
+    const StepTimes ms = ms_per_step(*engine, 30, 30);
+    CHECK((std::isfinite(ms.cpu) && std::isfinite(ms.wall) && ms.cpu >= 0 && ms.wall > 0));
     // 60 steps of free fall: the warm-up steps ran too (y = 10 - g t^2 / 2 at t = 1 s).
     CHECK(std::abs(engine->state(0).position[1] - (10 - 9.81 / 2)) < 1e-3);
   }
