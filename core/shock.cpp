@@ -52,8 +52,9 @@ bool rank_pass(const std::vector<Body>& bodies, const std::vector<uint32_t>& lev
           // Glued in the last pass and not moved since: its supports are
           // frozen, so the glue would find the same again.
           if (list[0] == i && !(glued_to_all[mover] && solver_bodies[mover].velocity == glued_velocity[mover])) {
-            glued_to_all[mover] = glue_all(solver_bodies[mover], bodies[mover], solver_bodies, bodies, list, count,
-                                           level, shock_manifolds, shock_rows);
+            glued_to_all[mover] =
+                glue_all(solver_bodies[mover], bodies[mover], solver_bodies, bodies, list, count, level,
+                         shock_manifolds, shock_rows, scratch.glue_faces.by_body[mover], scratch.glue_faces);
             glued_velocity[mover] = solver_bodies[mover].velocity;
           }
           if (glued_to_all[mover]) {
@@ -66,7 +67,7 @@ bool rank_pass(const std::vector<Body>& bodies, const std::vector<uint32_t>& lev
         const bool alone = !supports.several[mover];
         if (alone && glued_alone[mover] && solver_bodies[mover].velocity == glued_velocity[mover]) continue;
         const bool glued = glue(solver_bodies[mover], solver_bodies[mover_is_b ? m.a : m.b], bodies[mover],
-                                mover_is_b, m, shock_rows);
+                                mover_is_b, m, shock_rows, scratch.glue_faces.by_manifold[i], scratch.glue_faces);
         if (alone) {
           glued_alone[mover] = glued;
           glued_velocity[mover] = solver_bodies[mover].velocity;
@@ -271,6 +272,7 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
   scratch.glued_alone.assign(bodies.size(), 0);
   scratch.glued_velocity.resize(bodies.size());  // read only where glued_to_all or glued_alone
   copy_rows(scratch);
+  scratch.glue_faces.reset(bodies.size(), scratch.order.size());
   // Rank by rank, each made immovable once solved.
   scratch.saved_inverse_mass.clear();
   scratch.frozen_bodies.clear();

@@ -49,6 +49,39 @@ void make_one_sided(ManifoldRow& m, std::vector<PointRow>& rows, const SolverBod
   m.one_sided = true;
 }
 
+namespace {
+
+// glue's face: a face contact (3 or more points, both rocking rows) with no
+// row asking the surfaces apart (a bounce or a bias; a speculative gap's
+// allowed approach is met by moving together), its centroid, its points'
+// levers and the rocking axes' Gram matrix.
+void measure_face(const ManifoldRow& m, const std::vector<PointRow>& rows, GlueFace& face, GlueFaces& faces) {
+  face.generation = faces.generation;
+  face.state = GlueFace::State::never;
+  if (m.count < 3 || !m.rocking[0].active || !m.rocking[1].active) return;
+  for (size_t i = 0; i < m.count; ++i) {
+    if (rows[m.first + i].velocity_target > Fixed{}) return;
+  }
+  const Vec3 n = m.manifold->normal;
+  Vec3 centroid;
+  for (size_t i = 0; i < m.count; ++i) centroid += rows[m.first + i].point->position;
+  centroid = centroid / Fixed::from_int(static_cast<int32_t>(m.count));
+  const Vec3 u0 = m.rocking[0].row.axis, u1 = m.rocking[1].row.axis;
+  face.g00 = dot(u0, u0);
+  face.g01 = dot(u0, u1);
+  face.g11 = dot(u1, u1);
+  const Fixed det = face.g00 * face.g11 - face.g01 * face.g01;
+  if (det < 0.000001_fx) return;
+  face.inverse_det = Fixed::one() / det;
+  face.n = n;
+  face.centroid = centroid;
+  face.first_point = static_cast<uint32_t>(faces.points.size());
+  for (size_t i = 0; i < m.count; ++i) faces.points.push_back({cross(rows[m.first + i].point->position - centroid, n), {}, {}});
+  face.state = GlueFace::State::usable;
+}
+
+}  // namespace
+
 // In the shock step a face contact (3 or 4 points) of body `mover` against an
 // immovable support is solved as one block: the impulse that glues the body
 // to the support (relative velocity zero in all six directions: w = w_s and
@@ -59,13 +92,9 @@ void make_one_sided(ManifoldRow& m, std::vector<PointRow>& rows, const SolverBod
 // between friction at the face and the body's rocking that row-by-row
 // passes leave as a slow sideways creep.
 bool glue(SolverBody& mover, const SolverBody& support, const Body& body, bool mover_is_b, const ManifoldRow& m,
-          std::vector<PointRow>& rows) {
-  if (m.count < 3 || !m.rocking[0].active || !m.rocking[1].active) return false;
-  // Only a resting contact: no bounce or bias asks the surfaces apart (a
-  // speculative gap's allowed approach is met by moving together).
-  for (size_t i = 0; i < m.count; ++i) {
-    if (rows[m.first + i].velocity_target > Fixed{}) return false;
-  }
+          std::vector<PointRow>& rows, GlueFace& face, GlueFaces& faces) {
+  if (!faces.measured(face)) measure_face(m, rows, face, faces);
+  if (face.state == GlueFace::State::never) return false;
   const Vec3 r_mover = mover_is_b ? m.offset_b : m.offset_a;
   const Vec3 r_support = mover_is_b ? m.offset_a : m.offset_b;
   // Target rates: the support's rigid motion continued to the mover.
@@ -79,7 +108,7 @@ bool glue(SolverBody& mover, const SolverBody& support, const Body& body, bool m
   const Vec3 angular = rotate(q, body.inertia_local * rotate_inverse(q, dw)) - cross(r_mover, impulse);
   // In the rows' terms (an impulse lambda acts +d on b, -d on a).
   const Manifold& manifold = *m.manifold;
-  const Vec3 n = manifold.normal;
+  const Vec3 n = face.n;
   const Vec3 p = mover_is_b ? impulse : -impulse;
   const Vec3 l = mover_is_b ? angular : -angular;
   const Fixed normal = dot(p, n);
@@ -93,23 +122,17 @@ bool glue(SolverBody& mover, const SolverBody& support, const Body& body, bool m
   // must push at every point. Rebuilding it drops whatever the iterations
   // left in the modes that move nothing (a 4-point face is statically
   // indeterminate), which would otherwise decide whether the glue holds.
-  Vec3 centroid;
-  for (size_t i = 0; i < m.count; ++i) centroid += rows[m.first + i].point->position;
-  centroid = centroid / Fixed::from_int(static_cast<int32_t>(m.count));
   Fixed total = normal;
   Vec3 moment = l - n * dot(l, n);
   for (size_t i = 0; i < m.count; ++i) {
-    const ContactPoint& point = *rows[m.first + i].point;
-    total += point.normal_impulse;
-    moment += cross(point.position - centroid, n) * point.normal_impulse;
+    const Fixed jn = rows[m.first + i].point->normal_impulse;
+    total += jn;
+    moment += faces.points[face.first_point + i].lever * jn;
   }
   const Vec3 u0 = m.rocking[0].row.axis, u1 = m.rocking[1].row.axis;
-  const Fixed g00 = dot(u0, u0), g01 = dot(u0, u1), g11 = dot(u1, u1);
-  const Fixed det = g00 * g11 - g01 * g01;
-  if (det < 0.000001_fx) return false;
   const Fixed b0 = dot(u0, moment), b1 = dot(u1, moment);
-  const Fixed inverse_det = Fixed::one() / det;
-  const Fixed lambda0 = (b0 * g11 - b1 * g01) * inverse_det, lambda1 = (b1 * g00 - b0 * g01) * inverse_det;
+  const Fixed lambda0 = (b0 * face.g11 - b1 * face.g01) * face.inverse_det;
+  const Fixed lambda1 = (b1 * face.g00 - b0 * face.g01) * face.inverse_det;
   const Fixed share = total / Fixed::from_int(static_cast<int32_t>(m.count));
   Fixed point_impulse[max_manifold_points];
   for (size_t i = 0; i < m.count; ++i) {
@@ -126,6 +149,92 @@ bool glue(SolverBody& mover, const SolverBody& support, const Body& body, bool m
   return true;
 }
 
+namespace {
+
+// glue_all's face: every support contact resting (no row asking the
+// surfaces apart), facing the same way (normals within a quarter of a
+// degree), three points or more not on a line; their centroid, levers and
+// mean distance from it, each contact's middle, the face's axes and the
+// least-squares matrix of the points' arms.
+void measure_faces(const uint32_t* entries, size_t entry_count, const std::vector<uint32_t>& level,
+                   const std::vector<ManifoldRow>& manifolds, const std::vector<PointRow>& rows, GlueFace& face,
+                   GlueFaces& faces) {
+  constexpr Fixed same_normal = 0.99999_fx;  // cosine
+  face.generation = faces.generation;
+  face.state = GlueFace::State::never;
+  Vec3 n, centroid;
+  Fixed mu = Fixed::max();
+  int32_t point_count = 0;
+  for (size_t e = 0; e < entry_count; ++e) {
+    const ManifoldRow& m = manifolds[entries[e]];
+    const Vec3 up = level[m.a] < level[m.b] ? m.manifold->normal : -m.manifold->normal;
+    for (size_t i = 0; i < m.count; ++i) {
+      if (rows[m.first + i].velocity_target > Fixed{}) return;  // only resting contacts
+      centroid += rows[m.first + i].point->position;
+    }
+    point_count += static_cast<int32_t>(m.count);
+    if (e == 0) {
+      n = up;
+    } else if (dot(up, n) < same_normal) {
+      return;
+    }
+    mu = min(mu, m.static_friction);
+  }
+  if (point_count < 3) return;
+  centroid = centroid / Fixed::from_int(point_count);
+  face.first_point = static_cast<uint32_t>(faces.points.size());
+  face.first_middle = static_cast<uint32_t>(faces.middles.size());
+  Fixed radius;
+  for (size_t e = 0; e < entry_count; ++e) {
+    const ManifoldRow& m = manifolds[entries[e]];
+    Vec3 middle;
+    for (size_t i = 0; i < m.count; ++i) {
+      const Vec3 position = rows[m.first + i].point->position;
+      faces.points.push_back({cross(position - centroid, n), {}, {}});
+      radius += length(position - centroid);
+      middle += position;
+    }
+    faces.middles.push_back(middle / Fixed::from_int(static_cast<int32_t>(m.count)));
+  }
+  radius = radius / Fixed::from_int(point_count);
+  // The arms are measured in units of the points' mean distance from c, so
+  // G stays near the point count whatever the size of the face.
+  if (radius < 0.0001_fx) return;
+  const Fixed inverse_radius = Fixed::one() / radius;
+  const Vec3 axis = abs(n.x) < 0.57735_fx ? Vec3{Fixed::one(), {}, {}} : Vec3{{}, Fixed::one(), {}};
+  const Vec3 e0 = normalize(cross(n, axis));
+  const Vec3 e1 = cross(n, e0);
+  Fixed g00, g01, g11;
+  size_t k = face.first_point;
+  for (size_t e = 0; e < entry_count; ++e) {
+    const ManifoldRow& m = manifolds[entries[e]];
+    for (size_t i = 0; i < m.count; ++i, ++k) {
+      const Vec3 a = cross((rows[m.first + i].point->position - centroid) * inverse_radius, n);
+      faces.points[k].a0 = dot(a, e0);
+      faces.points[k].a1 = dot(a, e1);
+      g00 += faces.points[k].a0 * faces.points[k].a0;
+      g01 += faces.points[k].a0 * faces.points[k].a1;
+      g11 += faces.points[k].a1 * faces.points[k].a1;
+    }
+  }
+  const Fixed det = g00 * g11 - g01 * g01;
+  if (det < 0.0001_fx) return;  // the points lie on a line
+  face.n = n;
+  face.centroid = centroid;
+  face.e0 = e0;
+  face.e1 = e1;
+  face.mu = mu;
+  face.radius = radius;
+  face.inverse_radius = inverse_radius;
+  face.g00 = g00;
+  face.g01 = g01;
+  face.g11 = g11;
+  face.inverse_det = Fixed::one() / det;
+  face.point_count = point_count;
+  face.state = GlueFace::State::usable;
+}
+
+}  // namespace
 
 // A body held up by several supports is glued to all of them at once when
 // they share one rigid motion (within 1 um/s and 1 urad/s: a wall's bricks
@@ -141,41 +250,31 @@ bool glue(SolverBody& mover, const SolverBody& support, const Body& body, bool m
 // shared by the contacts in proportion to their normal impulses.
 bool glue_all(SolverBody& mover, const Body& body, const std::vector<SolverBody>& solver_bodies,
               const std::vector<Body>& bodies, const uint32_t* entries, size_t entry_count,
-              const std::vector<uint32_t>& level, std::vector<ManifoldRow>& manifolds, std::vector<PointRow>& rows) {
+              const std::vector<uint32_t>& level, std::vector<ManifoldRow>& manifolds, std::vector<PointRow>& rows,
+              GlueFace& face, GlueFaces& faces) {
   constexpr Fixed same_motion = 0.000001_fx;  // m/s and rad/s
-  constexpr Fixed same_normal = 0.99999_fx;   // cosine
+  if (!faces.measured(face)) measure_faces(entries, entry_count, level, manifolds, rows, face, faces);
+  if (face.state == GlueFace::State::never) return false;
   const Vec3 position = body.pose.position;
-  Vec3 n, v, w, centroid;
-  Fixed mu = Fixed::max();
-  int32_t point_count = 0;
+  const Vec3 n = face.n, centroid = face.centroid;
+  // The supports' rigid motion continued to the mover's centre of mass: one
+  // motion for all of them.
+  Vec3 v, w;
   for (size_t e = 0; e < entry_count; ++e) {
     const ManifoldRow& m = manifolds[entries[e]];
-    const bool mover_is_b = level[m.a] < level[m.b];
-    const uint32_t support = mover_is_b ? m.a : m.b;
-    const Vec3 up = mover_is_b ? m.manifold->normal : -m.manifold->normal;
-    for (size_t i = 0; i < m.count; ++i) {
-      if (rows[m.first + i].velocity_target > Fixed{}) return false;  // only resting contacts
-      centroid += rows[m.first + i].point->position;
-    }
-    point_count += static_cast<int32_t>(m.count);
-    // The support's rigid motion continued to the mover's centre of mass.
+    const uint32_t support = level[m.a] < level[m.b] ? m.a : m.b;
     const SolverBody& s = solver_bodies[support];
     const Vec3 w_s = s.velocity.angular;
     const Vec3 v_s = s.velocity.linear + cross(w_s, position - bodies[support].pose.position);
     if (e == 0) {
-      n = up;
       v = v_s;
       w = w_s;
     } else {
-      if (dot(up, n) < same_normal) return false;
       const Vec3 dv = v_s - v, dw = w_s - w;
       if (max(max(abs(dv.x), abs(dv.y)), abs(dv.z)) > same_motion) return false;
       if (max(max(abs(dw.x), abs(dw.y)), abs(dw.z)) > same_motion) return false;
     }
-    mu = min(mu, m.static_friction);
   }
-  if (point_count < 3) return false;
-  centroid = centroid / Fixed::from_int(point_count);
   // The glue's impulse on the mover: P through the centroid and an angular
   // impulse L about it (m dv = P, I dw = r x P + L), as in glue().
   const Vec3 r_mover = centroid - position;
@@ -189,89 +288,57 @@ bool glue_all(SolverBody& mover, const Body& body, const std::vector<SolverBody>
   Vec3 tangential = impulse - n * total;
   Fixed twist = dot(angular, n);
   Vec3 moment = angular - n * twist;
-  Fixed radius;
+  size_t k = face.first_point;
   for (size_t e = 0; e < entry_count; ++e) {
     const ManifoldRow& m = manifolds[entries[e]];
     const Manifold& manifold = *m.manifold;
-    Vec3 middle;
-    for (size_t i = 0; i < m.count; ++i) {
-      const ContactPoint& point = *rows[m.first + i].point;
-      total += point.normal_impulse;
-      moment += cross(point.position - centroid, n) * point.normal_impulse;
-      radius += length(point.position - centroid);
-      middle += point.position;
+    for (size_t i = 0; i < m.count; ++i, ++k) {
+      const Fixed jn = rows[m.first + i].point->normal_impulse;
+      total += jn;
+      moment += faces.points[k].lever * jn;
     }
-    middle = middle / Fixed::from_int(static_cast<int32_t>(m.count));
     // An impulse lambda along a row acts +d on b, -d on a; the twist row's
     // impulse is the same about the mover's up either way.
     Vec3 friction = m.tangent[0].direction * manifold.friction_impulse[0] +
                     m.tangent[1].direction * manifold.friction_impulse[1];
     if (!(level[m.a] < level[m.b])) friction = -friction;
     tangential += friction;
-    twist += manifold.twist_impulse + dot(cross(middle - centroid, friction), n);
+    twist += manifold.twist_impulse + dot(cross(faces.middles[face.first_middle + e] - centroid, friction), n);
   }
-  radius = radius / Fixed::from_int(point_count);
   if (total <= Fixed{}) return false;
-  if (length(tangential) > mu * total) return false;
-  if (abs(twist) > mu * total * radius) return false;
+  if (length(tangential) > face.mu * total) return false;
+  if (abs(twist) > face.mu * total * face.radius) return false;
   // The fresh distribution pi_i = total / k + beta . a_i, a_i = (p_i - c) x n
   // in the face's plane (e0, e1), with G beta = moment: the least-squares
-  // spread of the points' impulses that gives the moment (sum a_i = 0). The
-  // arms are measured in units of the points' mean distance from c, so G
-  // stays near the point count whatever the size of the face.
-  if (radius < 0.0001_fx) return false;
-  const Fixed inverse_radius = Fixed::one() / radius;
-  const Vec3 axis = abs(n.x) < 0.57735_fx ? Vec3{Fixed::one(), {}, {}} : Vec3{{}, Fixed::one(), {}};
-  const Vec3 e0 = normalize(cross(n, axis));
-  const Vec3 e1 = cross(n, e0);
-  const auto arm = [&](const ContactPoint& point) { return cross((point.position - centroid) * inverse_radius, n); };
-  Fixed g00, g01, g11;
-  for (size_t e = 0; e < entry_count; ++e) {
-    const ManifoldRow& m = manifolds[entries[e]];
-    for (size_t i = 0; i < m.count; ++i) {
-      const Vec3 a = arm(*rows[m.first + i].point);
-      const Fixed a0 = dot(a, e0), a1 = dot(a, e1);
-      g00 += a0 * a0;
-      g01 += a0 * a1;
-      g11 += a1 * a1;
-    }
-  }
-  const Fixed det = g00 * g11 - g01 * g01;
-  if (det < 0.0001_fx) return false;  // the points lie on a line
-  const Fixed b0 = dot(moment, e0) * inverse_radius, b1 = dot(moment, e1) * inverse_radius;
-  const Fixed inverse_det = Fixed::one() / det;
-  const Fixed beta0 = (b0 * g11 - b1 * g01) * inverse_det, beta1 = (b1 * g00 - b0 * g01) * inverse_det;
-  const Fixed share = total / Fixed::from_int(point_count);
-  const auto point_share = [&](const ContactPoint& point) {
-    const Vec3 a = arm(point);
-    return share + beta0 * dot(a, e0) + beta1 * dot(a, e1);
+  // spread of the points' impulses that gives the moment (sum a_i = 0).
+  const Fixed b0 = dot(moment, face.e0) * face.inverse_radius, b1 = dot(moment, face.e1) * face.inverse_radius;
+  const Fixed beta0 = (b0 * face.g11 - b1 * face.g01) * face.inverse_det;
+  const Fixed beta1 = (b1 * face.g00 - b0 * face.g01) * face.inverse_det;
+  const Fixed share = total / Fixed::from_int(face.point_count);
+  const auto point_share = [&](size_t point) {
+    return share + beta0 * faces.points[point].a0 + beta1 * faces.points[point].a1;
   };
-  for (size_t e = 0; e < entry_count; ++e) {
-    const ManifoldRow& m = manifolds[entries[e]];
-    for (size_t i = 0; i < m.count; ++i) {
-      if (point_share(*rows[m.first + i].point) < Fixed{}) return false;
-    }
+  for (size_t p = face.first_point; p < face.first_point + static_cast<size_t>(face.point_count); ++p) {
+    if (point_share(p) < Fixed{}) return false;
   }
   // Held: the points take their shares; each contact the friction in
   // proportion to its normal impulse, and the twist that keeps the total.
+  k = face.first_point;
   for (size_t e = 0; e < entry_count; ++e) {
     const ManifoldRow& m = manifolds[entries[e]];
     Manifold& manifold = *m.manifold;
     Fixed normal;
-    Vec3 middle;
-    for (size_t i = 0; i < m.count; ++i) {
+    for (size_t i = 0; i < m.count; ++i, ++k) {
       ContactPoint& point = *rows[m.first + i].point;
-      point.normal_impulse = point_share(point);
+      point.normal_impulse = point_share(k);
       normal += point.normal_impulse;
-      middle += point.position;
     }
-    middle = middle / Fixed::from_int(static_cast<int32_t>(m.count));
     const Fixed part = normal / total;
     const Vec3 friction = tangential * part;
     const Vec3 along = level[m.a] < level[m.b] ? friction : -friction;
     manifold.friction_impulse[0] = dot(along, m.tangent[0].direction);
     manifold.friction_impulse[1] = dot(along, m.tangent[1].direction);
-    manifold.twist_impulse = twist * part - dot(cross(middle - centroid, friction), n);
+    manifold.twist_impulse = twist * part - dot(cross(faces.middles[face.first_middle + e] - centroid, friction), n);
   }
   mover.velocity = {v, w};
   return true;

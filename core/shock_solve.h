@@ -20,16 +20,19 @@ void make_one_sided(ManifoldRow& m, std::vector<PointRow>& rows, const SolverBod
 // Glues `mover` to the rigid motion of `support` through one face contact
 // m (3 or 4 points) when the contact can deliver it: true and the rows'
 // accumulated impulses rewritten, else false and nothing changed.
+// `face`: this manifold's, kept in `faces` between calls.
 bool glue(SolverBody& mover, const SolverBody& support, const Body& body, bool mover_is_b, const ManifoldRow& m,
-          std::vector<PointRow>& rows);
+          std::vector<PointRow>& rows, GlueFace& face, GlueFaces& faces);
 
 // Glues `mover` to all its supports at once (the manifolds
 // manifolds[entries[0 .. entry_count)]), taken as one face, when they
 // share one rigid motion and face the same way and the face can deliver
 // it; false and nothing changed otherwise. level: the shock ranks (the
 // mover is the higher-ranked body of each manifold).
+// `face`: the mover's, kept in `faces` between calls.
 bool glue_all(SolverBody& mover, const Body& body, const std::vector<SolverBody>& solver_bodies,
               const std::vector<Body>& bodies, const uint32_t* entries, size_t entry_count,
-              const std::vector<uint32_t>& level, std::vector<ManifoldRow>& manifolds, std::vector<PointRow>& rows);
+              const std::vector<uint32_t>& level, std::vector<ManifoldRow>& manifolds, std::vector<PointRow>& rows,
+              GlueFace& face, GlueFaces& faces);
 
 }  // namespace bitstep

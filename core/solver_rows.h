@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/body.h"
+#include "core/glue_face.h"
 #include "core/manifold.h"
 #include "core/ordered_sweeps.h"
 #include "core/row_cache.h"
@@ -222,6 +223,7 @@ struct SolverScratch {
   std::vector<ManifoldRow> shock_manifolds;
   std::vector<Manifold> accumulated;
   std::vector<RankBody> rank_bodies;
+  GlueFaces glue_faces;  // the glues' pose-only parts, measured once a step (shock_solve.h)
   std::vector<uint32_t> frozen_bodies;
   std::vector<Fixed> saved_inverse_mass;
   std::vector<Fixed> saved_impulses;  // the contact pass's, kept aside during the collision pass
