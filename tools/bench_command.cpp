@@ -599,7 +599,7 @@ class Bench {
     const std::time_t now = std::time(nullptr);
     char date[32];
     std::strftime(date, sizeof date, "%Y-%m-%d", std::gmtime(&now));
-    return fmt::format("{}, {}, {} hardware threads, single-threaded runs; `bitstep bench{}` took {:.0f} s.", date,
+    return fmt::format("{}, {}, {} hardware threads, single-threaded runs (but the speed section's threads column); `bitstep bench{}` took {:.0f} s.", date,
                        cpu, sysconf(_SC_NPROCESSORS_ONLN), options_.quick ? " --quick" : "", seconds);
   }
 
