@@ -42,6 +42,7 @@
 #include "tools/bench_stats.h"
 #include "tools/bench_scene_specs.h"
 #include "tools/bench_speed.h"
+#include "tools/thread_option.h"
 #include "tools/progress_bar.h"
 
 namespace bitstep {
@@ -60,6 +61,7 @@ struct Options {
   std::set<std::string> sections{"results", "sweep", "scale", "speed", "costs", "determinism"};
   std::set<std::string> only;  // experiments; empty: all
   bool peer = true;
+  int threads = 2;  // the speed section's threaded column
 };
 
 struct Row {
@@ -404,9 +406,9 @@ class Bench {
     for (const SpeedCase& c : speed_cases()) speed_.push_back({c, {}, {}, {}, {}});
     for (int round = 0; round < speed_rounds(); ++round) {
       for (SpeedRow& row : speed_) {
-        for (const int run : {0, 1, 2}) {  // bitstep, Bullet, bitstep on speed_threads
+        for (const int run : {0, 1, 2}) {  // bitstep, Bullet, bitstep on options_.threads
           const std::string_view variant = run == 1 ? peer_variant : default_variant;
-          const int threads = run == 2 ? speed_threads : 1;
+          const int threads = run == 2 ? options_.threads : 1;
           progress_->advance(fmt::format("speed {} {} {} on {}", row.c.scene, row.c.phase, variant, threads));
           std::string output;
           const std::string command =
@@ -428,7 +430,7 @@ class Bench {
         }
       }
     }
-    return write("speed.csv", speed_csv(speed_));
+    return write("speed.csv", speed_csv(speed_, options_.threads));
   }
 
   // --- costs ---------------------------------------------------------------------
@@ -580,7 +582,7 @@ class Bench {
     if (!results_.empty()) md += results_section();
     if (!sweep_.empty()) md += sweep_section();
     if (!scale_.empty()) md += scale_section();
-    if (!speed_.empty()) md += speed_section(speed_, std::string(default_variant));
+    if (!speed_.empty()) md += speed_section(speed_, std::string(default_variant), options_.threads);
     if (!rollback_.empty()) md += costs_section();
     if (!hashes_.empty() || !determinism_note_.empty()) md += determinism_section();
     return write("summary.md", md);
@@ -793,6 +795,11 @@ int run_bench_suite(int argc, char** argv) {
       options.scenes = argv[++i];
     } else if (arg == "--no-peer") {
       options.peer = false;
+    } else if (arg == "--threads" && has_value) {
+      if (!parse_threads(argv[++i], options.threads) || options.threads < 2) {
+        fmt::print(stderr, "bitstep bench: --threads needs an integer 2..{}, got '{}'\n", max_threads, argv[i]);
+        return 2;
+      }
     } else if (arg == "--sections" && has_value) {
       options.sections = split(argv[++i]);
       for (const std::string& s : options.sections) {
@@ -813,7 +820,7 @@ int run_bench_suite(int argc, char** argv) {
     } else {
       fmt::print(stderr,
                  "bitstep bench: unknown option '{}' (options: --quick, --full, --out DIR, --scenes DIR, "
-                 "--sections LIST, --only EXPERIMENTS, --no-peer)\n",
+                 "--sections LIST, --only EXPERIMENTS, --no-peer, --threads N)\n",
                  arg);
       return 2;
     }

@@ -52,10 +52,10 @@ double median(std::vector<double> values) {
   return n % 2 == 1 ? values[n / 2] : (values[n / 2 - 1] + values[n / 2]) / 2;
 }
 
-std::string speed_csv(const std::vector<SpeedRow>& rows) {
+std::string speed_csv(const std::vector<SpeedRow>& rows, int threads) {
   std::string csv =
       "scene,phase,from_step,steps,round,bitstep_cpu_ms_per_step,bullet_cpu_ms_per_step,bitstep_wall_ms_per_step,"
-      "bitstep_" + std::to_string(speed_threads) + "_threads_wall_ms_per_step\n";
+      "bitstep_" + std::to_string(threads) + "_threads_wall_ms_per_step\n";
   const auto at = [](const std::vector<double>& v, size_t k) { return k < v.size() ? v[k] : 0.0; };
   for (const SpeedRow& r : rows) {
     for (size_t k = 0; k < r.bitstep_ms.size(); ++k) {
@@ -67,19 +67,19 @@ std::string speed_csv(const std::vector<SpeedRow>& rows) {
   return csv;
 }
 
-std::string speed_section(const std::vector<SpeedRow>& rows, const std::string& bitstep_variant) {
+std::string speed_section(const std::vector<SpeedRow>& rows, const std::string& bitstep_variant, int threads) {
   const size_t rounds = rows.empty() ? 0 : rows.front().bitstep_ms.size();
   std::string md = "## Speed against Bullet\n\nCPU ms per step at 60 Hz, 10 iterations, one thread: bitstep's `" +
                    bitstep_variant + "` and Bullet, each in a process of its own, median of " +
                    std::to_string(rounds) +
                    " alternating rounds (speed.csv has every round). Instruction counts need hardware "
                    "counters, which this machine does not offer. The last two columns: bitstep's wall-clock "
-                   "ms per step on " + std::to_string(speed_threads) +
+                   "ms per step on " + std::to_string(threads) +
                    " workers (`--threads`), the same bits, and its speed-up over one thread's wall clock; "
                    "below 64 manifolds, or where contact order is not local (a pile whose slots are "
                    "scattered), the sweeps stay on one thread.\n\n"
                    "| scene | phase | steps timed | bitstep ms/step | Bullet ms/step | bitstep / Bullet | " +
-                   std::to_string(speed_threads) + " threads ms/step | speed-up |\n"
+                   std::to_string(threads) + " threads ms/step | speed-up |\n"
                    "|---|---|---:|---:|---:|---:|---:|---:|\n";
   for (const SpeedRow& r : rows) {
     const double ours = median(r.bitstep_ms), theirs = median(r.bullet_ms);

@@ -29,19 +29,17 @@ struct StepTimes {
 };
 StepTimes ms_per_step(Engine& engine, int from_step, int steps);
 
-// Workers of the speed section's threaded column.
-constexpr int speed_threads = 2;
-
 struct SpeedRow {
   SpeedCase c;
   // One per round: CPU ms/step of bitstep and Bullet on one thread; wall
-  // ms/step of bitstep on one thread and on speed_threads.
+  // ms/step of bitstep on one thread and on the threaded column's workers.
   std::vector<double> bitstep_ms, bullet_ms, one_thread_wall_ms, threads_wall_ms;
 };
 
 double median(std::vector<double> values);
-std::string speed_csv(const std::vector<SpeedRow>& rows);
+// `threads`: the workers of the threaded column (bitstep bench --threads).
+std::string speed_csv(const std::vector<SpeedRow>& rows, int threads);
 // The summary's section: a table of medians and bitstep / Bullet ratios.
-std::string speed_section(const std::vector<SpeedRow>& rows, const std::string& bitstep_variant);
+std::string speed_section(const std::vector<SpeedRow>& rows, const std::string& bitstep_variant, int threads);
 
 }  // namespace bitstep::bench

@@ -5,6 +5,7 @@
 namespace bitstep {
 
 bool parse_threads(const char* text, int& out) {
+  if (*text < '0' || *text > '9') return false;  // strtol would skip blanks and take a sign
   char* end = nullptr;
   const long value = std::strtol(text, &end, 10);
   if (end == text || *end != '\0' || value < 1 || value > max_threads) return false;
