@@ -6,8 +6,10 @@
 // many touch (RowInputs). Where every one of those is bit-identical to last
 // step's for the same contact key, the rows are copied from last step's
 // instead of built again, so a step computes the same bits with or without the cache. Only
-// the velocity-dependent parts (targets, impacts, resting faces, friction
-// coefficients) are computed every step. A standing structure skips the
+// the velocity-dependent parts (targets, impacts, resting faces) are
+// computed every step; the pair's friction coefficients come with the rows
+// (the bodies' coefficients are compared too), and the tangent basis is
+// found only for rows that are built. A standing structure skips the
 // row setup's products and divisions. Not state: no invalidation is needed
 // (the inputs are compared in full), and a restored world starts empty.
 #pragma once
@@ -31,11 +33,14 @@ struct RowInputs {
 };
 
 // A body's inputs to its rows: centre of mass, inverse mass and world
-// inverse inertia, as the solve uses them (zero mass for a sleeping body).
+// inverse inertia, as the solve uses them (zero mass for a sleeping body),
+// and its friction coefficients (a pair's are the geometric means: two
+// square roots a manifold, reused with the rows).
 struct BodyRowInputs {
   Vec3 centre;
   Fixed inverse_mass;
   Mat33 inverse_inertia;
+  Fixed static_friction, dynamic_friction;
   friend bool operator==(const BodyRowInputs&, const BodyRowInputs&) = default;
 };
 

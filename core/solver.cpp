@@ -153,11 +153,7 @@ void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
     const SolverBody& a = solver_bodies[ia];
     const SolverBody& b = solver_bodies[ib];
     Manifold& m = contact.manifold;
-    Vec3 t1, t2;
-    tangent_basis(m.normal, t1, t2);
-    // Pair mixing: geometric mean of frictions, the larger restitution.
-    const Fixed mu_s = sqrt(body_a.material.static_friction * body_b.material.static_friction);
-    const Fixed mu_d = sqrt(body_a.material.dynamic_friction * body_b.material.dynamic_friction);
+    // Pair mixing: the larger restitution; friction below.
     const Fixed restitution = max(body_a.material.restitution, body_b.material.restitution);
     // Box pairs roll on nothing: no square root for them.
     const Fixed roll_radius =
@@ -175,6 +171,18 @@ void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
       reuse = cache->find(inputs, cursor);
       cache->next.push_back({inputs, first, manifold_rows.size()});
       ++(reuse ? cache->reused : cache->built);
+    }
+    // Friction: the geometric means of the bodies' coefficients, as last
+    // step's rows hold them where they are reused (their bodies' are equal).
+    const Fixed mu_s = reuse ? last_manifolds[reuse->manifold_row].static_friction
+                             : sqrt(body_a.material.static_friction * body_b.material.static_friction);
+    const Fixed mu_d = reuse ? last_manifolds[reuse->manifold_row].dynamic_friction
+                             : sqrt(body_a.material.dynamic_friction * body_b.material.dynamic_friction);
+    // The tangents (a fixed choice per normal, so warm-started friction
+    // keeps its meaning), for the rows that are built.
+    Vec3 t1, t2;
+    if (!reuse || (rolling_limit > Fixed{} && last_manifolds[reuse->manifold_row].rolling_limit == Fixed{})) {
+      tangent_basis(m.normal, t1, t2);
     }
     Vec3 centroid;
     Fixed target;
@@ -398,7 +406,8 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
     std::vector<BodyRowInputs>& now = scratch.body_row_inputs;
     now.resize(bodies.size());
     for (size_t i = 0; i < bodies.size(); ++i) {
-      now[i] = {bodies[i].pose.position, solver_bodies[i].inverse_mass, solver_bodies[i].inverse_inertia};
+      now[i] = {bodies[i].pose.position, solver_bodies[i].inverse_mass, solver_bodies[i].inverse_inertia,
+                bodies[i].material.static_friction, bodies[i].material.dynamic_friction};
     }
     cache.compare_bodies(now);
   }

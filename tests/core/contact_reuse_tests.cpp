@@ -118,3 +118,35 @@ TEST_CASE("a sphere created in a removed box's slot, at its pose, is tested afre
   CHECK(c.first_difference == 0);
   CHECK(c.reused > 0);
 }
+
+TEST_CASE("a box of other friction created in a removed box's slot, at its pose, gets its own friction",
+          "[world][reuse]") {
+  // The same shape, pose, mass and inertia, so every Jacobian could be
+  // reused: only the friction coefficients differ (the rows carry the pair's
+  // geometric means, compared through the bodies' coefficients). A steady
+  // sideways force of 1.2 times its weight then slides the icy box out of
+  // the stack (5.9 m by step 120); with the default box's coefficients its
+  // two faces (the two boxes above pressing on it) would hold it, and the
+  // stack would stand and keep reusing its rows (it does when the
+  // coefficients are left out of the comparison: this test then fails).
+  Settings settings;
+  const Comparison c = compare(settings, 120, [](TestWorld& t, int step) {
+    BodyId middle{3, 0};
+    if (step > 40) middle.generation = t.world.bodies()[3].generation;  // the new body's handle
+    if (step == 40) {
+      BodyDef def;
+      def.pose = t.world.body(middle).pose;
+      def.shapes.push_back({ShapeType::box, {0.5_fx, 0.5_fx, 0.5_fx}, {}, {}, {}});
+      def.material.static_friction = 0.05_fx;
+      def.material.dynamic_friction = 0.04_fx;
+      REQUIRE(t.world.remove_body(middle));
+      REQUIRE(t.world.create_body(def).id.index == 3);
+    }
+    if (step > 40) {
+      const Fixed weight = 9.81_fx / t.world.body(middle).inverse_mass;
+      t.world.apply_force(middle, {weight * 1.2_fx, Fixed{}, Fixed{}}, t.world.body(middle).pose.position);
+    }
+  });
+  CHECK(c.first_difference == 0);
+  CHECK(c.reused_rows > 0);
+}
