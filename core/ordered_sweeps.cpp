@@ -9,25 +9,41 @@ namespace bitstep {
 
 namespace {
 
-size_t kind_index(SweepKind kind) { return static_cast<size_t>(kind); }
+// The item lists: every manifold, those of 2 points or more, those with a
+// rocking row, the rows outside a resting face, every row.
+enum List : size_t { all_manifolds, several_points, rocking_rows, free_rows, all_rows };
 
-// The items of every kind, in the one-thread order of their sweeps.
+List list_of(SweepKind kind) {
+  switch (kind) {
+    case SweepKind::warm_point: return all_rows;
+    case SweepKind::warm_manifold: return all_manifolds;
+    case SweepKind::friction: return all_manifolds;
+    case SweepKind::manifold_normal: return several_points;
+    case SweepKind::rocking: return rocking_rows;
+    case SweepKind::point_normal: return free_rows;
+    case SweepKind::point_push: return all_rows;
+  }
+  return all_rows;
+}
+
+// Every list's items, in the one-thread order of their sweeps.
 void list_items(const std::vector<PointRow>& rows, const std::vector<ManifoldRow>& manifolds, OrderedSweeps& plan) {
   for (std::vector<uint32_t>& list : plan.items) list.clear();
   for (uint32_t i = 0; i < manifolds.size(); ++i) {
     const ManifoldRow& m = manifolds[i];
-    plan.items[kind_index(SweepKind::friction)].push_back(i);
-    if (m.count >= 2) plan.items[kind_index(SweepKind::manifold_normal)].push_back(i);
-    if (m.rocking[0].active || m.rocking[1].active) plan.items[kind_index(SweepKind::rocking)].push_back(i);
+    plan.items[all_manifolds].push_back(i);
+    if (m.count >= 2) plan.items[several_points].push_back(i);
+    if (m.rocking[0].active || m.rocking[1].active) plan.items[rocking_rows].push_back(i);
   }
   for (uint32_t i = 0; i < rows.size(); ++i) {
-    if (!rows[i].in_resting_face) plan.items[kind_index(SweepKind::point_normal)].push_back(i);
-    plan.items[kind_index(SweepKind::point_push)].push_back(i);
+    if (!rows[i].in_resting_face) plan.items[free_rows].push_back(i);
+    plan.items[all_rows].push_back(i);
   }
 }
 
 bool on_manifolds(SweepKind kind) {
-  return kind == SweepKind::friction || kind == SweepKind::manifold_normal || kind == SweepKind::rocking;
+  const List list = list_of(kind);
+  return list == all_manifolds || list == several_points || list == rocking_rows;
 }
 
 // Gives each manifold (and its rows) to a worker: equal shares of the
@@ -104,7 +120,7 @@ void plan_updates(const SweepStep* steps, size_t step_count, int workers, const 
   for (size_t w = 0; w < w_count; ++w) plan.updates_of[w].clear();
   plan.list_end.resize(step_count * w_count);
   for (size_t s = 0; s < step_count; ++s) {
-    const std::vector<uint32_t>& items = plan.items[kind_index(steps[s].kind)];
+    const std::vector<uint32_t>& items = plan.items[list_of(steps[s].kind)];
     const bool manifold_items = on_manifolds(steps[s].kind);
     const std::vector<uint8_t>& worker_of = manifold_items ? plan.manifold_worker : plan.row_worker;
     const size_t n = items.size();
@@ -151,6 +167,8 @@ void update(const SweepRun& run, SweepKind kind, uint32_t item, uint32_t ia, uin
   SolverBody& a = movable_a ? bodies[ia] : spare_a;
   SolverBody& b = movable_b ? bodies[ib] : spare_b;
   switch (kind) {
+    case SweepKind::warm_point: warm_start_point(a, b, rows[item]); break;
+    case SweepKind::warm_manifold: warm_start_manifold(a, b, (*run.manifolds)[item]); break;
     case SweepKind::friction: solve_friction(a, b, rows, (*run.manifolds)[item]); break;
     case SweepKind::manifold_normal: solve_manifold_normal(a, b, rows, (*run.manifolds)[item]); break;
     case SweepKind::rocking: solve_rocking(a, b, rows, (*run.manifolds)[item]); break;

@@ -35,6 +35,8 @@ struct PointRow;
 struct ManifoldRow;
 
 enum class SweepKind : uint8_t {
+  warm_point,       // warm_start_point over every row
+  warm_manifold,    // warm_start_manifold over every manifold
   friction,         // solve_friction over every manifold
   manifold_normal,  // solve_manifold_normal over manifolds of 2 points or more
   rocking,          // solve_rocking over manifolds with a rocking row
@@ -64,7 +66,7 @@ struct OrderedSweeps {
   std::vector<uint32_t> updates_of[max_workers];
   std::vector<uint32_t> list_end;
   std::vector<uint8_t> manifold_worker, row_worker;  // each manifold's and row's worker
-  std::vector<uint32_t> items[5];    // per sweep kind: its items in one-thread order
+  std::vector<uint32_t> items[5];    // per list (list_of): items in one-thread order
   std::vector<uint32_t> next_place;  // per slot, while planning
   static constexpr uint8_t unowned = UINT8_MAX, shared = UINT8_MAX - 1;
   std::vector<uint8_t> owner;        // per slot, while planning: the worker whose share holds it, or shared

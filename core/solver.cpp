@@ -324,18 +324,8 @@ void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
 
 void warm_start(std::vector<SolverBody>& bodies, const std::vector<PointRow>& rows,
                 const std::vector<ManifoldRow>& manifold_rows) {
-  for (const PointRow& row : rows) apply_impulse(bodies[row.a], bodies[row.b], row.normal, row.point->normal_impulse);
-  for (const ManifoldRow& m : manifold_rows) {
-    SolverBody& a = bodies[m.a];
-    SolverBody& b = bodies[m.b];
-    apply_impulse(a, b, m.tangent[0], m.manifold->friction_impulse[0]);
-    apply_impulse(a, b, m.tangent[1], m.manifold->friction_impulse[1]);
-    apply_spin(a, b, m.twist, m.manifold->twist_impulse);
-    if (m.rolling_limit > Fixed{}) {
-      apply_spin(a, b, m.rolling[0], m.manifold->rolling_impulse[0]);
-      apply_spin(a, b, m.rolling[1], m.manifold->rolling_impulse[1]);
-    }
-  }
+  for (const PointRow& row : rows) warm_start_point(bodies[row.a], bodies[row.b], row);
+  for (const ManifoldRow& m : manifold_rows) warm_start_manifold(bodies[m.a], bodies[m.b], m);
 }
 
 // Sweeps alternate direction every pass, so no point of a symmetric stack
@@ -417,22 +407,23 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
     std::swap(cache.entries, cache.next);
     scratch.rows_from_cached_solve = true;
   }
-  if (settings.warm_starting && kind != SolvePass::collision) {
-    warm_start(solver_bodies, rows, manifold_rows);
-  } else {
+  const bool warm = settings.warm_starting && kind != SolvePass::collision;
+  if (!warm) {
     for (const PointRow& row : rows) row.point->normal_impulse = Fixed{};
     for (const ManifoldRow& m : manifold_rows) {
       m.manifold->friction_impulse[0] = m.manifold->friction_impulse[1] = m.manifold->twist_impulse = Fixed{};
       m.manifold->rolling_impulse[0] = m.manifold->rolling_impulse[1] = Fixed{};
     }
   }
-  // The same sweeps, in the same order for every body, on the executor's
-  // workers (ordered_sweeps.h) where there is enough to share.
+  // The warm start and the iterations: the same sweeps, in the same order
+  // for every body, on the executor's workers (ordered_sweeps.h) where there
+  // is enough to share.
   bool parallel = executor && executor->workers() > 1 &&
                   manifold_rows.size() >= min_parallel_manifolds * static_cast<size_t>(executor->workers());
   if (parallel) {
     std::vector<SweepStep>& steps = scratch.sweeps.steps;
     steps.clear();
+    if (warm) steps.insert(steps.end(), {{SweepKind::warm_point, false}, {SweepKind::warm_manifold, false}});
     for (int pass = 0; pass < settings.velocity_iterations; ++pass) {
       steps.insert(steps.end(), {{SweepKind::friction, false},
                                  {SweepKind::manifold_normal, false},
@@ -445,6 +436,7 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
     parallel = run_ordered_sweeps(*executor, steps, movable, solver_bodies, rows, manifold_rows, scratch.sweeps);
   }
   if (!parallel) {
+    if (warm) warm_start(solver_bodies, rows, manifold_rows);
     for (int pass = 0; pass < settings.velocity_iterations; ++pass) {
       for (const ManifoldRow& m : manifold_rows) solve_friction(solver_bodies[m.a], solver_bodies[m.b], rows, m);
       for (const ManifoldRow& m : manifold_rows) solve_manifold_normal(solver_bodies[m.a], solver_bodies[m.b], rows, m);

@@ -238,6 +238,21 @@ struct SolverScratch {
   OrderedSweeps sweeps;
 };
 
+// Warm starting: a row's, or a manifold's friction, twist and rolling
+// rows', accumulated impulses from last step applied again.
+inline void warm_start_point(SolverBody& a, SolverBody& b, const PointRow& row) {
+  apply_impulse(a, b, row.normal, row.point->normal_impulse);
+}
+inline void warm_start_manifold(SolverBody& a, SolverBody& b, const ManifoldRow& m) {
+  apply_impulse(a, b, m.tangent[0], m.manifold->friction_impulse[0]);
+  apply_impulse(a, b, m.tangent[1], m.manifold->friction_impulse[1]);
+  apply_spin(a, b, m.twist, m.manifold->twist_impulse);
+  if (m.rolling_limit > Fixed{}) {
+    apply_spin(a, b, m.rolling[0], m.manifold->rolling_impulse[0]);
+    apply_spin(a, b, m.rolling[1], m.manifold->rolling_impulse[1]);
+  }
+}
+
 // Friction (tangents and twist) at the centroid of a manifold, within the
 // static or dynamic cone of its total normal impulse.
 void solve_friction(SolverBody& a, SolverBody& b, const std::vector<PointRow>& rows, const ManifoldRow& m);
