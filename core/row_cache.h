@@ -14,6 +14,7 @@
 // (the inputs are compared in full), and a restored world starts empty.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -68,9 +69,18 @@ struct RowCache {
     }
   }
 
+  // Where the entries of keys from `key` on begin: a worker's first cursor.
+  size_t cursor_at(const ContactKey& key) const {
+    return static_cast<size_t>(
+        std::lower_bound(entries.begin(), entries.end(), key,
+                         [](const Entry& e, const ContactKey& k) { return e.inputs.key < k; }) -
+        entries.begin());
+  }
+
   // Last step's entry with exactly these inputs (both bodies still), or
-  // null. Called in key order within a solve; `cursor` walks the entries
-  // once.
+  // null. Called in key order by each of the row setup's workers, each
+  // walking the entries once from its own cursor (a binary search per
+  // manifold, probing a megabyte of entries, cost wall64 3%).
   const Entry* find(const RowInputs& inputs, size_t& cursor) const {
     if (!still[inputs.key.body_a] || !still[inputs.key.body_b]) return nullptr;
     while (cursor < entries.size() && entries[cursor].inputs.key < inputs.key) ++cursor;

@@ -133,192 +133,277 @@ RowInputs row_inputs(const Contact& contact, int held) {
   return in;
 }
 
-// `cache` (null: build every row) reuses last step's rows (`last_rows`,
-// `last_manifolds`) for a manifold whose RowInputs did not change by a bit.
+// What every solved contact's row setup reads and writes: manifold
+// `slot`'s rows are built into place.
+struct RowSetup {
+  const Settings& settings;
+  const std::vector<Body>& bodies;
+  const std::vector<SolverBody>& solver_bodies;
+  const std::vector<BodyRates>& start_velocities;
+  std::vector<Contact>& contacts;
+  SolvePass pass;
+  std::vector<PointRow>& rows;
+  std::vector<ManifoldRow>& manifold_rows;
+  RowCache* cache;  // null: build every row
+  const std::vector<PointRow>& last_rows;
+  const std::vector<ManifoldRow>& last_manifolds;
+  const std::vector<SolvedContact>& solved;
+  Fixed inverse_dt;
+  int workers;
+  uint64_t* reused;  // per worker: manifolds whose rows were reused
+};
+
+// The rows of the solved contact `slot`: its point rows at rows[first ..)
+// and its manifold row at manifold_rows[slot]; with a cache, last step's
+// pose-dependent parts where its RowInputs did not change by a bit (found
+// from `cursor`, which walks the cache's entries in key order). Whether
+// they were reused.
+bool build_rows(const RowSetup& setup, size_t slot, size_t& cursor) {
+  const Settings& settings = setup.settings;
+  const std::vector<Body>& bodies = setup.bodies;
+  const std::vector<SolverBody>& solver_bodies = setup.solver_bodies;
+  const std::vector<BodyRates>& start_velocities = setup.start_velocities;
+  const SolvePass pass = setup.pass;
+  std::vector<PointRow>& rows = setup.rows;
+  std::vector<ManifoldRow>& manifold_rows = setup.manifold_rows;
+  RowCache* cache = setup.cache;
+  const std::vector<PointRow>& last_rows = setup.last_rows;
+  const std::vector<ManifoldRow>& last_manifolds = setup.last_manifolds;
+  const Fixed inverse_dt = setup.inverse_dt;
+  Contact& contact = setup.contacts[setup.solved[slot].contact];
+  const size_t first = setup.solved[slot].first_row;
+  const uint32_t ia = contact.key.body_a, ib = contact.key.body_b;
+  const Body& body_a = bodies[ia];
+  const Body& body_b = bodies[ib];
+  const SolverBody& a = solver_bodies[ia];
+  const SolverBody& b = solver_bodies[ib];
+  Manifold& m = contact.manifold;
+  // Pair mixing: the larger restitution; friction below.
+  const Fixed restitution = max(body_a.material.restitution, body_b.material.restitution);
+  // Box pairs roll on nothing: no square root for them.
+  const Fixed roll_radius =
+      max(rolling_radius(body_a.shapes[contact.key.shape_a]), rolling_radius(body_b.shapes[contact.key.shape_b]));
+  const Fixed rolling_limit =
+      roll_radius > Fixed{}
+          ? sqrt(body_a.material.rolling_resistance * body_b.material.rolling_resistance) * roll_radius
+          : Fixed{};
+  const int held = hold_touching_first(m);
+  const RowCache::Entry* reuse = nullptr;
+  if (cache) {
+    const RowInputs inputs = row_inputs(contact, held);
+    reuse = cache->find(inputs, cursor);
+    cache->next[slot] = {inputs, first, slot};
+  }
+  // Friction: the geometric means of the bodies' coefficients, as last
+  // step's rows hold them where they are reused (their bodies' are equal).
+  const Fixed mu_s = reuse ? last_manifolds[reuse->manifold_row].static_friction
+                           : sqrt(body_a.material.static_friction * body_b.material.static_friction);
+  const Fixed mu_d = reuse ? last_manifolds[reuse->manifold_row].dynamic_friction
+                           : sqrt(body_a.material.dynamic_friction * body_b.material.dynamic_friction);
+  // The tangents (a fixed choice per normal, so warm-started friction
+  // keeps its meaning), for the rows that are built.
+  Vec3 t1, t2;
+  if (!reuse || (rolling_limit > Fixed{} && last_manifolds[reuse->manifold_row].rolling_limit == Fixed{})) {
+    tangent_basis(m.normal, t1, t2);
+  }
+  Vec3 centroid;
+  Fixed target;
+  for (int i = 0; i < m.point_count; ++i) {
+    ContactPoint& p = m.points[static_cast<size_t>(i)];
+    const Vec3 ra = p.position - body_a.pose.position, rb = p.position - body_b.pose.position;
+    PointRow row{ia, ib,
+                 reuse ? last_rows[reuse->first_row + static_cast<size_t>(i)].normal
+                       : make_jacobian(a, b, ra, rb, m.normal),
+                 {}, {}, &p};
+    const Fixed approach = relative_velocity(a, b, row.normal);
+    // A gap (depth < 0) may close by depth / dt this step: speculative contact.
+    row.velocity_target = p.depth < Fixed{} ? p.depth * inverse_dt : Fixed{};
+    // An impact: the surfaces meet this step (or already overlap) faster
+    // than the restitution threshold. The bounce is placed at the moment
+    // of impact. With s the approach speed before this step's forces and
+    // a the relative normal acceleration they give (gravity), the impact
+    // time from the start of the step is t = -depth / s (< 0 when the
+    // shapes already overlap), the approach speed then s - a t, and the
+    // point leaves at e (s - a t). By the end of the step, tau = dt - t
+    // after the impact, it is e (s - a t) tau + a tau^2 / 2 above the
+    // surface moving at e (s - a t) + a tau. The velocity row asks for that
+    // speed; the rest of the displacement goes through the split-impulse
+    // channel as an exact pseudo-velocity (a pull when the gap was still
+    // open), so the rebound height does not depend on where in the step
+    // the impact fell.
+    const Fixed start_speed = -relative_rate(start_velocities[ia], start_velocities[ib], row.normal);
+    const bool meets = meets_at(p.depth, -approach, settings.dt);
+    if (pass == SolvePass::collision) {
+      // The second seed's collision pass: a point that meets this step
+      // leaves at e times its approach speed (the velocities have no
+      // forces yet); nothing is pushed apart. With e = 0 it only arrives:
+      // a gap closes by depth / dt, as in the iterations.
+      if (meets && -approach > settings.restitution_threshold && restitution > Fixed{}) {
+        row.velocity_target = -approach * restitution;
+      }
+      centroid += p.position;
+      target += row.velocity_target;
+      rows[first + static_cast<size_t>(i)] = row;
+      continue;
+    }
+    if (pass == SolvePass::standard && meets && start_speed > settings.restitution_threshold &&
+        approach < Fixed{}) {
+      const Fixed acceleration = (approach + start_speed) * inverse_dt;
+      const Fixed impact_time = -min(p.depth / start_speed, settings.dt);  // t, at least -dt
+      const Fixed after = settings.dt - impact_time;                          // tau
+      const Fixed leave = restitution * (start_speed - acceleration * impact_time);
+      const Fixed bounce = leave + acceleration * after;
+      if (bounce > Fixed{}) {
+        row.velocity_target = bounce;
+        row.impact = true;
+        // (depth + leave tau + a tau^2 / 2 - bounce dt) / dt
+        const Fixed rest = p.depth + leave * (after - settings.dt) + acceleration * after * (after / 2.0_fx - settings.dt);
+        row.push_target = rest * inverse_dt;
+      }
+    }
+    if (pass == SolvePass::contact && p.depth < Fixed{} && meets_at(p.depth, start_speed, settings.dt) &&
+        start_speed > settings.restitution_threshold && restitution > Fixed{}) {
+      // The collision pass bounced this point from a gap, as if the
+      // surfaces had met at the start of the step: it leaves at
+      // e s from where it is. The bounce belongs to the moment of impact,
+      // t = -depth / s, and by the end of the step the point should be
+      // e s (dt - t) from the surface, not -depth + e s dt: the difference
+      // goes through the split-impulse channel as an exact pull (depth -
+      // e s t) / dt, so the body reaches the surface however fast it came
+      // (it stopped in mid-air up to a step's travel short).
+      // The velocity row holds what the bounce left (no further approach).
+      const Fixed leave = restitution * start_speed;
+      row.velocity_target = Fixed{};
+      row.impact = true;
+      row.push_target = (p.depth - leave * (-p.depth / start_speed)) * inverse_dt;
+    }
+    const Fixed excess = p.depth - settings.penetration_slop;
+    if (excess > Fixed{} && !row.impact) {
+      const Fixed factor = settings.baumgarte ? settings.baumgarte_factor : settings.split_impulse_factor;
+      const Fixed recovery = min(factor * excess * inverse_dt, settings.max_push_out_speed);
+      if (settings.baumgarte) {
+        row.velocity_target = max(row.velocity_target, recovery);
+      } else {
+        row.push_target = recovery;
+      }
+    }
+    p.split_impulse = Fixed{};
+    if (i < held) {
+      centroid += p.position;
+      target += row.velocity_target;
+    }
+    rows[first + static_cast<size_t>(i)] = row;
+  }
+  const Fixed count = Fixed::from_int(held);
+  if (reuse) {
+    // The same Jacobians, offsets, twist radius and rocking rows as last
+    // step's (rolling rows too where last step built them).
+    manifold_rows[slot] = last_manifolds[reuse->manifold_row];
+    ManifoldRow& face = manifold_rows[slot];
+    face.first = first;
+    face.velocity_target = target / count;
+    face.static_friction = mu_s;
+    face.dynamic_friction = mu_d;
+    face.manifold = &m;
+    face.one_sided = false;
+  } else {
+    centroid = centroid / count;
+    Fixed radius;
+    for (int i = 0; i < held; ++i) radius += length(m.points[static_cast<size_t>(i)].position - centroid);
+    const Vec3 ra = centroid - body_a.pose.position, rb = centroid - body_b.pose.position;
+    manifold_rows[slot] = {ia, ib, first, static_cast<size_t>(held), make_jacobian(a, b, ra, rb, m.normal),
+                             {make_jacobian(a, b, ra, rb, t1), make_jacobian(a, b, ra, rb, t2)},
+                             make_twist(a, b, m.normal), ra, rb, target / count, radius / count, mu_s, mu_d, &m,
+                             {make_rocking(a, b, m, held, centroid, t1), make_rocking(a, b, m, held, centroid, t2)},
+                             {}, false, {}, Fixed{}};
+    ManifoldRow& face = manifold_rows[slot];
+    face.share_mass = face.normal.mass / count;
+  }
+  // A resting face (3 or more touching points asking for no relative
+  // speed) has three normal degrees of freedom, its centroid row and two
+  // rocking rows, which keep every point pushing: its point rows would only
+  // redistribute impulse between the points, so the iterations skip them.
+  ManifoldRow& face = manifold_rows[slot];
+  if (rolling_limit > Fixed{}) {
+    if (!reuse || face.rolling_limit == Fixed{}) {
+      face.rolling[0] = make_twist(a, b, t1);
+      face.rolling[1] = make_twist(a, b, t2);
+    }
+    face.rolling_limit = rolling_limit;
+  } else {
+    face.rolling[0] = face.rolling[1] = AngularPart{};
+    face.rolling_limit = Fixed{};
+    m.rolling_impulse[0] = m.rolling_impulse[1] = Fixed{};
+  }
+  const size_t held_end = first + static_cast<size_t>(held);
+  bool resting = held >= 3 && face.rocking[0].active && face.rocking[1].active;
+  for (size_t k = first; k < held_end; ++k) {
+    resting = resting && rows[k].velocity_target == Fixed{} && rows[k].point->depth >= Fixed{};
+  }
+  for (size_t k = first; k < held_end; ++k) rows[k].in_resting_face = resting;
+  return reuse != nullptr;
+}
+
+// Worker w builds the w-th contiguous share of the solved contacts.
+void build_rows_of_worker(void* context, int worker) {
+  const RowSetup& setup = *static_cast<const RowSetup*>(context);
+  if (worker >= setup.workers) return;
+  const size_t n = setup.solved.size(), w = static_cast<size_t>(worker), workers = static_cast<size_t>(setup.workers);
+  const size_t begin = n * w / workers, end = n * (w + 1) / workers;
+  if (begin == end) return;
+  size_t cursor = setup.cache ? setup.cache->cursor_at(setup.contacts[setup.solved[begin].contact].key) : 0;
+  uint64_t reused = 0;
+  for (size_t slot = begin; slot < end; ++slot) reused += build_rows(setup, slot, cursor) ? 1u : 0u;
+  setup.reused[w] = reused;
+}
+
+// Lists the contacts the solve takes (an awake body; in the collision pass,
+// only those that hit) with where their point rows begin, sizes the rows,
+// then builds every one's (build_rows), on the executor's workers when
+// there are enough: each contact's rows are a function of its own inputs,
+// written into their own places, so the same bits on any number.
 void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
                   const std::vector<SolverBody>& solver_bodies, const std::vector<BodyRates>& start_velocities,
                   std::vector<Contact>& contacts, SolvePass pass, std::vector<PointRow>& rows,
                   std::vector<ManifoldRow>& manifold_rows, RowCache* cache, const std::vector<PointRow>& last_rows,
-                  const std::vector<ManifoldRow>& last_manifolds) {
-  rows.clear();
-  manifold_rows.clear();
-  if (cache) cache->next.clear();
-  size_t cursor = 0;
-  const Fixed inverse_dt = Fixed::one() / settings.dt;
-  for (Contact& contact : contacts) {
-    const uint32_t ia = contact.key.body_a, ib = contact.key.body_b;
-    const Body& body_a = bodies[ia];
-    const Body& body_b = bodies[ib];
+                  const std::vector<ManifoldRow>& last_manifolds, std::vector<SolvedContact>& solved,
+                  Executor* executor) {
+  solved.clear();
+  size_t row_count = 0;
+  for (uint32_t c = 0; c < contacts.size(); ++c) {
+    const Contact& contact = contacts[c];
+    const Body& body_a = bodies[contact.key.body_a];
+    const Body& body_b = bodies[contact.key.body_b];
     if (!is_awake_dynamic(body_a) && !is_awake_dynamic(body_b)) continue;  // asleep: kept, not solved
-    const SolverBody& a = solver_bodies[ia];
-    const SolverBody& b = solver_bodies[ib];
-    Manifold& m = contact.manifold;
-    // Pair mixing: the larger restitution; friction below.
-    const Fixed restitution = max(body_a.material.restitution, body_b.material.restitution);
-    // Box pairs roll on nothing: no square root for them.
-    const Fixed roll_radius =
-        max(rolling_radius(body_a.shapes[contact.key.shape_a]), rolling_radius(body_b.shapes[contact.key.shape_b]));
-    const Fixed rolling_limit =
-        roll_radius > Fixed{}
-            ? sqrt(body_a.material.rolling_resistance * body_b.material.rolling_resistance) * roll_radius
-            : Fixed{};
-    if (pass == SolvePass::collision && !impacts(settings, body_a, body_b, a, b, m)) continue;
-    const size_t first = rows.size();
-    const int held = hold_touching_first(m);
-    const RowCache::Entry* reuse = nullptr;
-    if (cache) {
-      const RowInputs inputs = row_inputs(contact, held);
-      reuse = cache->find(inputs, cursor);
-      cache->next.push_back({inputs, first, manifold_rows.size()});
-      ++(reuse ? cache->reused : cache->built);
+    if (pass == SolvePass::collision && !impacts(settings, body_a, body_b, solver_bodies[contact.key.body_a],
+                                                 solver_bodies[contact.key.body_b], contact.manifold)) {
+      continue;
     }
-    // Friction: the geometric means of the bodies' coefficients, as last
-    // step's rows hold them where they are reused (their bodies' are equal).
-    const Fixed mu_s = reuse ? last_manifolds[reuse->manifold_row].static_friction
-                             : sqrt(body_a.material.static_friction * body_b.material.static_friction);
-    const Fixed mu_d = reuse ? last_manifolds[reuse->manifold_row].dynamic_friction
-                             : sqrt(body_a.material.dynamic_friction * body_b.material.dynamic_friction);
-    // The tangents (a fixed choice per normal, so warm-started friction
-    // keeps its meaning), for the rows that are built.
-    Vec3 t1, t2;
-    if (!reuse || (rolling_limit > Fixed{} && last_manifolds[reuse->manifold_row].rolling_limit == Fixed{})) {
-      tangent_basis(m.normal, t1, t2);
-    }
-    Vec3 centroid;
-    Fixed target;
-    for (int i = 0; i < m.point_count; ++i) {
-      ContactPoint& p = m.points[static_cast<size_t>(i)];
-      const Vec3 ra = p.position - body_a.pose.position, rb = p.position - body_b.pose.position;
-      PointRow row{ia, ib,
-                   reuse ? last_rows[reuse->first_row + static_cast<size_t>(i)].normal
-                         : make_jacobian(a, b, ra, rb, m.normal),
-                   {}, {}, &p};
-      const Fixed approach = relative_velocity(a, b, row.normal);
-      // A gap (depth < 0) may close by depth / dt this step: speculative contact.
-      row.velocity_target = p.depth < Fixed{} ? p.depth * inverse_dt : Fixed{};
-      // An impact: the surfaces meet this step (or already overlap) faster
-      // than the restitution threshold. The bounce is placed at the moment
-      // of impact. With s the approach speed before this step's forces and
-      // a the relative normal acceleration they give (gravity), the impact
-      // time from the start of the step is t = -depth / s (< 0 when the
-      // shapes already overlap), the approach speed then s - a t, and the
-      // point leaves at e (s - a t). By the end of the step, tau = dt - t
-      // after the impact, it is e (s - a t) tau + a tau^2 / 2 above the
-      // surface moving at e (s - a t) + a tau. The velocity row asks for that
-      // speed; the rest of the displacement goes through the split-impulse
-      // channel as an exact pseudo-velocity (a pull when the gap was still
-      // open), so the rebound height does not depend on where in the step
-      // the impact fell.
-      const Fixed start_speed = -relative_rate(start_velocities[ia], start_velocities[ib], row.normal);
-      const bool meets = meets_at(p.depth, -approach, settings.dt);
-      if (pass == SolvePass::collision) {
-        // The second seed's collision pass: a point that meets this step
-        // leaves at e times its approach speed (the velocities have no
-        // forces yet); nothing is pushed apart. With e = 0 it only arrives:
-        // a gap closes by depth / dt, as in the iterations.
-        if (meets && -approach > settings.restitution_threshold && restitution > Fixed{}) {
-          row.velocity_target = -approach * restitution;
-        }
-        centroid += p.position;
-        target += row.velocity_target;
-        rows.push_back(row);
-        continue;
-      }
-      if (pass == SolvePass::standard && meets && start_speed > settings.restitution_threshold &&
-          approach < Fixed{}) {
-        const Fixed acceleration = (approach + start_speed) * inverse_dt;
-        const Fixed impact_time = -min(p.depth / start_speed, settings.dt);  // t, at least -dt
-        const Fixed after = settings.dt - impact_time;                          // tau
-        const Fixed leave = restitution * (start_speed - acceleration * impact_time);
-        const Fixed bounce = leave + acceleration * after;
-        if (bounce > Fixed{}) {
-          row.velocity_target = bounce;
-          row.impact = true;
-          // (depth + leave tau + a tau^2 / 2 - bounce dt) / dt
-          const Fixed rest = p.depth + leave * (after - settings.dt) + acceleration * after * (after / 2.0_fx - settings.dt);
-          row.push_target = rest * inverse_dt;
-        }
-      }
-      if (pass == SolvePass::contact && p.depth < Fixed{} && meets_at(p.depth, start_speed, settings.dt) &&
-          start_speed > settings.restitution_threshold && restitution > Fixed{}) {
-        // The collision pass bounced this point from a gap, as if the
-        // surfaces had met at the start of the step: it leaves at
-        // e s from where it is. The bounce belongs to the moment of impact,
-        // t = -depth / s, and by the end of the step the point should be
-        // e s (dt - t) from the surface, not -depth + e s dt: the difference
-        // goes through the split-impulse channel as an exact pull (depth -
-        // e s t) / dt, so the body reaches the surface however fast it came
-        // (it stopped in mid-air up to a step's travel short).
-        // The velocity row holds what the bounce left (no further approach).
-        const Fixed leave = restitution * start_speed;
-        row.velocity_target = Fixed{};
-        row.impact = true;
-        row.push_target = (p.depth - leave * (-p.depth / start_speed)) * inverse_dt;
-      }
-      const Fixed excess = p.depth - settings.penetration_slop;
-      if (excess > Fixed{} && !row.impact) {
-        const Fixed factor = settings.baumgarte ? settings.baumgarte_factor : settings.split_impulse_factor;
-        const Fixed recovery = min(factor * excess * inverse_dt, settings.max_push_out_speed);
-        if (settings.baumgarte) {
-          row.velocity_target = max(row.velocity_target, recovery);
-        } else {
-          row.push_target = recovery;
-        }
-      }
-      p.split_impulse = Fixed{};
-      if (i < held) {
-        centroid += p.position;
-        target += row.velocity_target;
-      }
-      rows.push_back(row);
-    }
-    const Fixed count = Fixed::from_int(held);
-    if (reuse) {
-      // The same Jacobians, offsets, twist radius and rocking rows as last
-      // step's (rolling rows too where last step built them).
-      manifold_rows.push_back(last_manifolds[reuse->manifold_row]);
-      ManifoldRow& face = manifold_rows.back();
-      face.first = first;
-      face.velocity_target = target / count;
-      face.static_friction = mu_s;
-      face.dynamic_friction = mu_d;
-      face.manifold = &m;
-      face.one_sided = false;
-    } else {
-      centroid = centroid / count;
-      Fixed radius;
-      for (int i = 0; i < held; ++i) radius += length(m.points[static_cast<size_t>(i)].position - centroid);
-      const Vec3 ra = centroid - body_a.pose.position, rb = centroid - body_b.pose.position;
-      manifold_rows.push_back({ia, ib, first, static_cast<size_t>(held), make_jacobian(a, b, ra, rb, m.normal),
-                               {make_jacobian(a, b, ra, rb, t1), make_jacobian(a, b, ra, rb, t2)},
-                               make_twist(a, b, m.normal), ra, rb, target / count, radius / count, mu_s, mu_d, &m,
-                               {make_rocking(a, b, m, held, centroid, t1), make_rocking(a, b, m, held, centroid, t2)},
-                               {}, false, {}, Fixed{}});
-      ManifoldRow& face = manifold_rows.back();
-      face.share_mass = face.normal.mass / count;
-    }
-    // A resting face (3 or more touching points asking for no relative
-    // speed) has three normal degrees of freedom, its centroid row and two
-    // rocking rows, which keep every point pushing: its point rows would only
-    // redistribute impulse between the points, so the iterations skip them.
-    ManifoldRow& face = manifold_rows.back();
-    if (rolling_limit > Fixed{}) {
-      if (!reuse || face.rolling_limit == Fixed{}) {
-        face.rolling[0] = make_twist(a, b, t1);
-        face.rolling[1] = make_twist(a, b, t2);
-      }
-      face.rolling_limit = rolling_limit;
-    } else {
-      face.rolling[0] = face.rolling[1] = AngularPart{};
-      face.rolling_limit = Fixed{};
-      m.rolling_impulse[0] = m.rolling_impulse[1] = Fixed{};
-    }
-    const size_t held_end = first + static_cast<size_t>(held);
-    bool resting = held >= 3 && face.rocking[0].active && face.rocking[1].active;
-    for (size_t k = first; k < held_end; ++k) {
-      resting = resting && rows[k].velocity_target == Fixed{} && rows[k].point->depth >= Fixed{};
-    }
-    for (size_t k = first; k < held_end; ++k) rows[k].in_resting_face = resting;
+    solved.push_back({c, row_count});
+    row_count += static_cast<size_t>(contact.manifold.point_count);
+  }
+  // Resized, not cleared: in a steady scene the sizes stay and nothing is
+  // written twice.
+  rows.resize(row_count);
+  manifold_rows.resize(solved.size());
+  if (cache) cache->next.resize(solved.size());
+  const bool parallel =
+      executor && executor->workers() > 1 && solved.size() >= min_parallel_manifolds * static_cast<size_t>(executor->workers());
+  const int workers = parallel ? std::min(executor->workers(), max_workers) : 1;
+  uint64_t reused[max_workers] = {};
+  RowSetup setup{settings,       bodies, solver_bodies, start_velocities,          contacts, pass,    rows,
+                       manifold_rows,  cache,  last_rows,     last_manifolds,            solved,   Fixed::one() / settings.dt,
+                       workers,        reused};
+  if (parallel) {
+    executor->run(build_rows_of_worker, &setup);
+  } else {
+    build_rows_of_worker(&setup, 0);
+  }
+  if (cache) {
+    uint64_t total = 0;
+    for (int w = 0; w < workers; ++w) total += reused[w];
+    cache->reused += total;
+    cache->built += solved.size() - total;
   }
 }
 
@@ -402,7 +487,7 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
     cache.compare_bodies(now);
   }
   prepare_rows(settings, bodies, solver_bodies, scratch.start_velocities, contacts, kind, rows, manifold_rows,
-               cached ? &cache : nullptr, scratch.last_rows, scratch.last_manifolds);
+               cached ? &cache : nullptr, scratch.last_rows, scratch.last_manifolds, scratch.solved, executor);
   if (cached) {
     std::swap(cache.entries, cache.next);
     scratch.rows_from_cached_solve = true;

@@ -204,6 +204,13 @@ struct RankBody {
   BodyRates velocity;
 };
 
+// A contact the solve takes: its position in the contact list and where
+// its point rows begin (solver.cpp, prepare_rows).
+struct SolvedContact {
+  uint32_t contact;
+  size_t first_row;
+};
+
 // The solve's working memory, kept by the world between steps so that a
 // settled scene's step allocates nothing. Never state: every vector is
 // rebuilt from the bodies and contacts before it is read.
@@ -212,6 +219,7 @@ struct SolverScratch {
   std::vector<SolverBody> bodies;
   std::vector<PointRow> rows;
   std::vector<ManifoldRow> manifolds;
+  std::vector<SolvedContact> solved;  // the contacts the rows are built for, in order
   // The shock step (shock.cpp).
   ShockLevels levels;
   std::vector<ShockEntry> order;
