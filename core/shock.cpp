@@ -29,8 +29,8 @@ Fixed energy_per_mass(const Body& body, const BodyRates& rates, Fixed inverse_ma
 bool rank_pass(const std::vector<Body>& bodies, const std::vector<uint32_t>& level, SolverScratch& scratch,
                size_t begin, size_t end, int pass) {
   std::vector<SolverBody>& solver_bodies = scratch.bodies;
-  std::vector<PointRow>& shock_rows = scratch.shock_rows;
-  std::vector<ManifoldRow>& shock_manifolds = scratch.shock_manifolds;
+  std::vector<PointRow>& rows = scratch.rows;
+  std::vector<ManifoldRow*>& shock_manifolds = scratch.shock_manifolds;
   const std::vector<ShockEntry>& order = scratch.order;
   const SupportGroups& supports = scratch.supports;
   std::vector<uint8_t>& glued_to_all = scratch.glued_to_all;
@@ -38,7 +38,8 @@ bool rank_pass(const std::vector<Body>& bodies, const std::vector<uint32_t>& lev
   std::vector<BodyRates>& glued_velocity = scratch.glued_velocity;
   bool changed = false;
   for (size_t i = begin; i < end; ++i) {
-    ManifoldRow& m = shock_manifolds[i];
+    ManifoldRow* row = shock_manifolds[i];
+    const ManifoldRow& m = *row;
     const BodyRates before_a = solver_bodies[m.a].velocity, before_b = solver_bodies[m.b].velocity;
     if (level[m.a] != level[m.b]) {
       const bool mover_is_b = level[m.a] < level[m.b];
@@ -54,7 +55,7 @@ bool rank_pass(const std::vector<Body>& bodies, const std::vector<uint32_t>& lev
           if (list[0] == i && !(glued_to_all[mover] && solver_bodies[mover].velocity == glued_velocity[mover])) {
             glued_to_all[mover] =
                 glue_all(solver_bodies[mover], bodies[mover], solver_bodies, bodies, list, count, level,
-                         shock_manifolds, shock_rows, scratch.glue_faces.by_body[mover], scratch.glue_faces);
+                         shock_manifolds, rows, scratch.glue_faces.by_body[mover], scratch.glue_faces);
             glued_velocity[mover] = solver_bodies[mover].velocity;
           }
           if (glued_to_all[mover]) {
@@ -67,7 +68,7 @@ bool rank_pass(const std::vector<Body>& bodies, const std::vector<uint32_t>& lev
         const bool alone = !supports.several[mover];
         if (alone && glued_alone[mover] && solver_bodies[mover].velocity == glued_velocity[mover]) continue;
         const bool glued = glue(solver_bodies[mover], solver_bodies[mover_is_b ? m.a : m.b], bodies[mover],
-                                mover_is_b, m, shock_rows, scratch.glue_faces.by_manifold[i], scratch.glue_faces);
+                                mover_is_b, m, rows, scratch.glue_faces.by_manifold[i], scratch.glue_faces);
         if (alone) {
           glued_alone[mover] = glued;
           glued_velocity[mover] = solver_bodies[mover].velocity;
@@ -78,9 +79,9 @@ bool rank_pass(const std::vector<Body>& bodies, const std::vector<uint32_t>& lev
         }
         if (supports.several[mover]) continue;
       }
-      if (!m.one_sided) make_one_sided(m, shock_rows, solver_bodies[m.a], solver_bodies[m.b], mover_is_b);
+      if (!m.one_sided) row = &one_sided_copy(scratch, i, mover_is_b);
     }
-    solve_manifold(solver_bodies, shock_rows, m, pass);
+    solve_manifold(solver_bodies, rows, *row, pass);
     changed = changed || !(solver_bodies[m.a].velocity == before_a) || !(solver_bodies[m.b].velocity == before_b);
   }
   return changed;
@@ -95,7 +96,7 @@ bool rank_pass(const std::vector<Body>& bodies, const std::vector<uint32_t>& lev
 void solve_rank(const Settings& settings, const std::vector<Body>& bodies, const std::vector<uint32_t>& level,
                 SolverScratch& scratch, size_t begin, size_t end) {
   std::vector<SolverBody>& solver_bodies = scratch.bodies;
-  const std::vector<ManifoldRow>& shock_manifolds = scratch.shock_manifolds;
+  const std::vector<ManifoldRow*>& shock_manifolds = scratch.shock_manifolds;
   const std::vector<ShockEntry>& order = scratch.order;
   const uint32_t rank = order[begin].level;
   // The iterations' velocities of the rank's bodies (with duplicates), and
@@ -105,21 +106,21 @@ void solve_rank(const Settings& settings, const std::vector<Body>& bodies, const
   before_shock.clear();
   bool sideways = false;
   for (size_t i = begin; i < end; ++i) {
-    const ManifoldRow& m = shock_manifolds[i];
+    const ManifoldRow& m = *shock_manifolds[i];
     for (uint32_t body : {m.a, m.b}) {
       if (level[body] == rank) before_shock.push_back({body, solver_bodies[body].velocity});
     }
     sideways = sideways || (level[m.a] != level[m.b] && !order[i].holds_up);
   }
   const bool held_already =
-      !sideways && !moving_at_contacts(solver_bodies, shock_manifolds, scratch.shock_rows, begin, end, quiet_motion);
+      !sideways && !moving_at_contacts(solver_bodies, shock_manifolds, scratch.rows, begin, end, quiet_motion);
   bool converged = false;
   for (int pass = 0; pass < settings.shock_iterations && !converged; ++pass) {
     converged = !rank_pass(bodies, level, scratch, begin, end, pass);
   }
   if (!converged) settle_unconverged_rank(bodies, before_shock, held_already, solver_bodies);
   for (size_t i = begin; i < end; ++i) {
-    for (uint32_t body : {shock_manifolds[i].a, shock_manifolds[i].b}) {
+    for (uint32_t body : {shock_manifolds[i]->a, shock_manifolds[i]->b}) {
       if (level[body] != rank || solver_bodies[body].inverse_mass == Fixed{}) continue;
       scratch.frozen_bodies.push_back(body);
       scratch.saved_inverse_mass.push_back(solver_bodies[body].inverse_mass);
@@ -198,39 +199,71 @@ void group_supports(size_t body_count, const std::vector<uint32_t>& level, const
   }
 }
 
-void copy_rows(SolverScratch& scratch) {
-  // Copies of the rows with the lower body's side frozen, accumulating into
-  // copies of the manifolds: the shock step corrects this step's velocities
-  // only, and next step warm-starts from what the iterations found (the
-  // shock's one-sided impulses would push the supports down when applied to
-  // both bodies).
-  std::vector<PointRow>& shock_rows = scratch.shock_rows;
-  std::vector<ManifoldRow>& shock_manifolds = scratch.shock_manifolds;
-  std::vector<Manifold>& accumulated = scratch.accumulated;
+void gather_rows(SolverScratch& scratch) {
+  // The shock step corrects this step's velocities only, and next step
+  // warm-starts from what the iterations found (the shock's one-sided
+  // impulses would push the supports down when applied to both bodies):
+  // the manifolds' impulses are saved here and put back after it. Its rows
+  // are the solve's own, but for those it makes one-sided, which it copies
+  // first (the position passes and next step's row reuse read the rows).
   const std::vector<ShockEntry>& order = scratch.order;
-  const std::vector<PointRow>& rows = scratch.rows;
-  const std::vector<ManifoldRow>& manifold_rows = scratch.manifolds;
-  shock_rows.clear();
-  shock_manifolds.clear();
-  accumulated.resize(order.size());
+  std::vector<ManifoldRow*>& shock_manifolds = scratch.shock_manifolds;
+  std::vector<SavedImpulses>& saved = scratch.shock_saved;
+  shock_manifolds.resize(order.size());
+  saved.resize(order.size());
+  size_t point_rows = 0;
   for (size_t i = 0; i < order.size(); ++i) {
-    ManifoldRow m = manifold_rows[order[i].index];
-    accumulated[i] = *m.manifold;
-    m.manifold = &accumulated[i];
-    const size_t first = shock_rows.size();
-    for (size_t k = 0; k < m.count; ++k) {
-      shock_rows.push_back(rows[m.first + k]);
-      shock_rows.back().point = &accumulated[i].points[k];
-    }
-    m.first = first;
-    shock_manifolds.push_back(m);
+    ManifoldRow& m = scratch.manifolds[order[i].index];
+    shock_manifolds[i] = &m;
+    const Manifold& manifold = *m.manifold;
+    SavedImpulses& s = saved[i];
+    s.friction[0] = manifold.friction_impulse[0];
+    s.friction[1] = manifold.friction_impulse[1];
+    s.twist = manifold.twist_impulse;
+    s.rolling[0] = manifold.rolling_impulse[0];
+    s.rolling[1] = manifold.rolling_impulse[1];
+    for (size_t k = 0; k < max_manifold_points; ++k) s.normal[k] = manifold.points[k].normal_impulse;
+    point_rows += m.count;
   }
+  // Room for every one-sided copy, so that none moves once made.
+  scratch.one_sided.clear();
+  scratch.one_sided.reserve(order.size());
+  scratch.rows_before_shock = scratch.rows.size();
+  scratch.rows.reserve(scratch.rows.size() + point_rows);
 }
 
-bool moving_at_contacts(const std::vector<SolverBody>& solver_bodies, const std::vector<ManifoldRow>& manifolds,
+void restore_rows(SolverScratch& scratch) {
+  for (size_t i = 0; i < scratch.order.size(); ++i) {
+    Manifold& manifold = *scratch.manifolds[scratch.order[i].index].manifold;
+    const SavedImpulses& s = scratch.shock_saved[i];
+    manifold.friction_impulse[0] = s.friction[0];
+    manifold.friction_impulse[1] = s.friction[1];
+    manifold.twist_impulse = s.twist;
+    manifold.rolling_impulse[0] = s.rolling[0];
+    manifold.rolling_impulse[1] = s.rolling[1];
+    for (size_t k = 0; k < max_manifold_points; ++k) manifold.points[k].normal_impulse = s.normal[k];
+  }
+  scratch.rows.resize(scratch.rows_before_shock);
+  scratch.one_sided.clear();
+}
+
+ManifoldRow& one_sided_copy(SolverScratch& scratch, size_t position, bool freeze_a) {
+  const ManifoldRow& original = *scratch.shock_manifolds[position];
+  ManifoldRow& copy = scratch.one_sided.emplace_back(original);
+  copy.first = scratch.rows.size();
+  for (size_t k = 0; k < original.count; ++k) {
+    const PointRow row = scratch.rows[original.first + k];
+    scratch.rows.push_back(row);
+  }
+  make_one_sided(copy, scratch.rows, scratch.bodies[copy.a], scratch.bodies[copy.b], freeze_a);
+  scratch.shock_manifolds[position] = &copy;
+  return copy;
+}
+
+bool moving_at_contacts(const std::vector<SolverBody>& solver_bodies, const std::vector<ManifoldRow*>& manifolds,
                         const std::vector<PointRow>& rows, size_t begin, size_t end, Fixed speed) {
   for (size_t i = begin; i < end; ++i) {
-    const ManifoldRow& m = manifolds[i];
+    const ManifoldRow& m = *manifolds[i];
     const SolverBody& a = solver_bodies[m.a];
     const SolverBody& b = solver_bodies[m.b];
     bool touching = false;
@@ -271,7 +304,7 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
   scratch.glued_to_all.assign(bodies.size(), 0);
   scratch.glued_alone.assign(bodies.size(), 0);
   scratch.glued_velocity.resize(bodies.size());  // read only where glued_to_all or glued_alone
-  copy_rows(scratch);
+  gather_rows(scratch);
   scratch.glue_faces.reset(bodies.size(), scratch.order.size());
   // Rank by rank, each made immovable once solved.
   scratch.saved_inverse_mass.clear();
@@ -284,6 +317,7 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
   for (size_t i = 0; i < scratch.frozen_bodies.size(); ++i) {
     scratch.bodies[scratch.frozen_bodies[i]].inverse_mass = scratch.saved_inverse_mass[i];
   }
+  restore_rows(scratch);
 }
 
 }  // namespace bitstep

@@ -18,7 +18,7 @@ namespace bitstep {
 // velocities, uses the scratch's shock vectors. In phases:
 // shock_levels ranks the bodies; order_manifolds picks and sorts the
 // manifolds; group_supports finds the bodies held up through several
-// contacts; copy_rows copies the rows the step may change; then rank by
+// contacts; gather_rows saves the impulses the step may change; then rank by
 // rank, passes over the rank's manifolds (settle_unconverged_rank where
 // they do not converge), after which its bodies are immovable.
 void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, const std::vector<Contact>& contacts,
@@ -50,10 +50,16 @@ void order_manifolds(const Settings& settings, const ShockLevels& levels, const 
 void group_supports(size_t body_count, const std::vector<uint32_t>& level, const std::vector<ManifoldRow>& manifold_rows,
                     const std::vector<ShockEntry>& order, SupportGroups& groups);
 
-// Copies scratch.order's manifolds and rows into scratch.shock_manifolds
-// and scratch.shock_rows, accumulating into copies of the manifolds
-// (scratch.accumulated).
-void copy_rows(SolverScratch& scratch);
+// Points scratch.shock_manifolds at scratch.order's manifold rows and
+// saves their manifolds' impulses (scratch.shock_saved); restore_rows puts
+// the impulses back and drops the one-sided copies (one_sided_copy) and
+// their point rows, appended to scratch.rows.
+void gather_rows(SolverScratch& scratch);
+void restore_rows(SolverScratch& scratch);
+// A copy of the manifold at `position` of the shock order with body a (or
+// b) immovable, its point rows copied to the end of scratch.rows;
+// scratch.shock_manifolds[position] then points at it.
+ManifoldRow& one_sided_copy(SolverScratch& scratch, size_t position, bool freeze_a);
 
 // Whether some touching contact among manifolds [begin, end) (their rows
 // in `rows`) moves faster than `speed` (m/s) at the bodies' velocities: a
@@ -62,7 +68,7 @@ void copy_rows(SolverScratch& scratch);
 // step left them: a box the iterations carried along on a rocking support,
 // once the shock step has stopped the support, slides on it, and kept
 // sliding at 0.6 mm/s for good while only approach was looked at.
-bool moving_at_contacts(const std::vector<SolverBody>& solver_bodies, const std::vector<ManifoldRow>& manifolds,
+bool moving_at_contacts(const std::vector<SolverBody>& solver_bodies, const std::vector<ManifoldRow*>& manifolds,
                         const std::vector<PointRow>& rows, size_t begin, size_t end, Fixed speed);
 
 // A rank whose passes did not converge: they end at an arbitrary point of

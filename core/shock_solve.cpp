@@ -157,7 +157,7 @@ namespace {
 // mean distance from it, each contact's middle, the face's axes and the
 // least-squares matrix of the points' arms.
 void measure_faces(const uint32_t* entries, size_t entry_count, const std::vector<uint32_t>& level,
-                   const std::vector<ManifoldRow>& manifolds, const std::vector<PointRow>& rows, GlueFace& face,
+                   const std::vector<ManifoldRow*>& manifolds, const std::vector<PointRow>& rows, GlueFace& face,
                    GlueFaces& faces) {
   constexpr Fixed same_normal = 0.99999_fx;  // cosine
   face.generation = faces.generation;
@@ -166,7 +166,7 @@ void measure_faces(const uint32_t* entries, size_t entry_count, const std::vecto
   Fixed mu = Fixed::max();
   int32_t point_count = 0;
   for (size_t e = 0; e < entry_count; ++e) {
-    const ManifoldRow& m = manifolds[entries[e]];
+    const ManifoldRow& m = *manifolds[entries[e]];
     const Vec3 up = level[m.a] < level[m.b] ? m.manifold->normal : -m.manifold->normal;
     for (size_t i = 0; i < m.count; ++i) {
       if (rows[m.first + i].velocity_target > Fixed{}) return;  // only resting contacts
@@ -186,7 +186,7 @@ void measure_faces(const uint32_t* entries, size_t entry_count, const std::vecto
   face.first_middle = static_cast<uint32_t>(faces.middles.size());
   Fixed radius;
   for (size_t e = 0; e < entry_count; ++e) {
-    const ManifoldRow& m = manifolds[entries[e]];
+    const ManifoldRow& m = *manifolds[entries[e]];
     Vec3 middle;
     for (size_t i = 0; i < m.count; ++i) {
       const Vec3 position = rows[m.first + i].point->position;
@@ -207,7 +207,7 @@ void measure_faces(const uint32_t* entries, size_t entry_count, const std::vecto
   Fixed g00, g01, g11;
   size_t k = face.first_point;
   for (size_t e = 0; e < entry_count; ++e) {
-    const ManifoldRow& m = manifolds[entries[e]];
+    const ManifoldRow& m = *manifolds[entries[e]];
     for (size_t i = 0; i < m.count; ++i, ++k) {
       const Vec3 a = cross((rows[m.first + i].point->position - centroid) * inverse_radius, n);
       faces.points[k].a0 = dot(a, e0);
@@ -250,8 +250,8 @@ void measure_faces(const uint32_t* entries, size_t entry_count, const std::vecto
 // shared by the contacts in proportion to their normal impulses.
 bool glue_all(SolverBody& mover, const Body& body, const std::vector<SolverBody>& solver_bodies,
               const std::vector<Body>& bodies, const uint32_t* entries, size_t entry_count,
-              const std::vector<uint32_t>& level, std::vector<ManifoldRow>& manifolds, std::vector<PointRow>& rows,
-              GlueFace& face, GlueFaces& faces) {
+              const std::vector<uint32_t>& level, const std::vector<ManifoldRow*>& manifolds,
+              std::vector<PointRow>& rows, GlueFace& face, GlueFaces& faces) {
   constexpr Fixed same_motion = 0.000001_fx;  // m/s and rad/s
   if (!faces.measured(face)) measure_faces(entries, entry_count, level, manifolds, rows, face, faces);
   if (face.state == GlueFace::State::never) return false;
@@ -261,7 +261,7 @@ bool glue_all(SolverBody& mover, const Body& body, const std::vector<SolverBody>
   // motion for all of them.
   Vec3 v, w;
   for (size_t e = 0; e < entry_count; ++e) {
-    const ManifoldRow& m = manifolds[entries[e]];
+    const ManifoldRow& m = *manifolds[entries[e]];
     const uint32_t support = level[m.a] < level[m.b] ? m.a : m.b;
     const SolverBody& s = solver_bodies[support];
     const Vec3 w_s = s.velocity.angular;
@@ -290,7 +290,7 @@ bool glue_all(SolverBody& mover, const Body& body, const std::vector<SolverBody>
   Vec3 moment = angular - n * twist;
   size_t k = face.first_point;
   for (size_t e = 0; e < entry_count; ++e) {
-    const ManifoldRow& m = manifolds[entries[e]];
+    const ManifoldRow& m = *manifolds[entries[e]];
     const Manifold& manifold = *m.manifold;
     for (size_t i = 0; i < m.count; ++i, ++k) {
       const Fixed jn = rows[m.first + i].point->normal_impulse;
@@ -325,7 +325,7 @@ bool glue_all(SolverBody& mover, const Body& body, const std::vector<SolverBody>
   // proportion to its normal impulse, and the twist that keeps the total.
   k = face.first_point;
   for (size_t e = 0; e < entry_count; ++e) {
-    const ManifoldRow& m = manifolds[entries[e]];
+    const ManifoldRow& m = *manifolds[entries[e]];
     Manifold& manifold = *m.manifold;
     Fixed normal;
     for (size_t i = 0; i < m.count; ++i, ++k) {

@@ -32,7 +32,7 @@ bool glue(SolverBody& mover, const SolverBody& support, const Body& body, bool m
 // `face`: the mover's, kept in `faces` between calls.
 bool glue_all(SolverBody& mover, const Body& body, const std::vector<SolverBody>& solver_bodies,
               const std::vector<Body>& bodies, const uint32_t* entries, size_t entry_count,
-              const std::vector<uint32_t>& level, std::vector<ManifoldRow>& manifolds, std::vector<PointRow>& rows,
-              GlueFace& face, GlueFaces& faces);
+              const std::vector<uint32_t>& level, const std::vector<ManifoldRow*>& manifolds,
+              std::vector<PointRow>& rows, GlueFace& face, GlueFaces& faces);
 
 }  // namespace bitstep

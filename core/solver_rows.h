@@ -180,6 +180,13 @@ inline void solve_push(SolverBody& a, SolverBody& b, const PointRow& row) {
   solve_point(a.push, b.push, row.normal, row.point->split_impulse, row.push_target, row.impact);
 }
 
+// A manifold's accumulated impulses, kept aside while the shock step
+// solves (shock.cpp, gather_rows).
+struct SavedImpulses {
+  Fixed friction[2], twist, rolling[2];
+  Fixed normal[max_manifold_points];
+};
+
 // A manifold in the shock step's order: by the support level of its higher
 // body, then by its index.
 struct ShockEntry {
@@ -227,9 +234,10 @@ struct SolverScratch {
   std::vector<uint8_t> glued_to_all;      // per slot
   std::vector<uint8_t> glued_alone;       // per slot: glued to its one support in the last pass
   std::vector<BodyRates> glued_velocity;  // per slot: the velocity the last glue gave it
-  std::vector<PointRow> shock_rows;
-  std::vector<ManifoldRow> shock_manifolds;
-  std::vector<Manifold> accumulated;
+  std::vector<ManifoldRow*> shock_manifolds;  // per position in the order: the row solved there
+  std::vector<ManifoldRow> one_sided;         // copies made one-sided (shock_solve.h)
+  std::vector<SavedImpulses> shock_saved;     // the iterations' impulses, per position in the order
+  size_t rows_before_shock = 0;               // rows past this are the one-sided copies' point rows
   std::vector<RankBody> rank_bodies;
   GlueFaces glue_faces;  // the glues' pose-only parts, measured once a step (shock_solve.h)
   std::vector<uint32_t> frozen_bodies;

@@ -162,7 +162,7 @@ TEST_CASE("a rank is held already only if nothing approaches, slides or twists a
   row.b = 1;
   row.normal.direction = up;
   row.point = &manifold.points[0];
-  const std::vector<ManifoldRow> manifolds{m};
+  const std::vector<ManifoldRow*> manifolds{&m};
   const std::vector<PointRow> rows{row};
   std::vector<SolverBody> solver(2);
   const Fixed quiet = 0.001_fx;
