@@ -7,7 +7,7 @@
 
 using namespace bitstep;
 
-TEST_CASE("--threads takes a count from 1 to 64 and nothing else", "[threads]") {
+TEST_CASE("the threads option takes a count from 1 to 64 and nothing else", "[threads]") {
   int n = 0;
   CHECK(parse_threads("1", n));
   CHECK(n == 1);
