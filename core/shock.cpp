@@ -199,31 +199,21 @@ void group_supports(size_t body_count, const std::vector<uint32_t>& level, const
   }
 }
 
-void gather_rows(SolverScratch& scratch) {
+void gather_rows(std::vector<Contact>& contacts, SolverScratch& scratch) {
   // The shock step corrects this step's velocities only, and next step
   // warm-starts from what the iterations found (the shock's one-sided
   // impulses would push the supports down when applied to both bodies):
-  // the manifolds' impulses are saved here and put back after it. Its rows
-  // are the solve's own, but for those it makes one-sided, which it copies
-  // first (the position passes and next step's row reuse read the rows).
+  // the impulses are saved here and put back after it. Its rows are the
+  // solve's own, but for those it makes one-sided, which it copies first
+  // (the position passes and next step's row reuse read the rows).
   const std::vector<ShockEntry>& order = scratch.order;
   std::vector<ManifoldRow*>& shock_manifolds = scratch.shock_manifolds;
-  std::vector<SavedImpulses>& saved = scratch.shock_saved;
+  save_impulses(contacts, scratch.shock_saved);
   shock_manifolds.resize(order.size());
-  saved.resize(order.size());
   size_t point_rows = 0;
   for (size_t i = 0; i < order.size(); ++i) {
-    ManifoldRow& m = scratch.manifolds[order[i].index];
-    shock_manifolds[i] = &m;
-    const Manifold& manifold = *m.manifold;
-    SavedImpulses& s = saved[i];
-    s.friction[0] = manifold.friction_impulse[0];
-    s.friction[1] = manifold.friction_impulse[1];
-    s.twist = manifold.twist_impulse;
-    s.rolling[0] = manifold.rolling_impulse[0];
-    s.rolling[1] = manifold.rolling_impulse[1];
-    for (size_t k = 0; k < max_manifold_points; ++k) s.normal[k] = manifold.points[k].normal_impulse;
-    point_rows += m.count;
+    shock_manifolds[i] = &scratch.manifolds[order[i].index];
+    point_rows += shock_manifolds[i]->count;
   }
   // Room for every one-sided copy, so that none moves once made.
   scratch.one_sided.clear();
@@ -232,17 +222,8 @@ void gather_rows(SolverScratch& scratch) {
   scratch.rows.reserve(scratch.rows.size() + point_rows);
 }
 
-void restore_rows(SolverScratch& scratch) {
-  for (size_t i = 0; i < scratch.order.size(); ++i) {
-    Manifold& manifold = *scratch.manifolds[scratch.order[i].index].manifold;
-    const SavedImpulses& s = scratch.shock_saved[i];
-    manifold.friction_impulse[0] = s.friction[0];
-    manifold.friction_impulse[1] = s.friction[1];
-    manifold.twist_impulse = s.twist;
-    manifold.rolling_impulse[0] = s.rolling[0];
-    manifold.rolling_impulse[1] = s.rolling[1];
-    for (size_t k = 0; k < max_manifold_points; ++k) manifold.points[k].normal_impulse = s.normal[k];
-  }
+void restore_rows(std::vector<Contact>& contacts, SolverScratch& scratch) {
+  restore_impulses(scratch.shock_saved, contacts);
   scratch.rows.resize(scratch.rows_before_shock);
   scratch.one_sided.clear();
 }
@@ -293,7 +274,7 @@ void settle_unconverged_rank(const std::vector<Body>& bodies, const std::vector<
   }
 }
 
-void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, const std::vector<Contact>& contacts,
+void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, std::vector<Contact>& contacts,
                      SolverScratch& scratch) {
   if (scratch.manifolds.empty()) return;  // nothing awake touches anything
   shock_levels(bodies, contacts, settings.gravity, scratch.levels);
@@ -304,7 +285,7 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
   scratch.glued_to_all.assign(bodies.size(), 0);
   scratch.glued_alone.assign(bodies.size(), 0);
   scratch.glued_velocity.resize(bodies.size());  // read only where glued_to_all or glued_alone
-  gather_rows(scratch);
+  gather_rows(contacts, scratch);
   scratch.glue_faces.reset(bodies.size(), scratch.order.size());
   // Rank by rank, each made immovable once solved.
   scratch.saved_inverse_mass.clear();
@@ -317,7 +298,7 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
   for (size_t i = 0; i < scratch.frozen_bodies.size(); ++i) {
     scratch.bodies[scratch.frozen_bodies[i]].inverse_mass = scratch.saved_inverse_mass[i];
   }
-  restore_rows(scratch);
+  restore_rows(contacts, scratch);
 }
 
 }  // namespace bitstep

@@ -21,7 +21,7 @@ namespace bitstep {
 // contacts; gather_rows saves the impulses the step may change; then rank by
 // rank, passes over the rank's manifolds (settle_unconverged_rank where
 // they do not converge), after which its bodies are immovable.
-void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, const std::vector<Contact>& contacts,
+void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, std::vector<Contact>& contacts,
                      SolverScratch& scratch);
 
 // The phases, exposed for their tests.
@@ -51,11 +51,11 @@ void group_supports(size_t body_count, const std::vector<uint32_t>& level, const
                     const std::vector<ShockEntry>& order, SupportGroups& groups);
 
 // Points scratch.shock_manifolds at scratch.order's manifold rows and
-// saves their manifolds' impulses (scratch.shock_saved); restore_rows puts
-// the impulses back and drops the one-sided copies (one_sided_copy) and
-// their point rows, appended to scratch.rows.
-void gather_rows(SolverScratch& scratch);
-void restore_rows(SolverScratch& scratch);
+// saves the contacts' impulses (scratch.shock_saved); restore_rows puts
+// them back and drops the one-sided copies (one_sided_copy) and their point
+// rows, appended to scratch.rows.
+void gather_rows(std::vector<Contact>& contacts, SolverScratch& scratch);
+void restore_rows(std::vector<Contact>& contacts, SolverScratch& scratch);
 // A copy of the manifold at `position` of the shock order with body a (or
 // b) immovable, its point rows copied to the end of scratch.rows;
 // scratch.shock_manifolds[position] then points at it.

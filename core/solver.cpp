@@ -429,31 +429,6 @@ void sweep(std::vector<SolverBody>& bodies, const std::vector<PointRow>& rows, i
 }
 
 
-// The manifolds' accumulated impulses, in contact order (the collision pass
-// keeps its own and puts these back).
-void save_impulses(const std::vector<Contact>& contacts, std::vector<Fixed>& out) {
-  out.clear();
-  for (const Contact& c : contacts) {
-    const Manifold& m = c.manifold;
-    out.insert(out.end(),
-               {m.friction_impulse[0], m.friction_impulse[1], m.twist_impulse, m.rolling_impulse[0], m.rolling_impulse[1]});
-    for (int i = 0; i < m.point_count; ++i) out.push_back(m.points[static_cast<size_t>(i)].normal_impulse);
-  }
-}
-
-void restore_impulses(const std::vector<Fixed>& saved, std::vector<Contact>& contacts) {
-  size_t k = 0;
-  for (Contact& c : contacts) {
-    Manifold& m = c.manifold;
-    m.friction_impulse[0] = saved[k++];
-    m.friction_impulse[1] = saved[k++];
-    m.twist_impulse = saved[k++];
-    m.rolling_impulse[0] = saved[k++];
-    m.rolling_impulse[1] = saved[k++];
-    for (int i = 0; i < m.point_count; ++i) m.points[static_cast<size_t>(i)].normal_impulse = saved[k++];
-  }
-}
-
 void write_velocities(const std::vector<SolverBody>& solver_bodies, std::vector<Body>& bodies) {
   for (size_t i = 0; i < bodies.size(); ++i) {
     Body& body = bodies[i];

@@ -119,4 +119,27 @@ void solve_manifold(std::vector<SolverBody>& bodies, std::vector<PointRow>& rows
   }
 }
 
+void save_impulses(const std::vector<Contact>& contacts, std::vector<Fixed>& out) {
+  out.clear();
+  for (const Contact& c : contacts) {
+    const Manifold& m = c.manifold;
+    out.insert(out.end(),
+               {m.friction_impulse[0], m.friction_impulse[1], m.twist_impulse, m.rolling_impulse[0], m.rolling_impulse[1]});
+    for (int i = 0; i < m.point_count; ++i) out.push_back(m.points[static_cast<size_t>(i)].normal_impulse);
+  }
+}
+
+void restore_impulses(const std::vector<Fixed>& saved, std::vector<Contact>& contacts) {
+  size_t k = 0;
+  for (Contact& c : contacts) {
+    Manifold& m = c.manifold;
+    m.friction_impulse[0] = saved[k++];
+    m.friction_impulse[1] = saved[k++];
+    m.twist_impulse = saved[k++];
+    m.rolling_impulse[0] = saved[k++];
+    m.rolling_impulse[1] = saved[k++];
+    for (int i = 0; i < m.point_count; ++i) m.points[static_cast<size_t>(i)].normal_impulse = saved[k++];
+  }
+}
+
 }  // namespace bitstep

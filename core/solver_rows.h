@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/body.h"
+#include "core/contact.h"
 #include "core/glue_face.h"
 #include "core/manifold.h"
 #include "core/ordered_sweeps.h"
@@ -180,13 +181,6 @@ inline void solve_push(SolverBody& a, SolverBody& b, const PointRow& row) {
   solve_point(a.push, b.push, row.normal, row.point->split_impulse, row.push_target, row.impact);
 }
 
-// A manifold's accumulated impulses, kept aside while the shock step
-// solves (shock.cpp, gather_rows).
-struct SavedImpulses {
-  Fixed friction[2], twist, rolling[2];
-  Fixed normal[max_manifold_points];
-};
-
 // A manifold in the shock step's order: by the support level of its higher
 // body, then by its index.
 struct ShockEntry {
@@ -236,7 +230,7 @@ struct SolverScratch {
   std::vector<BodyRates> glued_velocity;  // per slot: the velocity the last glue gave it
   std::vector<ManifoldRow*> shock_manifolds;  // per position in the order: the row solved there
   std::vector<ManifoldRow> one_sided;         // copies made one-sided (shock_solve.h)
-  std::vector<SavedImpulses> shock_saved;     // the iterations' impulses, per position in the order
+  std::vector<Fixed> shock_saved;             // the iterations' impulses (save_impulses) during the shock step
   size_t rows_before_shock = 0;               // rows past this are the one-sided copies' point rows
   std::vector<RankBody> rank_bodies;
   GlueFaces glue_faces;  // the glues' pose-only parts, measured once a step (shock_solve.h)
@@ -253,6 +247,12 @@ struct SolverScratch {
   // The iterations and position passes on several workers (ordered_sweeps.h).
   OrderedSweeps sweeps;
 };
+
+// The contacts' accumulated impulses, in contact order, kept aside and put
+// back: the collision pass keeps its own, the shock step corrects this
+// step's velocities only.
+void save_impulses(const std::vector<Contact>& contacts, std::vector<Fixed>& out);
+void restore_impulses(const std::vector<Fixed>& saved, std::vector<Contact>& contacts);
 
 // Warm starting: a row's, or a manifold's friction, twist and rolling
 // rows', accumulated impulses from last step applied again.
