@@ -12,6 +12,9 @@
 // found only for rows that are built. A standing structure skips the
 // row setup's products and divisions. Not state: no invalidation is needed
 // (the inputs are compared in full), and a restored world starts empty.
+// When the contacts and their row counts are those of last step, in the same
+// order, the rows are reused where they lie, so a settled scene keeps one
+// set of rows, not two.
 #pragma once
 
 #include <algorithm>
@@ -45,6 +48,13 @@ struct BodyRowInputs {
   friend bool operator==(const BodyRowInputs&, const BodyRowInputs&) = default;
 };
 
+// A contact the solve takes: its position in the contact list and where
+// its point rows begin (solver.cpp, plan_rows).
+struct SolvedContact {
+  uint32_t contact;
+  size_t first_row;
+};
+
 struct RowCache {
   struct Entry {
     RowInputs inputs;
@@ -67,6 +77,19 @@ struct RowCache {
       still[i] = bodies[i] == now[i];
       bodies[i] = now[i];
     }
+  }
+
+  // Whether `solved` lays the contacts out as the last cached solve did:
+  // the same keys in the same order, each one's rows at the same place
+  // (then its rows can be reused where they lie).
+  bool same_layout(const std::vector<Contact>& contacts, const std::vector<SolvedContact>& solved) const {
+    if (entries.size() != solved.size()) return false;
+    for (size_t i = 0; i < solved.size(); ++i) {
+      if (entries[i].first_row != solved[i].first_row || !(entries[i].inputs.key == contacts[solved[i].contact].key)) {
+        return false;
+      }
+    }
+    return true;
   }
 
   // Where the entries of keys from `key` on begin: a worker's first cursor.

@@ -366,12 +366,10 @@ void build_rows_of_worker(void* context, int worker) {
 // then builds every one's (build_rows), on the executor's workers when
 // there are enough: each contact's rows are a function of its own inputs,
 // written into their own places, so the same bits on any number.
-void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
-                  const std::vector<SolverBody>& solver_bodies, const std::vector<BodyRates>& start_velocities,
-                  std::vector<Contact>& contacts, SolvePass pass, std::vector<PointRow>& rows,
-                  std::vector<ManifoldRow>& manifold_rows, RowCache* cache, const std::vector<PointRow>& last_rows,
-                  const std::vector<ManifoldRow>& last_manifolds, std::vector<SolvedContact>& solved,
-                  Executor* executor) {
+// The contacts this solve takes, in order, and where each one's point rows
+// begin (`solved`); the number of point rows.
+size_t plan_rows(const Settings& settings, const std::vector<Body>& bodies, const std::vector<SolverBody>& solver_bodies,
+                 const std::vector<Contact>& contacts, SolvePass pass, std::vector<SolvedContact>& solved) {
   solved.clear();
   size_t row_count = 0;
   for (uint32_t c = 0; c < contacts.size(); ++c) {
@@ -386,6 +384,20 @@ void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
     solved.push_back({c, row_count});
     row_count += static_cast<size_t>(contact.manifold.point_count);
   }
+  return row_count;
+}
+
+// Builds the planned rows (plan_rows) into rows and manifold_rows, reusing
+// last step's parts from last_rows and last_manifolds where the cache finds
+// them. Those may be rows and manifold_rows themselves when the plan lays
+// every contact where the last cached solve did: each slot then reads only
+// its own last contents, before it writes them.
+void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
+                  const std::vector<SolverBody>& solver_bodies, const std::vector<BodyRates>& start_velocities,
+                  std::vector<Contact>& contacts, SolvePass pass, size_t row_count, std::vector<PointRow>& rows,
+                  std::vector<ManifoldRow>& manifold_rows, RowCache* cache, const std::vector<PointRow>& last_rows,
+                  const std::vector<ManifoldRow>& last_manifolds, const std::vector<SolvedContact>& solved,
+                  Executor* executor) {
   // Resized, not cleared: in a steady scene the sizes stay and nothing is
   // written twice.
   rows.resize(row_count);
@@ -443,17 +455,8 @@ void write_velocities(const std::vector<SolverBody>& solver_bodies, std::vector<
 void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::vector<Contact>& contacts,
                     PushVelocities& push, SolverScratch& scratch, SolvePass kind, Executor* executor) {
   std::vector<SolverBody>& solver_bodies = scratch.bodies;
-  std::vector<PointRow>& rows = scratch.rows;
-  std::vector<ManifoldRow>& manifold_rows = scratch.manifolds;
   gather_bodies(bodies, solver_bodies);
   if (kind == SolvePass::collision) save_impulses(contacts, scratch.saved_impulses);
-  // The last cached solve's rows move aside before this one builds its own;
-  // the collision pass builds every row (its manifolds are those that hit).
-  if (scratch.rows_from_cached_solve) {
-    std::swap(rows, scratch.last_rows);
-    std::swap(manifold_rows, scratch.last_manifolds);
-    scratch.rows_from_cached_solve = false;
-  }
   RowCache& cache = scratch.row_cache;
   const bool cached = cache.enabled && kind != SolvePass::collision;
   if (cached) {
@@ -465,8 +468,25 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
     }
     cache.compare_bodies(now);
   }
-  prepare_rows(settings, bodies, solver_bodies, scratch.start_velocities, contacts, kind, rows, manifold_rows,
-               cached ? &cache : nullptr, scratch.last_rows, scratch.last_manifolds, scratch.solved, executor);
+  const size_t row_count = plan_rows(settings, bodies, solver_bodies, contacts, kind, scratch.solved);
+  // The collision pass (its manifolds are those that hit) builds every row,
+  // into rows of its own. A cached solve reuses the last cached solve's
+  // rows where it can: in place when it lays its contacts out as that solve
+  // did (a settled scene: one set of rows, not two), else from the other
+  // buffer, into which that solve's rows move aside.
+  std::vector<PointRow>& rows = kind == SolvePass::collision ? scratch.collision_rows : scratch.rows;
+  std::vector<ManifoldRow>& manifold_rows = kind == SolvePass::collision ? scratch.collision_manifolds : scratch.manifolds;
+  const bool in_place = cached && scratch.rows_from_cached_solve && cache.same_layout(contacts, scratch.solved);
+  if (kind != SolvePass::collision) {
+    if (scratch.rows_from_cached_solve && !in_place) {
+      std::swap(rows, scratch.last_rows);
+      std::swap(manifold_rows, scratch.last_manifolds);
+    }
+    scratch.rows_from_cached_solve = false;
+  }
+  prepare_rows(settings, bodies, solver_bodies, scratch.start_velocities, contacts, kind, row_count, rows,
+               manifold_rows, cached ? &cache : nullptr, in_place ? rows : scratch.last_rows,
+               in_place ? manifold_rows : scratch.last_manifolds, scratch.solved, executor);
   if (cached) {
     std::swap(cache.entries, cache.next);
     scratch.rows_from_cached_solve = true;

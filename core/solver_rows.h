@@ -12,6 +12,7 @@
 #include "core/ordered_sweeps.h"
 #include "core/row_cache.h"
 #include "core/shock_levels.h"
+#include "core/stable_pool.h"
 
 namespace bitstep {
 
@@ -205,13 +206,6 @@ struct RankBody {
   BodyRates velocity;
 };
 
-// A contact the solve takes: its position in the contact list and where
-// its point rows begin (solver.cpp, prepare_rows).
-struct SolvedContact {
-  uint32_t contact;
-  size_t first_row;
-};
-
 // The solve's working memory, kept by the world between steps so that a
 // settled scene's step allocates nothing. Never state: every vector is
 // rebuilt from the bodies and contacts before it is read.
@@ -221,6 +215,8 @@ struct SolverScratch {
   std::vector<PointRow> rows;
   std::vector<ManifoldRow> manifolds;
   std::vector<SolvedContact> solved;  // the contacts the rows are built for, in order
+  std::vector<PointRow> collision_rows;  // the collision pass's (guendelman), apart from the cached solve's
+  std::vector<ManifoldRow> collision_manifolds;
   // The shock step (shock.cpp).
   ShockLevels levels;
   std::vector<ShockEntry> order;
@@ -229,7 +225,7 @@ struct SolverScratch {
   std::vector<uint8_t> glued_alone;       // per slot: glued to its one support in the last pass
   std::vector<BodyRates> glued_velocity;  // per slot: the velocity the last glue gave it
   std::vector<ManifoldRow*> shock_manifolds;  // per position in the order: the row solved there
-  std::vector<ManifoldRow> one_sided;         // copies made one-sided (shock_solve.h)
+  StablePool<ManifoldRow> one_sided;          // copies made one-sided (shock_solve.h)
   std::vector<Fixed> shock_saved;             // the iterations' impulses (save_impulses) during the shock step
   size_t rows_before_shock = 0;               // rows past this are the one-sided copies' point rows
   std::vector<RankBody> rank_bodies;
@@ -238,7 +234,8 @@ struct SolverScratch {
   std::vector<Fixed> saved_inverse_mass;
   std::vector<Fixed> saved_impulses;  // the contact pass's, kept aside during the collision pass
   // Exact reuse of the pose-dependent row parts (row_cache.h): the last
-  // cached solve's rows, moved aside before the next solve builds its own.
+  // cached solve's rows, moved aside before the next solve builds its own
+  // unless it reuses them in place.
   RowCache row_cache;
   std::vector<BodyRowInputs> body_row_inputs;  // this solve's, per slot
   std::vector<PointRow> last_rows;
