@@ -1,5 +1,6 @@
 #include "core/contact_update.h"
 
+#include <algorithm>
 #include <tuple>
 
 #include "core/collide.h"
@@ -81,6 +82,26 @@ void remember_poses(const std::vector<Body>& bodies, NarrowphaseCache& cache) {
   }
 }
 
+// Whether the shape pairs of `pairs` (those with a dynamic body) are the
+// keys of `entries`, in the same order.
+bool same_shape_pairs(const std::vector<Body>& bodies, const std::vector<BodyPair>& pairs,
+                      const std::vector<NarrowphaseCache::Entry>& entries) {
+  size_t i = 0;
+  for (const BodyPair& pair : pairs) {
+    const Body& a = bodies[pair.a];
+    const Body& b = bodies[pair.b];
+    if (a.type != BodyType::dynamic && b.type != BodyType::dynamic) continue;
+    for (size_t sa = 0; sa < a.shapes.size(); ++sa) {
+      for (size_t sb = 0; sb < b.shapes.size(); ++sb) {
+        const ContactKey key{pair.a, pair.b, static_cast<uint16_t>(sa), static_cast<uint16_t>(sb)};
+        if (i == entries.size() || !(entries[i].key == key)) return false;
+        ++i;
+      }
+    }
+  }
+  return i == entries.size();
+}
+
 }  // namespace
 
 void update_contacts(const std::vector<Body>& bodies, const std::vector<BodyPair>& pairs, const Settings& settings,
@@ -102,6 +123,13 @@ void update_contacts(const std::vector<Body>& bodies, const std::vector<BodyPair
   previous.swap(contacts);  // keeps both buffers' capacity
   contacts.clear();
   contacts.reserve(previous.size());
+  // When the shape pairs are last step's, in order (a standing scene), the
+  // cache's entries are rewritten where they lie, each read before it is
+  // written; else they are built anew, reserved at once rather than doubled
+  // up from nothing at the first step (a pair of single shapes is one entry).
+  const bool in_place = cache.enabled && same_shape_pairs(bodies, pairs, cache.entries);
+  if (!in_place) cache.next.reserve(std::max(cache.entries.size(), pairs.size()));
+  size_t next_entry = 0;
   size_t next_old = 0;     // both lists are sorted by key: one merge walk
   size_t next_cached = 0;  // likewise through the cache
   auto keep_old_before = [&](BodyPair pair) {
@@ -140,7 +168,11 @@ void update_contacts(const std::vector<Body>& bodies, const std::vector<BodyPair
           collide(shape_a, shape_b, margin, contact.manifold);  // a fresh manifold, point_count 0 when apart
           ++cache.tested;
         }
-        if (cache.enabled) cache.next.push_back({contact.key, margin, found_of(contact.manifold)});
+        if (in_place) {
+          cache.entries[next_entry++] = {contact.key, margin, found_of(contact.manifold)};
+        } else if (cache.enabled) {
+          cache.next.push_back({contact.key, margin, found_of(contact.manifold)});
+        }
         if (contact.manifold.point_count == 0) continue;
         while (next_old < previous.size() && previous[next_old].key < contact.key) ++next_old;
         if (settings.warm_starting && next_old < previous.size() && previous[next_old].key == contact.key) {
@@ -151,7 +183,7 @@ void update_contacts(const std::vector<Body>& bodies, const std::vector<BodyPair
     }
   }
   keep_old_before({UINT32_MAX, UINT32_MAX});
-  cache.entries.swap(cache.next);  // keeps both buffers' capacity
+  if (!in_place) cache.entries.swap(cache.next);  // keeps both buffers' capacity
 }
 
 }  // namespace bitstep

@@ -17,7 +17,9 @@ namespace bitstep {
 // whose bodies' poses and margin are bit-identical to last step's gets last
 // step's result as collide() wrote it (impulses are then inherited as
 // always), so a step computes the same bits with or without the cache. A
-// standing structure (no pose moves by a bit) skips its collision tests.
+// standing structure (no pose moves by a bit) skips its collision tests,
+// and when its shape pairs are last step's, in order, the entries are
+// rewritten where they lie (one buffer, not two).
 // Not state: the owner drops a slot's entries when its body is removed (the
 // slot may be reused at the same pose by other shapes), and a restored world
 // starts without any.

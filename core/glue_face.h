@@ -35,21 +35,44 @@ struct GluePoint {
 };
 
 // The step's faces: glue_all's per body slot, glue's per position in the
-// shock order. Workspace: a new step forgets every face by advancing the
-// generation, without touching them.
+// shock order, made at their first glue of the step, so that only the faces
+// glued take room (wall128 glues 8,256 faces a step, one per brick; a face
+// of 184 bytes for each of its 24,512 order positions and 8,257 slots took
+// 6 MB). Workspace: a new
+// step forgets every face by advancing the generation, without touching
+// the slots.
 struct GlueFaces {
-  std::vector<GlueFace> by_body, by_manifold;
+  struct Slot {
+    uint64_t generation = 0;  // the face at `face` is this step's when equal to GlueFaces::generation
+    uint32_t face = 0;
+  };
+  std::vector<Slot> by_body, by_manifold;
+  std::vector<GlueFace> faces;
   std::vector<GluePoint> points;
   std::vector<Vec3> middles;  // glue_all: each support contact's points' mean
   uint64_t generation = 1;
   void reset(size_t body_count, size_t manifold_count) {
     if (by_body.size() < body_count) by_body.resize(body_count);
     if (by_manifold.size() < manifold_count) by_manifold.resize(manifold_count);
+    faces.clear();
     points.clear();
     middles.clear();
     ++generation;
   }
+  // The face of a body slot or an order position, made (not yet measured)
+  // if this step has none. Valid until the next face is made.
+  GlueFace& of_body(size_t body) { return face_at(by_body[body]); }
+  GlueFace& of_manifold(size_t position) { return face_at(by_manifold[position]); }
   bool measured(const GlueFace& face) const { return face.generation == generation; }
+
+ private:
+  GlueFace& face_at(Slot& slot) {
+    if (slot.generation != generation) {
+      slot = {generation, static_cast<uint32_t>(faces.size())};
+      faces.emplace_back();
+    }
+    return faces[slot.face];
+  }
 };
 
 }  // namespace bitstep

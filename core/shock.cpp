@@ -55,7 +55,7 @@ bool rank_pass(const std::vector<Body>& bodies, const std::vector<uint32_t>& lev
           if (list[0] == i && !(glued_to_all[mover] && solver_bodies[mover].velocity == glued_velocity[mover])) {
             glued_to_all[mover] =
                 glue_all(solver_bodies[mover], bodies[mover], solver_bodies, bodies, list, count, level,
-                         shock_manifolds, rows, scratch.glue_faces.by_body[mover], scratch.glue_faces);
+                         shock_manifolds, rows, scratch.glue_faces.of_body(mover), scratch.glue_faces);
             glued_velocity[mover] = solver_bodies[mover].velocity;
           }
           if (glued_to_all[mover]) {
@@ -68,7 +68,7 @@ bool rank_pass(const std::vector<Body>& bodies, const std::vector<uint32_t>& lev
         const bool alone = !supports.several[mover];
         if (alone && glued_alone[mover] && solver_bodies[mover].velocity == glued_velocity[mover]) continue;
         const bool glued = glue(solver_bodies[mover], solver_bodies[mover_is_b ? m.a : m.b], bodies[mover],
-                                mover_is_b, m, rows, scratch.glue_faces.by_manifold[i], scratch.glue_faces);
+                                mover_is_b, m, rows, scratch.glue_faces.of_manifold(i), scratch.glue_faces);
         if (alone) {
           glued_alone[mover] = glued;
           glued_velocity[mover] = solver_bodies[mover].velocity;

@@ -155,6 +155,7 @@ struct RowSetup {
   Fixed inverse_dt;
   int workers;
   uint64_t* reused;  // per worker: manifolds whose rows were reused
+  bool in_place;     // last_rows, last_manifolds and the cache's entries are this solve's own
 };
 
 // The rows of the solved contact `slot`: its point rows at rows[first ..)
@@ -196,7 +197,9 @@ bool build_rows(const RowSetup& setup, size_t slot, size_t& cursor) {
   if (cache) {
     const RowInputs inputs = row_inputs(contact, held);
     reuse = cache->find(inputs, cursor);
-    cache->next[slot] = {inputs, first, slot};
+    // In place, this slot's entry was last step's for the same key and
+    // rows, read just now by find and by no other slot.
+    (setup.in_place ? cache->entries : cache->next)[slot] = {inputs, first, slot};
   }
   // Friction: the geometric means of the bodies' coefficients, as last
   // step's rows hold them where they are reused (their bodies' are equal).
@@ -355,7 +358,9 @@ void build_rows_of_worker(void* context, int worker) {
   const size_t n = setup.solved.size(), w = static_cast<size_t>(worker), workers = static_cast<size_t>(setup.workers);
   const size_t begin = n * w / workers, end = n * (w + 1) / workers;
   if (begin == end) return;
-  size_t cursor = setup.cache ? setup.cache->cursor_at(setup.contacts[setup.solved[begin].contact].key) : 0;
+  size_t cursor = !setup.cache     ? 0
+                  : setup.in_place ? begin  // the entries lie as the contacts do
+                                   : setup.cache->cursor_at(setup.contacts[setup.solved[begin].contact].key);
   uint64_t reused = 0;
   for (size_t slot = begin; slot < end; ++slot) reused += build_rows(setup, slot, cursor) ? 1u : 0u;
   setup.reused[w] = reused;
@@ -390,26 +395,27 @@ size_t plan_rows(const Settings& settings, const std::vector<Body>& bodies, cons
 // Builds the planned rows (plan_rows) into rows and manifold_rows, reusing
 // last step's parts from last_rows and last_manifolds where the cache finds
 // them. Those may be rows and manifold_rows themselves when the plan lays
-// every contact where the last cached solve did: each slot then reads only
+// every contact where the last cached solve did (in_place; the cache's
+// entries are then rewritten where they lie too): each slot then reads only
 // its own last contents, before it writes them.
 void prepare_rows(const Settings& settings, const std::vector<Body>& bodies,
                   const std::vector<SolverBody>& solver_bodies, const std::vector<BodyRates>& start_velocities,
                   std::vector<Contact>& contacts, SolvePass pass, size_t row_count, std::vector<PointRow>& rows,
                   std::vector<ManifoldRow>& manifold_rows, RowCache* cache, const std::vector<PointRow>& last_rows,
                   const std::vector<ManifoldRow>& last_manifolds, const std::vector<SolvedContact>& solved,
-                  Executor* executor) {
+                  bool in_place, Executor* executor) {
   // Resized, not cleared: in a steady scene the sizes stay and nothing is
   // written twice.
   rows.resize(row_count);
   manifold_rows.resize(solved.size());
-  if (cache) cache->next.resize(solved.size());
+  if (cache && !in_place) cache->next.resize(solved.size());
   const bool parallel =
       executor && executor->workers() > 1 && solved.size() >= min_parallel_row_setups * static_cast<size_t>(executor->workers());
   const int workers = parallel ? std::min(executor->workers(), max_workers) : 1;
   uint64_t reused[max_workers] = {};
   RowSetup setup{settings,       bodies, solver_bodies, start_velocities,          contacts, pass,    rows,
                        manifold_rows,  cache,  last_rows,     last_manifolds,            solved,   Fixed::one() / settings.dt,
-                       workers,        reused};
+                       workers,        reused,        in_place};
   if (parallel) {
     executor->run(build_rows_of_worker, &setup);
   } else {
@@ -486,9 +492,9 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
   }
   prepare_rows(settings, bodies, solver_bodies, scratch.start_velocities, contacts, kind, row_count, rows,
                manifold_rows, cached ? &cache : nullptr, in_place ? rows : scratch.last_rows,
-               in_place ? manifold_rows : scratch.last_manifolds, scratch.solved, executor);
+               in_place ? manifold_rows : scratch.last_manifolds, scratch.solved, in_place, executor);
   if (cached) {
-    std::swap(cache.entries, cache.next);
+    if (!in_place) std::swap(cache.entries, cache.next);
     scratch.rows_from_cached_solve = true;
   }
   const bool warm = settings.warm_starting && kind != SolvePass::collision;
