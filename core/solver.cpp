@@ -366,13 +366,9 @@ void build_rows_of_worker(void* context, int worker) {
   setup.reused[w] = reused;
 }
 
-// Lists the contacts the solve takes (an awake body; in the collision pass,
-// only those that hit) with where their point rows begin, sizes the rows,
-// then builds every one's (build_rows), on the executor's workers when
-// there are enough: each contact's rows are a function of its own inputs,
-// written into their own places, so the same bits on any number.
-// The contacts this solve takes, in order, and where each one's point rows
-// begin (`solved`); the number of point rows.
+// The contacts this solve takes (an awake body; in the collision pass, only
+// those that hit), in order, and where each one's point rows begin
+// (`solved`); the number of point rows.
 size_t plan_rows(const Settings& settings, const std::vector<Body>& bodies, const std::vector<SolverBody>& solver_bodies,
                  const std::vector<Contact>& contacts, SolvePass pass, std::vector<SolvedContact>& solved) {
   solved.clear();
@@ -392,9 +388,11 @@ size_t plan_rows(const Settings& settings, const std::vector<Body>& bodies, cons
   return row_count;
 }
 
-// Builds the planned rows (plan_rows) into rows and manifold_rows, reusing
-// last step's parts from last_rows and last_manifolds where the cache finds
-// them. Those may be rows and manifold_rows themselves when the plan lays
+// Sizes the rows and builds every planned contact's (plan_rows, build_rows)
+// into rows and manifold_rows, on the executor's workers when there are
+// enough: each contact's rows are a function of its own inputs, written
+// into their own places, so the same bits on any number. Last step's parts
+// come from last_rows and last_manifolds where the cache finds them. Those may be rows and manifold_rows themselves when the plan lays
 // every contact where the last cached solve did (in_place; the cache's
 // entries are then rewritten where they lie too): each slot then reads only
 // its own last contents, before it writes them.
