@@ -17,9 +17,8 @@ namespace bitstep {
 // passes after it: the same values, so the same bits (a settled pile glues
 // each body ~25 times a step).
 struct GlueFace {
-  enum class State : uint8_t { usable, never };
-  State state = State::never;
-  uint64_t generation = 0;  // measured in this step when equal to GlueFaces::generation
+  enum class State : uint8_t { unmeasured, usable, never };
+  State state = State::unmeasured;  // a face is made unmeasured at its first glue of the step
   Vec3 n, centroid;
   Vec3 e0, e1;  // glue_all: the face's in-plane axes
   Fixed mu, radius, inverse_radius, g00, g01, g11, inverse_det;
@@ -63,7 +62,7 @@ struct GlueFaces {
   // if this step has none. Valid until the next face is made.
   GlueFace& of_body(size_t body) { return face_at(by_body[body]); }
   GlueFace& of_manifold(size_t position) { return face_at(by_manifold[position]); }
-  bool measured(const GlueFace& face) const { return face.generation == generation; }
+  static bool measured(const GlueFace& face) { return face.state != GlueFace::State::unmeasured; }
 
  private:
   GlueFace& face_at(Slot& slot) {

@@ -56,7 +56,6 @@ namespace {
 // allowed approach is met by moving together), its centroid, its points'
 // levers and the rocking axes' Gram matrix.
 void measure_face(const ManifoldRow& m, const std::vector<PointRow>& rows, GlueFace& face, GlueFaces& faces) {
-  face.generation = faces.generation;
   face.state = GlueFace::State::never;
   if (m.count < 3 || !m.rocking[0].active || !m.rocking[1].active) return;
   for (size_t i = 0; i < m.count; ++i) {
@@ -160,7 +159,6 @@ void measure_faces(const uint32_t* entries, size_t entry_count, const std::vecto
                    const std::vector<ManifoldRow*>& manifolds, const std::vector<PointRow>& rows, GlueFace& face,
                    GlueFaces& faces) {
   constexpr Fixed same_normal = 0.99999_fx;  // cosine
-  face.generation = faces.generation;
   face.state = GlueFace::State::never;
   Vec3 n, centroid;
   Fixed mu = Fixed::max();
