@@ -103,12 +103,9 @@ constexpr Fixed mul_div(Fixed a, Fixed b, Fixed c) { return Fixed::from_raw(raw:
 constexpr Fixed mul_in_range(Fixed a, Fixed b) { return Fixed::from_raw(raw::mul_in_range<Wide>(a.raw(), b.raw())); }
 template <size_t N>
 constexpr Fixed sum_products_in_range(const Fixed (&a)[N], const Fixed (&b)[N]) {
-  int64_t ra[N] = {}, rb[N] = {};
-  for (size_t i = 0; i < N; ++i) {
-    ra[i] = a[i].raw();
-    rb[i] = b[i].raw();
-  }
-  return Fixed::from_raw(raw::sum_products_in_range<Wide, N>(ra, rb));
+  raw::InRangeSum<Wide> sum;
+  for (size_t i = 0; i < N; ++i) sum.add(a[i].raw(), b[i].raw());
+  return Fixed::from_raw(sum.rounded());
 }
 
 // Square root, correctly rounded. sqrt of a negative value is 0.

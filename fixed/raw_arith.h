@@ -99,16 +99,22 @@ struct Accumulator {
 __extension__ typedef __int128 native_i128;
 __extension__ typedef unsigned __int128 native_u128;
 
-constexpr int64_t round_q64_parts(uint64_t hi, uint64_t lo, bool& saturated) {
+// hi:lo + 2^31 - 1 + lsb in place, the carry into hi.
+constexpr void bias_q64_parts(uint64_t& hi, uint64_t& lo) {
   const uint64_t biased = lo + ((uint64_t{1} << 31) - 1) + ((lo >> 32) & 1u);
   if (biased < lo) ++hi;  // carry
-  // floor((hi:biased) / 2^32) = hi 2^32 + (biased >> 32) fits in int64 iff hi is in [-2^31, 2^31).
+  lo = biased;
+}
+
+constexpr int64_t round_q64_parts(uint64_t hi, uint64_t lo, bool& saturated) {
+  bias_q64_parts(hi, lo);
+  // floor((hi:lo) / 2^32) = hi 2^32 + (lo >> 32) fits in int64 iff hi is in [-2^31, 2^31).
   const int64_t top = static_cast<int64_t>(hi);
   if ((top >> 31) != 0 && (top >> 31) != -1) {
     saturated = true;
     return top < 0 ? min_raw : max_raw;
   }
-  return static_cast<int64_t>((hi << 32) | (biased >> 32));
+  return static_cast<int64_t>((hi << 32) | (lo >> 32));
 }
 
 constexpr int64_t round_q64_native(native_i128 s, bool& saturated) {
@@ -273,39 +279,77 @@ constexpr int64_t mul_sub_mul(int64_t a, int64_t b, int64_t c, int64_t d) {
 // the world envelope keeps far inside the range. In range the result is
 // bit-identical to dot3 / mul. Out of range it is the low 64 bits of the
 // rounded sum (every backend the same bits), and the checked build faults.
+// Products are added one at a time, so callers pass them straight from their
+// own fields (an array copied in first went through the stack).
+template <class U>
+class InRangeSum {
+ public:
+  constexpr void add(int64_t a, int64_t b) {
+#if defined(BITSTEP_HAS_NATIVE_128)
+    if constexpr (use_native_fast_path<U>) {
+      // Two's complement mod 2^128: each product fits (|a b| <= 2^126), the
+      // sum wraps without undefined behaviour in unsigned arithmetic.
+      native_ += static_cast<native_u128>(native_i128{a} * b);
+    } else
+#endif
+    {
+      sum_ = sum_ + signed_product<U>(a, b);
+    }
+    if constexpr (checked_build) {
+      if (terms_++ == 0) {
+        first_a_ = a;
+        first_b_ = b;
+      }
+      exact_.add_product(a, b);
+    }
+  }
+
+  constexpr int64_t rounded() const {
+    uint64_t result = 0;
+#if defined(BITSTEP_HAS_NATIVE_128)
+    if constexpr (use_native_fast_path<U>) {
+      // (sum + bias) >> 32 in 64-bit words: the low word biased, its carry
+      // into the high word, and the low 64 bits of the shifted result.
+      uint64_t hi = static_cast<uint64_t>(native_ >> 64), lo = static_cast<uint64_t>(native_);
+      bias_q64_parts(hi, lo);
+      result = (hi << fraction_bits) | (lo >> fraction_bits);
+    } else
+#endif
+    {
+      const uint64_t bias = ((uint64_t{1} << 31) - 1) + ((sum_.lo() >> 32) & 1u);
+      result = ((sum_ + U{bias}) >> fraction_bits).lo();
+    }
+    if constexpr (checked_build) {
+      bool saturated = false;
+      exact_.to_raw(saturated);
+      BITSTEP_FAULT_IF(saturated, "sum_products_in_range", "result out of range", first_a_, first_b_);
+    }
+    return static_cast<int64_t>(result);
+  }
+
+ private:
+#if defined(BITSTEP_HAS_NATIVE_128)
+  native_u128 native_ = 0;
+#endif
+  U sum_{};
+  // The checked build's exact sum and first operands (for the fault report).
+  Accumulator<U> exact_;
+  int terms_ = 0;
+  int64_t first_a_ = 0, first_b_ = 0;
+};
+
 template <class U, size_t N>
 constexpr int64_t sum_products_in_range(const int64_t (&a)[N], const int64_t (&b)[N]) {
-  uint64_t result = 0;
-#if defined(BITSTEP_HAS_NATIVE_128)
-  if constexpr (use_native_fast_path<U>) {
-    // Two's complement mod 2^128: each product fits (|a b| <= 2^126), the
-    // sum wraps without undefined behaviour in unsigned arithmetic.
-    native_u128 sum = 0;
-    for (size_t i = 0; i < N; ++i) sum += static_cast<native_u128>(native_i128{a[i]} * b[i]);
-    const uint64_t bias = ((uint64_t{1} << 31) - 1) + ((static_cast<uint64_t>(sum) >> 32) & 1u);
-    result = static_cast<uint64_t>((sum + bias) >> fraction_bits);
-  } else
-#endif
-  {
-    U sum{};
-    for (size_t i = 0; i < N; ++i) sum = sum + signed_product<U>(a[i], b[i]);
-    const uint64_t bias = ((uint64_t{1} << 31) - 1) + ((sum.lo() >> 32) & 1u);
-    result = ((sum + U{bias}) >> fraction_bits).lo();
-  }
-  if constexpr (checked_build) {
-    Accumulator<U> exact;
-    for (size_t i = 0; i < N; ++i) exact.add_product(a[i], b[i]);
-    bool saturated = false;
-    exact.to_raw(saturated);
-    BITSTEP_FAULT_IF(saturated, "sum_products_in_range", "result out of range", a[0], b[0]);
-  }
-  return static_cast<int64_t>(result);
+  InRangeSum<U> sum;
+  for (size_t i = 0; i < N; ++i) sum.add(a[i], b[i]);
+  return sum.rounded();
 }
 
 template <class U>
 constexpr int64_t mul_in_range(int64_t a, int64_t b) {
-  const int64_t as[1] = {a}, bs[1] = {b};
-  return sum_products_in_range<U, 1>(as, bs);
+  InRangeSum<U> sum;
+  sum.add(a, b);
+  return sum.rounded();
 }
 
 // a + b and a - b wrap modulo 2^64 (two's complement), computed in uint64_t.

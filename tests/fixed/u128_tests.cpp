@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "fixed/checked.h"
+#include "fixed/fixed.h"
 #include "fixed/raw_arith.h"
 #include "fixed/raw_math.h"
 #include "fixed/u128.h"
@@ -535,6 +536,37 @@ __attribute__((noinline)) Bits r_sum3_in_range(int64_t a0, int64_t b0, int64_t a
   const int64_t a[3] = {a0, a1, a2}, b[3] = {b0, b1, b2};
   return bits_of(raw::sum_products_in_range<U, 3>(a, b));
 }
+#if defined(BITSTEP_HAS_NATIVE_128)
+// The native in-range sum as it was before raw::InRangeSum: the 128-bit sum
+// biased and shifted as one 128-bit value (InRangeSum rounds it in 64-bit
+// words). The sweep below proves the same bits, out of range too.
+int64_t former_sum_in_range(const int64_t (&a)[3], const int64_t (&b)[3]) {
+  raw::native_u128 sum = 0;
+  for (size_t i = 0; i < 3; ++i) sum += static_cast<raw::native_u128>(raw::native_i128{a[i]} * b[i]);
+  const uint64_t bias = ((uint64_t{1} << 31) - 1) + ((static_cast<uint64_t>(sum) >> 32) & 1u);
+  return static_cast<int64_t>(static_cast<uint64_t>((sum + bias) >> raw::fraction_bits));
+}
+__attribute__((noinline)) Bits former_in_range(int64_t a0, int64_t b0, int64_t a1, int64_t b1, int64_t a2,
+                                               int64_t b2) {
+  const int64_t a[3] = {a0, a1, a2}, b[3] = {b0, b1, b2}, a_one[3] = {a0, 0, 0}, b_one[3] = {b0, 0, 0};
+  const int64_t sum = former_sum_in_range(a, b);
+  return bits(static_cast<uint64_t>(sum), static_cast<uint64_t>(sum),
+              static_cast<uint64_t>(former_sum_in_range(a_one, b_one)));
+}
+// Today's forms on the same operands: the raw sum, the Fixed sum (its
+// products taken from the Fixed values, no array of raw values) and
+// mul_in_range.
+__attribute__((noinline)) Bits today_in_range(int64_t a0, int64_t b0, int64_t a1, int64_t b1, int64_t a2,
+                                              int64_t b2) {
+  using bitstep::Fixed;
+  const int64_t a[3] = {a0, a1, a2}, b[3] = {b0, b1, b2};
+  const Fixed fa[3] = {Fixed::from_raw(a0), Fixed::from_raw(a1), Fixed::from_raw(a2)};
+  const Fixed fb[3] = {Fixed::from_raw(b0), Fixed::from_raw(b1), Fixed::from_raw(b2)};
+  return bits(static_cast<uint64_t>(raw::sum_products_in_range<NativeU128, 3>(a, b)),
+              static_cast<uint64_t>(bitstep::sum_products_in_range(fa, fb).raw()),
+              static_cast<uint64_t>(raw::mul_in_range<NativeU128>(a0, b0)));
+}
+#endif
 template <class U>
 __attribute__((noinline)) Bits r_mul_sub_mul(int64_t a, int64_t b, int64_t c, int64_t d) {
   return bits_of(raw::mul_sub_mul<U>(a, b, c, d));
@@ -731,6 +763,16 @@ TEST_CASE("raw mul, div, mul_div, mul_add, dot3, mul_sub_mul give the same bits 
   // Out of range too: the low 64 bits of the rounded sum, the same on both.
   require_algorithm(sweep("raw::sum_products_in_range", algorithm_count, 0x16, &r_sum3_in_range<N>,
                           &r_sum3_in_range<P>, edges6, gen6, checked_skip<T6>(sum3_saturates)),
+                    totals);
+  // The native in-range forms against their former 128-bit rounding.
+  require_algorithm(sweep("raw::InRangeSum against the former native path", algorithm_count, 0x17, &today_in_range,
+                          &former_in_range, edges6, gen6, checked_skip<T6>([](const T6& t) {
+                            raw::Accumulator<Wide> sum;
+                            sum.add_product(std::get<0>(t), std::get<1>(t));
+                            sum.add_product(std::get<2>(t), std::get<3>(t));
+                            sum.add_product(std::get<4>(t), std::get<5>(t));
+                            return accumulator_saturates(sum) || mul_saturates(std::get<0>(t), std::get<1>(t));
+                          })),
                     totals);
   std::vector<T4> edges4;
   for (int64_t a : signed_edges)
