@@ -130,8 +130,11 @@ inline Vec3 scaled(Vec3 v, Fixed lambda) {
   return {mul_in_range(v.x, lambda), mul_in_range(v.y, lambda), mul_in_range(v.z, lambda)};
 }
 
-// Applies lambda along J to one rate of the two bodies.
+// Applies lambda along J to one rate of the two bodies. A zero impulse
+// changes nothing (every product rounds to 0, and v - 0 = v): it is skipped,
+// which at rest is most of the tangent, twist and rocking rows.
 inline void apply_rate(BodyRates& a, BodyRates& b, const Jacobian& j, Fixed lambda) {
+  if (lambda == Fixed{}) return;
   a.linear -= scaled(j.linear_a, lambda);
   a.angular -= scaled(j.turn_a, lambda);
   b.linear += scaled(j.linear_b, lambda);
@@ -147,6 +150,7 @@ inline Fixed relative_spin(const SolverBody& a, const SolverBody& b, const Angul
   return sum_products_in_range(rates, rows);
 }
 inline void apply_spin(SolverBody& a, SolverBody& b, const AngularPart& j, Fixed lambda) {
+  if (lambda == Fixed{}) return;  // no change, as in apply_rate
   a.velocity.angular -= scaled(j.turn_a, lambda);
   b.velocity.angular += scaled(j.turn_b, lambda);
 }
