@@ -25,22 +25,23 @@ constexpr uint64_t isqrt_bitwise(uint64_t n) {
   return root;
 }
 
-// For t in [2^62, 2^64) and i = t >> 57 (32..127): an upper bound of sqrt(t),
-// ceil(sqrt((i + 1) 2^57)), good to 1/64 (6 bits).
-constexpr std::array<uint64_t, 96> make_sqrt_seeds() {
-  std::array<uint64_t, 96> seeds{};
-  for (size_t i = 32; i < 128; ++i) {
-    if (i == 127) {
-      seeds[i - 32] = uint64_t{1} << 32;  // sqrt(2^64)
+// For t in [2^62, 2^64) and i = t >> 55 (128..511): an upper bound of
+// sqrt(t), ceil(sqrt((i + 1) 2^55)), good to 1/256 (sqrt((i + 1) / i) - 1
+// <= 1 / 2i; 8 bits), in 3 KiB.
+constexpr std::array<uint64_t, 384> make_sqrt_seeds() {
+  std::array<uint64_t, 384> seeds{};
+  for (size_t i = 128; i < 512; ++i) {
+    if (i == 511) {
+      seeds[i - 128] = uint64_t{1} << 32;  // sqrt(2^64)
       continue;
     }
-    const uint64_t top = (uint64_t{i} + 1) << 57;
+    const uint64_t top = (uint64_t{i} + 1) << 55;
     const uint64_t root = isqrt_bitwise(top);
-    seeds[i - 32] = root * root == top ? root : root + 1;
+    seeds[i - 128] = root * root == top ? root : root + 1;
   }
   return seeds;
 }
-constexpr std::array<uint64_t, 96> sqrt_seeds = make_sqrt_seeds();
+constexpr std::array<uint64_t, 384> sqrt_seeds = make_sqrt_seeds();
 
 }  // namespace
 
@@ -52,9 +53,13 @@ uint64_t isqrt_floor(U n) {
   const U m = n << shift;
   const uint64_t t = m.hi();  // >= 2^62
 
-  // 64-bit Newton from above: 6 -> 12 -> 24 -> 48 correct bits; g stays >= floor(sqrt(t)).
-  uint64_t g = sqrt_seeds[static_cast<size_t>(t >> 57) - 32];
-  for (int i = 0; i < 3; ++i) g = (g + t / g) >> 1;
+  // 64-bit Newton from above: relative error 2^-8 -> 2^-17 -> 2^-35 (each
+  // step squares it and halves it), so g is floor(sqrt(t)) or one above, as
+  // three steps from a 6-bit seed gave; g stays >= floor(sqrt(t)) from any
+  // seed. (The result is floor(sqrt(n)) whatever the seed: a seed's accuracy
+  // only decides how many repairs below run. Two divisions, not three.)
+  uint64_t g = sqrt_seeds[static_cast<size_t>(t >> 55) - 128];
+  for (int i = 0; i < 2; ++i) g = (g + t / g) >> 1;
 
   // (g + 1) 2^32 >= sqrt(m), since (g + 1)^2 > t. One 128/64 Newton step takes
   // the relative error from ~2^-31 to ~2^-63, i.e. within a few units.

@@ -791,6 +791,60 @@ TEST_CASE("raw mul, div, mul_div, mul_add, dot3, mul_sub_mul give the same bits 
 #endif
 }
 
+#if defined(BITSTEP_HAS_NATIVE_128)
+namespace {
+// floor(sqrt(n)) by its definition, r^2 <= n < (r + 1)^2, on both backends:
+// one answer whatever the seed table and the number of Newton steps.
+template <class U>
+bool is_floor_root(uint64_t hi, uint64_t lo) {
+  const U n{hi, lo};
+  const uint64_t r = raw::isqrt_floor<U>(n);
+  if (U::mul(r, r) > n) return false;
+  // (r + 1)^2 = 2^128 for r = 2^64 - 1: above every n.
+  return r == UINT64_MAX || n < U::mul(r + 1, r + 1);
+}
+}  // namespace
+#endif
+
+TEST_CASE("raw isqrt_floor is floor(sqrt(n)) at every seed interval's ends", "[u128]") {
+#if defined(BITSTEP_HAS_NATIVE_128)
+  std::vector<std::tuple<uint64_t, uint64_t>> operands;
+  // The seed table's intervals [i 2^55, (i + 1) 2^55) of the top word, at
+  // each end, under every even normalisation shift.
+  for (uint64_t i = 128; i < 512; ++i) {
+    for (const uint64_t top : {(i << 55) - 1, i << 55, (i << 55) + 1, ((i + 1) << 55) - 1}) {
+      for (const uint64_t low : {uint64_t{0}, UINT64_MAX}) {
+        for (int shift = 0; shift < 128; shift += 2) {
+          const PortableU128 n = PortableU128{top, low} >> shift;
+          operands.emplace_back(n.hi(), n.lo());
+        }
+      }
+    }
+  }
+  for (uint64_t hi : boundaries)
+    for (uint64_t lo : boundaries) operands.emplace_back(hi, lo);
+  SplitMix64 rng{0x5EED5};
+  for (uint64_t k = 0; k < algorithm_count; ++k) {
+    const uint64_t r = interesting_u64(rng);
+    const PortableU128 square = PortableU128::mul(r, r);
+    operands.emplace_back(rng.next() >> (rng.next() & 63u), rng.next());
+    operands.emplace_back(square.hi(), square.lo());
+    const PortableU128 below = square - PortableU128{1};
+    operands.emplace_back(below.hi(), below.lo());
+  }
+  uint64_t wrong = 0;
+  for (const auto& [hi, lo] : operands) {
+    if (!is_floor_root<NativeU128>(hi, lo) || !is_floor_root<PortableU128>(hi, lo)) {
+      if (wrong++ == 0) std::printf("isqrt_floor wrong at %s:%s\n", show(hi).c_str(), show(lo).c_str());
+    }
+  }
+  std::printf("[u128] isqrt_floor against its definition: %zu operands, %" PRIu64 " wrong\n", operands.size(), wrong);
+  CHECK(wrong == 0);
+#else
+  SUCCEED("no __int128 on this target");
+#endif
+}
+
 TEST_CASE("raw isqrt_floor, sqrt, rsqrt, length3, normalize give the same bits over both backends", "[u128]") {
 #if defined(BITSTEP_HAS_NATIVE_128)
   Totals totals;
