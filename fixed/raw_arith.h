@@ -56,40 +56,6 @@ constexpr U signed_product(int64_t a, int64_t b) {
   return (a < 0) != (b < 0) ? -p : p;
 }
 
-// An exact signed sum of 128-bit terms. Signed overflow of the 128-bit sum is
-// counted, so the sum is exact for any number of terms: true value =
-// sum + wraps * 2^128. Only a final `wraps != 0` makes the result saturate.
-template <class U>
-struct Accumulator {
-  U sum{};
-  int wraps = 0;
-
-  constexpr void add(U term) {
-    const U next = sum + term;
-    const bool term_negative = top_bit(term);
-    if (top_bit(sum) == term_negative && top_bit(next) != term_negative) wraps += term_negative ? -1 : 1;
-    sum = next;
-  }
-  constexpr void add_product(int64_t a, int64_t b) { add(signed_product<U>(a, b)); }
-  constexpr void sub_product(int64_t a, int64_t b) { add(-signed_product<U>(a, b)); }
-  // A raw Q32.32 value c joins a sum of raw products (Q64.64) as c << 32.
-  constexpr void add_raw(int64_t c) {
-    const U wide = U{magnitude(c)} << fraction_bits;
-    add(c < 0 ? -wide : wide);
-  }
-
-  // The sum of Q64.64 products rounded once to Q32.32.
-  constexpr int64_t to_raw(bool& saturated) const {
-    if (wraps != 0) {
-      saturated = true;
-      return wraps > 0 ? max_raw : min_raw;
-    }
-    const bool negative = top_bit(sum);
-    const U magnitude = negative ? -sum : sum;
-    return signed_saturate(negative, round_shift(magnitude, fraction_bits), saturated);
-  }
-};
-
 #if defined(BITSTEP_HAS_NATIVE_128)
 // The native backend's fast path: signed 128-bit sums of products, rounded
 // straight from two's complement. floor((s + 2^31 - 1 + lsb) / 2^32), where
@@ -148,6 +114,73 @@ inline constexpr bool use_native_fast_path = std::is_same_v<U, NativeU128>;
 template <class U>
 inline constexpr bool use_native_fast_path = false;
 #endif
+
+// An exact signed sum of 128-bit terms. Signed overflow of the 128-bit sum is
+// counted, so the sum is exact for any number of terms: true value =
+// sum + wraps * 2^128. Only a final `wraps != 0` makes the result saturate.
+// The native backend forms its terms as __int128 products, counts a wrap
+// from the compiler's signed overflow test, and rounds from two's
+// complement (round_q64_parts): the same sum, wraps and bits as the generic
+// path (tests/fixed/u128_tests.cpp compares them), a third of the work.
+template <class U>
+struct Accumulator {
+  U sum{};
+  int wraps = 0;
+
+  constexpr void add(U term) {
+    const U next = sum + term;
+    const bool term_negative = top_bit(term);
+    if (top_bit(sum) == term_negative && top_bit(next) != term_negative) wraps += term_negative ? -1 : 1;
+    sum = next;
+  }
+  constexpr void add_product(int64_t a, int64_t b) {
+#if defined(BITSTEP_HAS_NATIVE_128)
+    if constexpr (use_native_fast_path<U>) return add_native(native_i128{a} * b);
+#endif
+    add(signed_product<U>(a, b));
+  }
+  constexpr void sub_product(int64_t a, int64_t b) {
+#if defined(BITSTEP_HAS_NATIVE_128)
+    if constexpr (use_native_fast_path<U>) return add_native(-(native_i128{a} * b));  // |a b| <= 2^126
+#endif
+    add(-signed_product<U>(a, b));
+  }
+  // A raw Q32.32 value c joins a sum of raw products (Q64.64) as c << 32.
+  constexpr void add_raw(int64_t c) {
+#if defined(BITSTEP_HAS_NATIVE_128)
+    if constexpr (use_native_fast_path<U>) return add_native(native_i128{c} * (int64_t{1} << fraction_bits));
+#endif
+    const U wide = U{magnitude(c)} << fraction_bits;
+    add(c < 0 ? -wide : wide);
+  }
+
+  // The sum of Q64.64 products rounded once to Q32.32.
+  constexpr int64_t to_raw(bool& saturated) const {
+    if (wraps != 0) {
+      saturated = true;
+      return wraps > 0 ? max_raw : min_raw;
+    }
+#if defined(BITSTEP_HAS_NATIVE_128)
+    if constexpr (use_native_fast_path<U>) return round_q64_parts(sum.hi(), sum.lo(), saturated);
+#endif
+    const bool negative = top_bit(sum);
+    const U magnitude = negative ? -sum : sum;
+    return signed_saturate(negative, round_shift(magnitude, fraction_bits), saturated);
+  }
+
+#if defined(BITSTEP_HAS_NATIVE_128)
+ private:
+  // sum += term with a wrap counted in the direction of the term's sign,
+  // as add() counts it.
+  constexpr void add_native(native_i128 term) {
+    const auto before = static_cast<native_i128>((native_u128{sum.hi()} << 64) | sum.lo());
+    native_i128 next = 0;
+    if (__builtin_add_overflow(before, term, &next)) wraps += term < 0 ? -1 : 1;
+    const auto bits = static_cast<native_u128>(next);
+    sum = U{static_cast<uint64_t>(bits >> 64), static_cast<uint64_t>(bits)};
+  }
+#endif
+};
 
 template <class U>
 constexpr int64_t mul(int64_t a, int64_t b) {

@@ -536,6 +536,21 @@ __attribute__((noinline)) Bits r_sum3_in_range(int64_t a0, int64_t b0, int64_t a
   const int64_t a[3] = {a0, a1, a2}, b[3] = {b0, b1, b2};
   return bits_of(raw::sum_products_in_range<U, 3>(a, b));
 }
+// An accumulator's whole state after terms that wrap its 128-bit sum for
+// large operands (five times a0 b0 reaches 5 2^126 > 2^127), rounded.
+template <class U>
+__attribute__((noinline)) Bits r_accumulator(int64_t a0, int64_t b0, int64_t a1, int64_t b1, int64_t a2,
+                                             int64_t c) {
+  raw::Accumulator<U> sum;
+  for (int i = 0; i < 5; ++i) sum.add_product(a0, b0);
+  for (int i = 0; i < 3; ++i) sum.sub_product(a1, b1);
+  sum.add_raw(c);
+  sum.sub_product(a2, a2);
+  bool saturated = false;
+  const int64_t r = sum.to_raw(saturated);
+  return bits(static_cast<uint64_t>(r), saturated ? 1u : 0u, static_cast<uint64_t>(static_cast<int64_t>(sum.wraps)),
+              sum.sum.hi(), sum.sum.lo());
+}
 #if defined(BITSTEP_HAS_NATIVE_128)
 // The native in-range sum as it was before raw::InRangeSum: the 128-bit sum
 // biased and shifted as one 128-bit value (InRangeSum rounds it in 64-bit
@@ -763,6 +778,10 @@ TEST_CASE("raw mul, div, mul_div, mul_add, dot3, mul_sub_mul give the same bits 
   // Out of range too: the low 64 bits of the rounded sum, the same on both.
   require_algorithm(sweep("raw::sum_products_in_range", algorithm_count, 0x16, &r_sum3_in_range<N>,
                           &r_sum3_in_range<P>, edges6, gen6, checked_skip<T6>(sum3_saturates)),
+                    totals);
+  // The accumulator itself (the native one sums __int128 products), wraps
+  // and all: no skip, it never faults.
+  require_algorithm(sweep("raw::Accumulator", algorithm_count, 0x18, &r_accumulator<N>, &r_accumulator<P>, edges6, gen6),
                     totals);
   // The native in-range forms against their former 128-bit rounding.
   require_algorithm(sweep("raw::InRangeSum against the former native path", algorithm_count, 0x17, &today_in_range,
