@@ -10,6 +10,14 @@ Fixed total_normal_impulse(const std::vector<PointRow>& rows, const ManifoldRow&
   return total;
 }
 
+// Whether no point of m pulls (every accumulated normal impulse >= 0).
+bool none_pull(const std::vector<PointRow>& rows, const ManifoldRow& m) {
+  for (size_t i = m.first; i < m.first + m.count; ++i) {
+    if (rows[i].point->normal_impulse < Fixed{}) return false;
+  }
+  return true;
+}
+
 // Two rows along an orthonormal pair (friction's tangents, rolling
 // resistance's axes) solved as one: the impulse j that stops the relative
 // rate along both is kept while |j| <= hold j_n, else scaled onto the disc
@@ -83,6 +91,9 @@ void solve_rocking(SolverBody& a, SolverBody& b, std::vector<PointRow>& rows, co
   for (const ManifoldRow::Rocking& r : m.rocking) {
     if (!r.active) continue;
     Fixed lambda = -mul_in_range(r.row.mass, relative_spin(a, b, r.row));
+    // lambda = 0 changes nothing (each lambda alpha_i rounds to 0) unless a
+    // point pulls already, which the bound below would correct.
+    if (lambda == Fixed{} && none_pull(rows, m)) continue;
     // jn_i + lambda alpha_i >= 0 for every point; the bound -jn_i / alpha_i
     // is divided out only for a point that would pull. Unclamped (the
     // usual case), the sums checked are the new impulses as they are.
