@@ -141,12 +141,14 @@ inline void apply_rate(BodyRates& a, BodyRates& b, const Jacobian& j, Fixed lamb
   b.angular += scaled(j.turn_b, lambda);
 }
 
-// The same for an angular part: (w_b - w_a) . u as six exact products
-// rounded once.
+// The same for an angular part: (w_b - w_a) . u as three exact products
+// rounded once. The difference is taken first, as relative_rate takes
+// v_b - v_a: in range it is exact, so the exact sum, and its rounding, are
+// those of the six products w_b . u - w_a . u.
 inline Fixed relative_spin(const SolverBody& a, const SolverBody& b, const AngularPart& j) {
-  const Vec3 wa = a.velocity.angular, wb = b.velocity.angular, u = j.axis;
-  const Fixed rates[6] = {wb.x, wb.y, wb.z, -wa.x, -wa.y, -wa.z};
-  const Fixed rows[6] = {u.x, u.y, u.z, u.x, u.y, u.z};
+  const Vec3 dw = b.velocity.angular - a.velocity.angular, u = j.axis;
+  const Fixed rates[3] = {dw.x, dw.y, dw.z};
+  const Fixed rows[3] = {u.x, u.y, u.z};
   return sum_products_in_range(rates, rows);
 }
 inline void apply_spin(SolverBody& a, SolverBody& b, const AngularPart& j, Fixed lambda) {
