@@ -88,13 +88,9 @@ constexpr int64_t round_q64_native(native_i128 s, bool& saturated) {
   return round_q64_parts(static_cast<uint64_t>(u >> 64), static_cast<uint64_t>(u), saturated);
 }
 
-// a b as two's complement hi:lo from one unsigned 64 x 64 multiply and the
-// usual signed correction: hi -= (a < 0 ? b : 0) + (b < 0 ? a : 0).
+// a b as the signed 128-bit product (one imul on x86-64), rounded.
 constexpr int64_t mul_native(int64_t a, int64_t b, bool& saturated) {
-  const native_u128 u = static_cast<native_u128>(static_cast<uint64_t>(a)) * static_cast<uint64_t>(b);
-  uint64_t hi = static_cast<uint64_t>(u >> 64);
-  hi -= (a < 0 ? static_cast<uint64_t>(b) : 0) + (b < 0 ? static_cast<uint64_t>(a) : 0);
-  return round_q64_parts(hi, static_cast<uint64_t>(u), saturated);
+  return round_q64_native(native_i128{a} * b, saturated);
 }
 
 // a0 b0 + a1 b1 + a2 b2 (terms with zero factors allowed), false when the
