@@ -305,7 +305,10 @@ bool build_rows(const RowSetup& setup, size_t slot, size_t& cursor) {
   if (reuse) {
     // The same Jacobians, offsets, twist radius and rocking rows as last
     // step's (rolling rows too where last step built them).
-    manifold_rows[slot] = last_manifolds[reuse->manifold_row];
+    // In place they are this slot's own row already (a settled scene's
+    // every row: a kilobyte each not copied onto itself).
+    const ManifoldRow& last = last_manifolds[reuse->manifold_row];
+    if (&last != &manifold_rows[slot]) manifold_rows[slot] = last;
     ManifoldRow& face = manifold_rows[slot];
     face.first = first;
     face.velocity_target = target / count;
