@@ -288,6 +288,23 @@ TEST_CASE("checked: dot and cross beyond the range abort naming dot and cross", 
   }
 }
 
+TEST_CASE("checked: the solver's in-range forms beyond the range abort naming sum_products_in_range",
+          "[checked]") {
+  if constexpr (checked_build) {
+    expect_abort("sum_products_in_range", "result out of range", [] {
+      const Fixed big = opaque(int_(65536));
+      sink(mul_in_range(big, big));
+    });
+    expect_abort("sum_products_in_range", "result out of range", [] {
+      const Fixed big = opaque(int_(65536));
+      const Fixed a[3] = {big, big, big}, b[3] = {big, Fixed{}, Fixed{}};
+      sink(sum_products_in_range(a, b));
+    });
+  } else {
+    SUCCEED(only_checked);
+  }
+}
+
 TEST_CASE("checked: length beyond the range and from_ratio by zero abort naming the operation", "[checked]") {
   if constexpr (checked_build) {
     expect_abort("length", "result out of range", [] {
