@@ -218,10 +218,19 @@ bool build_rows(const RowSetup& setup, size_t slot, size_t& cursor) {
   for (int i = 0; i < m.point_count; ++i) {
     ContactPoint& p = m.points[static_cast<size_t>(i)];
     const Vec3 ra = p.position - body_a.pose.position, rb = p.position - body_b.pose.position;
-    PointRow row{ia, ib,
-                 reuse ? last_rows[reuse->first_row + static_cast<size_t>(i)].normal
-                       : make_jacobian(a, b, ra, rb, m.normal),
-                 {}, {}, &p};
+    // Built where it lies (in place, a reused Jacobian is there already).
+    PointRow& row = rows[first + static_cast<size_t>(i)];
+    if (!reuse) {
+      row.normal = make_jacobian(a, b, ra, rb, m.normal);
+    } else {
+      const Jacobian& last = last_rows[reuse->first_row + static_cast<size_t>(i)].normal;
+      if (&last != &row.normal) row.normal = last;
+    }
+    row.a = ia;
+    row.b = ib;
+    row.velocity_target = row.push_target = Fixed{};
+    row.point = &p;
+    row.in_resting_face = row.impact = false;
     const Fixed approach = relative_velocity(a, b, row.normal);
     // A gap (depth < 0) may close by depth / dt this step: speculative contact.
     row.velocity_target = p.depth < Fixed{} ? p.depth * inverse_dt : Fixed{};
@@ -250,7 +259,6 @@ bool build_rows(const RowSetup& setup, size_t slot, size_t& cursor) {
       }
       centroid += p.position;
       target += row.velocity_target;
-      rows[first + static_cast<size_t>(i)] = row;
       continue;
     }
     if (pass == SolvePass::standard && meets && start_speed > settings.restitution_threshold &&
@@ -299,7 +307,6 @@ bool build_rows(const RowSetup& setup, size_t slot, size_t& cursor) {
       centroid += p.position;
       target += row.velocity_target;
     }
-    rows[first + static_cast<size_t>(i)] = row;
   }
   const Fixed count = Fixed::from_int(held);
   if (reuse) {
