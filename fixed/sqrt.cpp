@@ -103,12 +103,19 @@ int64_t rsqrt(int64_t a) {
 
 template <class U>
 int64_t length3(int64_t x, int64_t y, int64_t z) {
-  // The raw length is sqrt(X^2 + Y^2 + Z^2); the sum is < 3 2^126 < 2^128.
-  const U sum = U::mul(magnitude(x), magnitude(x)) + U::mul(magnitude(y), magnitude(y)) +
-                U::mul(magnitude(z), magnitude(z));
-  const uint64_t root = isqrt_floor(sum);
-  const U excess = sum - U::mul(root, root);
-  const uint64_t rounded = excess > U{root} ? root + 1 : root;
+  uint64_t rounded = 0;
+  if ((x == 0 ? 1 : 0) + (y == 0 ? 1 : 0) + (z == 0 ? 1 : 0) >= 2) {
+    // Along an axis (gravity, say) the sum is one exact square, X^2, and
+    // its root |X| exactly: no remainder to round.
+    rounded = magnitude(x) + magnitude(y) + magnitude(z);  // two are 0
+  } else {
+    // The raw length is sqrt(X^2 + Y^2 + Z^2); the sum is < 3 2^126 < 2^128.
+    const U sum = U::mul(magnitude(x), magnitude(x)) + U::mul(magnitude(y), magnitude(y)) +
+                  U::mul(magnitude(z), magnitude(z));
+    const uint64_t root = isqrt_floor(sum);
+    const U excess = sum - U::mul(root, root);
+    rounded = excess > U{root} ? root + 1 : root;
+  }
   BITSTEP_FAULT_IF(rounded > uint64_t{INT64_MAX}, "length", "result out of range, saturated", x, y);
   return rounded > uint64_t{INT64_MAX} ? max_raw : static_cast<int64_t>(rounded);
 }

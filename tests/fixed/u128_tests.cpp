@@ -864,6 +864,41 @@ TEST_CASE("raw isqrt_floor is floor(sqrt(n)) at every seed interval's ends", "[u
 #endif
 }
 
+TEST_CASE("raw length3 along an axis is the general root's result", "[u128]") {
+#if defined(BITSTEP_HAS_NATIVE_128)
+  // length3 takes |X| for a vector along an axis; the general path, the
+  // root of X^2 rounded from its remainder, written out here.
+  const auto general = [](int64_t v) {
+    const PortableU128 sum = PortableU128::mul(bitstep::magnitude(v), bitstep::magnitude(v));
+    const uint64_t root = raw::isqrt_floor<PortableU128>(sum);
+    const PortableU128 excess = sum - PortableU128::mul(root, root);
+    const uint64_t rounded = excess > PortableU128{root} ? root + 1 : root;
+    return rounded > uint64_t{INT64_MAX} ? INT64_MAX : static_cast<int64_t>(rounded);
+  };
+  std::vector<int64_t> values(signed_edges.begin(), signed_edges.end());
+  SplitMix64 rng{0xA815};
+  for (uint64_t k = 0; k < algorithm_count / 10; ++k) {
+    values.push_back(static_cast<int64_t>(rng.next() >> (rng.next() & 63u)));
+  }
+  uint64_t wrong = 0, compared = 0;
+  for (const int64_t v : values) {
+    if (bitstep::checked_build && v == INT64_MIN) continue;  // |v| = 2^63 saturates: the checked build aborts
+    const int64_t expected = general(v);
+    for (const int64_t got : {raw::length3<NativeU128>(v, 0, 0), raw::length3<NativeU128>(0, v, 0),
+                              raw::length3<NativeU128>(0, 0, v), raw::length3<PortableU128>(v, 0, 0),
+                              raw::length3<PortableU128>(0, v, 0), raw::length3<PortableU128>(0, 0, v)}) {
+      ++compared;
+      if (got != expected && wrong++ == 0) std::printf("length3 along an axis wrong at %s\n", show(v).c_str());
+    }
+  }
+  std::printf("[u128] length3 along an axis against the general root: %" PRIu64 " compared, %" PRIu64 " wrong\n",
+              compared, wrong);
+  CHECK(wrong == 0);
+#else
+  SUCCEED("no __int128 on this target");
+#endif
+}
+
 TEST_CASE("raw isqrt_floor, sqrt, rsqrt, length3, normalize give the same bits over both backends", "[u128]") {
 #if defined(BITSTEP_HAS_NATIVE_128)
   Totals totals;
