@@ -228,7 +228,7 @@ bool build_rows(const RowSetup& setup, size_t slot, size_t& cursor) {
     }
     row.a = ia;
     row.b = ib;
-    row.velocity_target = row.push_target = Fixed{};
+    row.push_target = Fixed{};
     row.point = &p;
     row.in_resting_face = row.impact = false;
     const Fixed approach = relative_velocity(a, b, row.normal);
