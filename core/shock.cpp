@@ -89,7 +89,8 @@ bool rank_pass(const std::vector<Body>& bodies, const std::vector<uint32_t>& lev
 
 // Solves the rank [begin, end) of scratch.order: passes until one changes
 // no velocity (exactly: the arithmetic is fixed point), at most
-// shock_iterations; a rank that does not converge is settled by
+// shock_iterations, the passes that would only go round a cycle skipped
+// (skip_repeating_passes); a rank that does not converge is settled by
 // settle_unconverged_rank. Then its bodies become immovable (inverse mass
 // 0, listed in scratch.frozen_bodies; the one-sided rows already carry no
 // turn for them).
@@ -115,8 +116,14 @@ void solve_rank(const Settings& settings, const std::vector<Body>& bodies, const
   const bool held_already =
       !sideways && !moving_at_contacts(solver_bodies, shock_manifolds, scratch.rows, begin, end, quiet_motion);
   bool converged = false;
-  for (int pass = 0; pass < settings.shock_iterations && !converged; ++pass) {
+  const int last_pass = settings.shock_iterations - 1;
+  bool skipped = false;  // once: the history does not follow the jump
+  for (int pass = 0; pass <= last_pass && !converged; ++pass) {
     converged = !rank_pass(bodies, level, scratch, begin, end, pass);
+    if (converged || skipped) continue;
+    const int next = skip_repeating_passes(solver_bodies, before_shock, scratch.rank_history, pass, last_pass);
+    skipped = next != pass;
+    pass = next;
   }
   if (!converged) settle_unconverged_rank(bodies, before_shock, held_already, solver_bodies);
   for (size_t i = begin; i < end; ++i) {
@@ -256,6 +263,25 @@ bool moving_at_contacts(const std::vector<SolverBody>& solver_bodies, const std:
   }
   return false;
 }
+
+int skip_repeating_passes(const std::vector<SolverBody>& solver_bodies, const std::vector<RankBody>& rank,
+                          std::vector<BodyRates>& history, int pass, int last_pass) {
+  constexpr int longest_period = 4, window = 2 * longest_period;
+  const size_t n = rank.size();
+  if (pass == 0) history.resize(n * window);
+  // after(p): the velocities after pass p, in a ring of `window` passes.
+  const auto after = [&](int p) { return &history[n * static_cast<size_t>(p % window)]; };
+  for (size_t i = 0; i < n; ++i) after(pass)[i] = solver_bodies[rank[i].body].velocity;
+  for (int period = 2; period <= longest_period && 2 * period <= pass + 1; period += 2) {
+    bool repeats = true;
+    for (int p = pass - period + 1; p <= pass && repeats; ++p) {
+      repeats = std::equal(after(p), after(p) + n, after(p - period));
+    }
+    if (repeats) return last_pass - (last_pass - pass) % period;
+  }
+  return pass;
+}
+
 
 void settle_unconverged_rank(const std::vector<Body>& bodies, const std::vector<RankBody>& before_shock,
                              bool held_already, std::vector<SolverBody>& solver_bodies) {

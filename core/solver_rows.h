@@ -235,6 +235,7 @@ struct SolverScratch {
   std::vector<Fixed> shock_saved;             // the iterations' impulses (save_impulses) during the shock step
   size_t rows_before_shock = 0;               // rows past this are the one-sided copies' point rows
   std::vector<RankBody> rank_bodies;
+  std::vector<BodyRates> rank_history;  // the rank's velocities after its last 8 passes (skip_repeating_passes)
   GlueFaces glue_faces;  // the glues' pose-only parts, measured once a step (shock_solve.h)
   std::vector<uint32_t> frozen_bodies;
   std::vector<Fixed> saved_inverse_mass;

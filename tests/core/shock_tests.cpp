@@ -185,3 +185,49 @@ TEST_CASE("a rank is held already only if nothing approaches, slides or twists a
 }
 
 }  // namespace bitstep
+
+namespace bitstep {
+namespace {
+
+// Runs skip_repeating_passes over the velocities a rank of one body is left
+// with pass after pass (speeds along x, m/s); returns the pass it says to go
+// on after at each pass, with 32 passes in all (last pass 31).
+std::vector<int> skips_for(const std::vector<int>& speeds) {
+  std::vector<SolverBody> solver(1);
+  const std::vector<RankBody> rank{{0, {}}};
+  std::vector<BodyRates> history;
+  std::vector<int> next;
+  for (int pass = 0; pass < static_cast<int>(speeds.size()); ++pass) {
+    solver[0].velocity.linear.x = Fixed::from_int(speeds[static_cast<size_t>(pass)]);
+    next.push_back(skip_repeating_passes(solver, rank, history, pass, 31));
+  }
+  return next;
+}
+
+}  // namespace
+}  // namespace bitstep
+
+TEST_CASE("a rank's passes that only go round a cycle are skipped, ending in the same phase", "[shock]") {
+  using bitstep::skips_for;
+  SECTION("period 2: skipped once a whole period repeats, to the pass of the last one's parity") {
+    // 5, 1, 2, 1, 2: passes 3 and 4 repeat passes 1 and 2.
+    const std::vector<int> next = skips_for({5, 1, 2, 1, 2});
+    // 31 - (31 - 4) % 2 = 30: pass 31 still runs and, odd, leaves the velocity
+    // of the odd passes (1), as running every pass would have.
+    CHECK(next == std::vector<int>{0, 1, 2, 3, 30});
+  }
+  SECTION("period 4") {
+    const std::vector<int> next = skips_for({9, 1, 2, 3, 4, 1, 2, 3, 4});
+    CHECK(next.back() == 31 - (31 - 8) % 4);  // 28: passes 29, 30, 31 run, in phase with 9, 10, 11 of the cycle
+    for (size_t p = 0; p + 1 < next.size(); ++p) CHECK(next[p] == static_cast<int>(p));
+  }
+  SECTION("a single repeat is not a cycle") {
+    // Pass 2 equals pass 0, but pass 3 does not equal pass 1.
+    const std::vector<int> next = skips_for({1, 2, 1, 3, 4, 5});
+    for (size_t p = 0; p < next.size(); ++p) CHECK(next[p] == static_cast<int>(p));
+  }
+  SECTION("an odd period is not taken: a pass's point rows run in the direction of its parity") {
+    const std::vector<int> next = skips_for({1, 2, 3, 1, 2, 3, 1, 2, 3});
+    for (size_t p = 0; p < next.size(); ++p) CHECK(next[p] == static_cast<int>(p));
+  }
+}
