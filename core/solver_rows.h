@@ -133,11 +133,14 @@ inline Vec3 scaled(Vec3 v, Fixed lambda) {
 // Applies lambda along J to one rate of the two bodies. A zero impulse
 // changes nothing (every product rounds to 0, and v - 0 = v): it is skipped,
 // which at rest is most of the tangent, twist and rocking rows.
+// Two bodies of equal mass (a wall's bricks) have d / m_a = d / m_b, so
+// their linear changes are the same three products: taken once.
 inline void apply_rate(BodyRates& a, BodyRates& b, const Jacobian& j, Fixed lambda) {
   if (lambda == Fixed{}) return;
-  a.linear -= scaled(j.linear_a, lambda);
+  const Vec3 linear_a = scaled(j.linear_a, lambda);
+  a.linear -= linear_a;
   a.angular -= scaled(j.turn_a, lambda);
-  b.linear += scaled(j.linear_b, lambda);
+  b.linear += j.linear_b == j.linear_a ? linear_a : scaled(j.linear_b, lambda);
   b.angular += scaled(j.turn_b, lambda);
 }
 
