@@ -23,9 +23,10 @@ bool none_pull(const std::vector<PointRow>& rows, const ManifoldRow& m) {
 // rate along both is kept while |j| <= hold j_n, else scaled onto the disc
 // |j| = slide j_n. |j| <= |j0| + |j1|: inside by that bound needs no square
 // root.
+// Returns the disc's radius hold j_n.
 template <class Part>
-void solve_disc(SolverBody& a, SolverBody& b, const Part (&rows)[2], Fixed (&impulse)[2], Fixed hold, Fixed slide,
-                Fixed normal) {
+Fixed solve_disc(SolverBody& a, SolverBody& b, const Part (&rows)[2], Fixed (&impulse)[2], Fixed hold, Fixed slide,
+                 Fixed normal) {
   const Fixed old0 = impulse[0], old1 = impulse[1];
   Fixed new0 = old0 - mul_in_range(rows[0].mass, relative_velocity(a, b, rows[0]));
   Fixed new1 = old1 - mul_in_range(rows[1].mass, relative_velocity(a, b, rows[1]));
@@ -40,6 +41,7 @@ void solve_disc(SolverBody& a, SolverBody& b, const Part (&rows)[2], Fixed (&imp
   impulse[1] = new1;
   apply_impulse(a, b, rows[0], new0 - old0);
   apply_impulse(a, b, rows[1], new1 - old1);
+  return limit;
 }
 
 }  // namespace
@@ -52,11 +54,13 @@ void solve_friction(SolverBody& a, SolverBody& b, const std::vector<PointRow>& r
   Manifold& manifold = *m.manifold;
   const Fixed normal = total_normal_impulse(rows, m);
 
-  solve_disc(a, b, m.tangent, manifold.friction_impulse, m.static_friction, m.dynamic_friction, normal);
+  // mu_s j_n: the tangents' disc radius, the product mu_s * j_n in range.
+  const Fixed static_limit =
+      solve_disc(a, b, m.tangent, manifold.friction_impulse, m.static_friction, m.dynamic_friction, normal);
 
   const Fixed old_twist = manifold.twist_impulse;
   Fixed twist = old_twist - mul_in_range(m.twist.mass, relative_spin(a, b, m.twist));
-  const Fixed twist_limit = m.static_friction * normal * m.twist_radius;
+  const Fixed twist_limit = static_limit * m.twist_radius;
   if (abs(twist) > twist_limit) {
     const Fixed slide = m.dynamic_friction * normal * m.twist_radius;
     twist = twist < Fixed{} ? -slide : slide;
