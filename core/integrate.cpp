@@ -77,9 +77,28 @@ void refresh_inverse_inertia(Body& body) {
   body.inverse_inertia_world = r * body.inverse_inertia_local * transpose(r);
 }
 
-void integrate_velocity(const Settings& settings, Body& body) {
-  const Fixed dt = settings.dt;
+namespace {
+
+// refresh_inverse_inertia, or the cached matrix where it was computed from
+// the same orientation and body-frame inverse (the same bits).
+void refresh_inverse_inertia(Body& body, InertiaCache::Entry& cached) {
+  if (cached.valid && cached.orientation == body.pose.orientation && cached.local == body.inverse_inertia_local) {
+    body.inverse_inertia_world = cached.world;
+    return;
+  }
   refresh_inverse_inertia(body);
+  cached = {body.pose.orientation, body.inverse_inertia_local, body.inverse_inertia_world, true};
+}
+
+}  // namespace
+
+void integrate_velocity(const Settings& settings, Body& body, InertiaCache::Entry* cached) {
+  const Fixed dt = settings.dt;
+  if (cached != nullptr) {
+    refresh_inverse_inertia(body, *cached);
+  } else {
+    refresh_inverse_inertia(body);
+  }
   body.linear_velocity += (settings.gravity + body.force * body.inverse_mass) * dt;
   body.angular_velocity += body.inverse_inertia_world * body.torque * dt;
   if (body.angular_velocity != Vec3{}) body.angular_velocity = gyroscopic_step(body, dt);
@@ -90,9 +109,10 @@ void integrate_velocity(const Settings& settings, Body& body) {
   body.force = body.torque = Vec3{};
 }
 
-void integrate_velocities(const Settings& settings, std::vector<Body>& bodies) {
-  for (Body& body : bodies) {
-    if (is_awake_dynamic(body)) integrate_velocity(settings, body);
+void integrate_velocities(const Settings& settings, std::vector<Body>& bodies, InertiaCache* cache) {
+  if (cache != nullptr) cache->entries.resize(bodies.size());
+  for (size_t i = 0; i < bodies.size(); ++i) {
+    if (is_awake_dynamic(bodies[i])) integrate_velocity(settings, bodies[i], cache ? &cache->entries[i] : nullptr);
   }
 }
 

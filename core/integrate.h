@@ -9,11 +9,26 @@
 
 namespace bitstep {
 
+// Each body slot's world inverse inertia as last computed, with the
+// orientation and body-frame inverse it came from: R I^-1 R^T is a function
+// of those two alone, so a body that has not turned by a bit (a standing
+// structure's) takes it from here, not from two matrix products. Not state:
+// the inputs are compared in full.
+struct InertiaCache {
+  struct Entry {
+    Quat orientation;
+    Mat33 local, world;
+    bool valid = false;
+  };
+  std::vector<Entry> entries;
+};
+
 // v += dt (g + F / m), w += dt I^-1 tau, damping, then the envelope's speed
-// clamps; forces are cleared. Refreshes the world inverse inertia R I^-1 R^T.
-// Sleeping bodies are skipped; integrate_velocity is one awake dynamic body.
-void integrate_velocities(const Settings& settings, std::vector<Body>& bodies);
-void integrate_velocity(const Settings& settings, Body& body);
+// clamps; forces are cleared. Refreshes the world inverse inertia R I^-1 R^T
+// (through `cache` when given). Sleeping bodies are skipped;
+// integrate_velocity is one awake dynamic body.
+void integrate_velocities(const Settings& settings, std::vector<Body>& bodies, InertiaCache* cache = nullptr);
+void integrate_velocity(const Settings& settings, Body& body, InertiaCache::Entry* cached = nullptr);
 // R I^-1 R^T of the body's current pose (from the body-frame inverse).
 void refresh_inverse_inertia(Body& body);
 

@@ -208,7 +208,7 @@ void World::step() {
 }
 
 void World::step_standard() {
-  bitstep::integrate_velocities(settings_, bodies_);
+  bitstep::integrate_velocities(settings_, bodies_, &inertia_cache_);
   find_contacts();
   if (settings_.sleep_method != SleepMethod::off) wake_islands(settings_, bodies_, contacts_, sleep_scratch_);
   solve_contacts();

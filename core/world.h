@@ -9,6 +9,7 @@
 #include "core/contact.h"
 #include "core/contact_update.h"
 #include "core/envelope.h"
+#include "core/integrate.h"
 #include "core/settings.h"
 #include "core/sleep.h"
 #include "core/solver.h"
@@ -112,6 +113,7 @@ class World {
   std::vector<Contact> previous_contacts_;  // workspace of update_contacts
   std::vector<Fixed> turn_speed_;           // per slot: |w| times the body's reach (m/s), this step
   NarrowphaseCache narrowphase_cache_;      // a removed body's entries dropped at once
+  InertiaCache inertia_cache_;              // the standard pipeline's velocity integration
   PushVelocities push_;
   SolverScratch solver_scratch_;
   Executor* executor_ = nullptr;
