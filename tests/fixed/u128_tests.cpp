@@ -581,6 +581,24 @@ __attribute__((noinline)) Bits today_in_range(int64_t a0, int64_t b0, int64_t a1
               static_cast<uint64_t>(bitstep::sum_products_in_range(fa, fb).raw()),
               static_cast<uint64_t>(raw::mul_in_range<NativeU128>(a0, b0)));
 }
+// The native mul_sub_mul as it was: a b + (-c) d through the overflow-
+// checked three-product sum, and the generic accumulator for c = INT64_MIN
+// (where -c wraps) or an overflowing sum. Today's takes the 128-bit
+// difference at once; the sweep below proves the same bits.
+__attribute__((noinline)) Bits former_mul_sub_mul(int64_t a, int64_t b, int64_t c, int64_t d) {
+  raw::native_i128 s = 0;
+  bool saturated = false;
+  if (c != INT64_MIN && raw::sum_products_native(a, b, -c, d, 0, 0, s)) {
+    return bits_of(raw::round_q64_native(s, saturated));
+  }
+  raw::Accumulator<NativeU128> sum;
+  sum.add_product(a, b);
+  sum.sub_product(c, d);
+  return bits_of(sum.to_raw(saturated));
+}
+__attribute__((noinline)) Bits today_mul_sub_mul(int64_t a, int64_t b, int64_t c, int64_t d) {
+  return bits_of(raw::mul_sub_mul<NativeU128>(a, b, c, d));
+}
 #endif
 template <class U>
 __attribute__((noinline)) Bits r_mul_sub_mul(int64_t a, int64_t b, int64_t c, int64_t d) {
@@ -796,13 +814,27 @@ TEST_CASE("raw mul, div, mul_div, mul_add, dot3, mul_sub_mul give the same bits 
   std::vector<T4> edges4;
   for (int64_t a : signed_edges)
     for (int64_t b : signed_edges) edges4.emplace_back(a, b, b, wrap_add(a, -1));
+  const auto difference_saturates = [](const T4& t) {
+    raw::Accumulator<Wide> sum;
+    sum.add_product(std::get<0>(t), std::get<1>(t));
+    sum.sub_product(std::get<2>(t), std::get<3>(t));
+    return accumulator_saturates(sum);
+  };
   require_algorithm(sweep("raw::mul_sub_mul", algorithm_count, 0x15, &r_mul_sub_mul<N>, &r_mul_sub_mul<P>, edges4, gen4,
-                          checked_skip<T4>([](const T4& t) {
-                            raw::Accumulator<Wide> sum;
-                            sum.add_product(std::get<0>(t), std::get<1>(t));
-                            sum.sub_product(std::get<2>(t), std::get<3>(t));
-                            return accumulator_saturates(sum);
-                          })),
+                          checked_skip<T4>(difference_saturates)),
+                    totals);
+  // The native mul_sub_mul against its former path, every pair of edges
+  // (INT64_MIN as c and d among them).
+  std::vector<T4> edges4_all;
+  for (int64_t a : signed_edges)
+    for (int64_t c : signed_edges) {
+      edges4_all.emplace_back(a, c, c, a);
+      edges4_all.emplace_back(a, a, c, c);
+      edges4_all.emplace_back(c, a, INT64_MIN, c);
+    }
+  require_algorithm(sweep("raw::mul_sub_mul against the former native path", algorithm_count, 0x19,
+                          &today_mul_sub_mul, &former_mul_sub_mul, edges4_all, gen4,
+                          checked_skip<T4>(difference_saturates)),
                     totals);
   print_totals("arithmetic", totals);
 #else
