@@ -4,10 +4,8 @@
 
 namespace bitstep {
 
-bool is_support(Vec3 normal, Vec3 gravity) {
-  // n . up > cos 60 deg with up = -g / |g|, as n . (-g) > |g| / 2.
-  return dot(normal, -gravity) > length(gravity) / 2.0_fx;
-}
+// n . up > cos 60 deg with up = -g / |g|, as n . (-g) > |g| / 2.
+bool is_support(Vec3 normal, Vec3 gravity) { return SupportTest(gravity)(normal); }
 
 namespace {
 
@@ -52,6 +50,7 @@ void shock_levels(const std::vector<Body>& bodies, const std::vector<Contact>& c
   rank.assign(count, not_supported);
   const auto immovable = [&](uint32_t i) { return bodies[i].alive && !is_awake_dynamic(bodies[i]); };
   const auto movable = [&](uint32_t i) { return is_awake_dynamic(bodies[i]); };
+  const SupportTest holds_up(gravity);
 
   // Heights: supporter -> supported edges (the normal points from a to b).
   std::vector<Edge>& supports = levels.supports;
@@ -59,8 +58,8 @@ void shock_levels(const std::vector<Body>& bodies, const std::vector<Contact>& c
   if (gravity != Vec3{}) {
     for (const Contact& c : contacts) {
       if (!touches(c.manifold)) continue;
-      if (is_support(c.manifold.normal, gravity)) supports.push_back({c.key.body_a, c.key.body_b});
-      if (is_support(-c.manifold.normal, gravity)) supports.push_back({c.key.body_b, c.key.body_a});
+      if (holds_up(c.manifold.normal)) supports.push_back({c.key.body_a, c.key.body_b});
+      if (holds_up(-c.manifold.normal)) supports.push_back({c.key.body_b, c.key.body_a});
     }
   }
   std::vector<uint32_t>& queue = levels.queue;
@@ -91,11 +90,11 @@ void shock_levels(const std::vector<Body>& bodies, const std::vector<Contact>& c
       // A chain does not run down from a body to the one holding it up: it
       // ranked a box below the one leaning on it, and the shock step then
       // froze the leaning box and pressed the other out from under it.
-      if (!is_support(-c.manifold.normal, gravity)) sideways.push_back({a, b});
-      if (!is_support(c.manifold.normal, gravity)) sideways.push_back({b, a});
-    } else if (immovable(a) && movable(b) && !is_support(c.manifold.normal, gravity)) {
+      if (!holds_up(-c.manifold.normal)) sideways.push_back({a, b});
+      if (!holds_up(c.manifold.normal)) sideways.push_back({b, a});
+    } else if (immovable(a) && movable(b) && !holds_up(c.manifold.normal)) {
       seed[b] = 1;
-    } else if (immovable(b) && movable(a) && !is_support(-c.manifold.normal, gravity)) {
+    } else if (immovable(b) && movable(a) && !holds_up(-c.manifold.normal)) {
       seed[a] = 1;
     }
   }

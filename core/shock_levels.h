@@ -20,6 +20,18 @@ inline constexpr uint32_t not_supported = UINT32_MAX;
 // first hold the second up: within 60 degrees of up = -gravity.
 bool is_support(Vec3 normal, Vec3 gravity);
 
+// is_support for one gravity and many normals: its threshold |g| / 2 (a
+// square root and a division) taken once, the same bits.
+class SupportTest {
+ public:
+  explicit SupportTest(Vec3 gravity) : up_(-gravity), threshold_(length(gravity) / 2.0_fx) {}
+  bool operator()(Vec3 normal) const { return dot(normal, up_) > threshold_; }
+
+ private:
+  Vec3 up_;
+  Fixed threshold_;
+};
+
 struct ShockLevels {
   // Per body slot. Height: 0 for static, kinematic and sleeping bodies; an
   // awake body resting on a body of height k is at most k + 1 ("resting
