@@ -247,8 +247,14 @@ bool build_rows(const RowSetup& setup, size_t slot, size_t& cursor) {
     // channel as an exact pseudo-velocity (a pull when the gap was still
     // open), so the rebound height does not depend on where in the step
     // the impact fell.
-    const Fixed start_speed = -relative_rate(start_velocities[ia], start_velocities[ib], row.normal);
     const bool meets = meets_at(p.depth, -approach, settings.dt);
+    // The approach speed before this step's forces (nine products) is read
+    // only by the two bounces below, each of which also asks what may_bounce
+    // does: where it is false, neither reads the 0 in its place.
+    const bool may_bounce = (pass == SolvePass::standard && meets && approach < Fixed{}) ||
+                            (pass == SolvePass::contact && p.depth < Fixed{} && restitution > Fixed{});
+    const Fixed start_speed =
+        may_bounce ? -relative_rate(start_velocities[ia], start_velocities[ib], row.normal) : Fixed{};
     if (pass == SolvePass::collision) {
       // The second seed's collision pass: a point that meets this step
       // leaves at e times its approach speed (the velocities have no
