@@ -51,6 +51,15 @@ void make_one_sided(ManifoldRow& m, std::vector<PointRow>& rows, const SolverBod
 
 namespace {
 
+// |v| > limit, without the square root where |x| + |y| + |z| <= limit:
+// the correctly rounded length of v is at most that sum, which is exact
+// (a wrap of it faults in the checked build; the envelope keeps impulses
+// far below 2^31).
+bool longer_than(Vec3 v, Fixed limit) {
+  if (abs(v.x) + abs(v.y) + abs(v.z) <= limit) return false;
+  return length(v) > limit;
+}
+
 // glue's face: a face contact (3 or more points, both rocking rows) with no
 // row asking the surfaces apart (a bounce or a bias; a speculative gap's
 // allowed approach is met by moving together), its centroid, its points'
@@ -138,7 +147,7 @@ bool glue(SolverBody& mover, const SolverBody& support, const Body& body, bool m
     point_impulse[i] = share + lambda0 * m.rocking[0].alpha[i] + lambda1 * m.rocking[1].alpha[i];
     if (point_impulse[i] < Fixed{}) return false;
   }
-  if (length(Vec3{friction0, friction1, Fixed{}}) > m.static_friction * total) return false;
+  if (longer_than(Vec3{friction0, friction1, Fixed{}}, m.static_friction * total)) return false;
   if (abs(twist) > m.static_friction * total * m.twist_radius) return false;
   for (size_t i = 0; i < m.count; ++i) rows[m.first + i].point->normal_impulse = point_impulse[i];
   m.manifold->friction_impulse[0] = friction0;
@@ -304,7 +313,7 @@ bool glue_all(SolverBody& mover, const Body& body, const std::vector<SolverBody>
     twist += manifold.twist_impulse + dot(cross(faces.middles[face.first_middle + e] - centroid, friction), n);
   }
   if (total <= Fixed{}) return false;
-  if (length(tangential) > face.mu * total) return false;
+  if (longer_than(tangential, face.mu * total)) return false;
   if (abs(twist) > face.mu * total * face.radius) return false;
   // The fresh distribution pi_i = total / k + beta . a_i, a_i = (p_i - c) x n
   // in the face's plane (e0, e1), with G beta = moment: the least-squares
