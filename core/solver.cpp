@@ -26,12 +26,28 @@ void tangent_basis(Vec3 n, Vec3& t1, Vec3& t2) {
   t2 = cross(n, t1);
 }
 
+// Whether a body does not move in the solve (static, kinematic, asleep):
+// zero inverse mass and inertia, so its products in a row are all zero.
+bool immovable(const SolverBody& body) { return body.inverse_mass == Fixed{} && body.inverse_inertia == Mat33{}; }
+
+// d / m, I^-1 (r x d) and (r x d) . I^-1 (r x d) of one body: zero products
+// for an immovable one, not formed.
+struct BodyPart {
+  Vec3 linear, turn;
+  Fixed angular_mass;
+};
+BodyPart body_part(const SolverBody& body, Vec3 arm, Vec3 d) {
+  if (immovable(body)) return {};
+  const Vec3 turn = body.inverse_inertia * arm;
+  return {d * body.inverse_mass, turn, dot(arm, turn)};
+}
+
 Jacobian make_jacobian(const SolverBody& a, const SolverBody& b, Vec3 ra, Vec3 rb, Vec3 d) {
-  Jacobian j{d, cross(ra, d), cross(rb, d), d * a.inverse_mass, d * b.inverse_mass, {}, {}, {}};
-  j.turn_a = a.inverse_inertia * j.arm_a;
-  j.turn_b = b.inverse_inertia * j.arm_b;
+  const Vec3 arm_a = cross(ra, d), arm_b = cross(rb, d);
+  const BodyPart part_a = body_part(a, arm_a, d), part_b = body_part(b, arm_b, d);
+  Jacobian j{d, arm_a, arm_b, part_a.linear, part_b.linear, part_a.turn, part_b.turn, {}};
   // J M^-1 J^T = 1/m_a + 1/m_b + (r_a x d) . I_a^-1 (r_a x d) + (r_b x d) . I_b^-1 (r_b x d)
-  const Fixed k = a.inverse_mass + b.inverse_mass + dot(j.arm_a, j.turn_a) + dot(j.arm_b, j.turn_b);
+  const Fixed k = a.inverse_mass + b.inverse_mass + part_a.angular_mass + part_b.angular_mass;
   j.mass = k > Fixed{} ? Fixed::one() / k : Fixed{};
   return j;
 }
