@@ -169,7 +169,12 @@ void update_contacts(const std::vector<Body>& bodies, const std::vector<BodyPair
           ++cache.tested;
         }
         if (in_place) {
-          cache.entries[next_entry++] = {contact.key, margin, found_of(contact.manifold)};
+          // A reused entry (the one this pair was restored from) would be
+          // rewritten with what it holds: it is left as it is.
+          if (!(same && next_entry == next_cached)) {
+            cache.entries[next_entry] = {contact.key, margin, found_of(contact.manifold)};
+          }
+          ++next_entry;
         } else if (cache.enabled) {
           cache.next.push_back({contact.key, margin, found_of(contact.manifold)});
         }
