@@ -147,8 +147,9 @@ bool glue(SolverBody& mover, const SolverBody& support, const Body& body, bool m
     point_impulse[i] = share + lambda0 * m.rocking[0].alpha[i] + lambda1 * m.rocking[1].alpha[i];
     if (point_impulse[i] < Fixed{}) return false;
   }
-  if (longer_than(Vec3{friction0, friction1, Fixed{}}, m.static_friction * total)) return false;
-  if (abs(twist) > m.static_friction * total * m.twist_radius) return false;
+  const Fixed cone = m.static_friction * total;  // the static cone's radius, for friction and twist
+  if (longer_than(Vec3{friction0, friction1, Fixed{}}, cone)) return false;
+  if (abs(twist) > cone * m.twist_radius) return false;
   for (size_t i = 0; i < m.count; ++i) rows[m.first + i].point->normal_impulse = point_impulse[i];
   m.manifold->friction_impulse[0] = friction0;
   m.manifold->friction_impulse[1] = friction1;
@@ -313,8 +314,9 @@ bool glue_all(SolverBody& mover, const Body& body, const std::vector<SolverBody>
     twist += manifold.twist_impulse + dot(cross(faces.middles[face.first_middle + e] - centroid, friction), n);
   }
   if (total <= Fixed{}) return false;
-  if (longer_than(tangential, face.mu * total)) return false;
-  if (abs(twist) > face.mu * total * face.radius) return false;
+  const Fixed cone = face.mu * total;  // the static cone's radius, for friction and twist
+  if (longer_than(tangential, cone)) return false;
+  if (abs(twist) > cone * face.radius) return false;
   // The fresh distribution pi_i = total / k + beta . a_i, a_i = (p_i - c) x n
   // in the face's plane (e0, e1), with G beta = moment: the least-squares
   // spread of the points' impulses that gives the moment (sum a_i = 0).
