@@ -119,6 +119,13 @@ bool impacts(const Settings& settings, const Body& body_a, const Body& body_b, c
 int hold_touching_first(Manifold& m) {
   const auto touches = [](const ContactPoint& p) { return p.depth >= -touch_tolerance; };
   const size_t count = static_cast<size_t>(m.point_count);
+  // Already in order (no touching point after one apart: every point of a
+  // resting face), the partition would copy each point onto itself.
+  size_t in_order = 0;
+  while (in_order < count && touches(m.points[in_order])) ++in_order;
+  size_t apart = in_order;
+  while (apart < count && !touches(m.points[apart])) ++apart;
+  if (apart == count) return in_order > 0 ? static_cast<int>(in_order) : m.point_count;
   std::array<ContactPoint, max_manifold_points> ordered;
   size_t held = 0;
   for (size_t i = 0; i < count; ++i) {
