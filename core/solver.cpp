@@ -221,8 +221,11 @@ bool build_rows(const RowSetup& setup, size_t slot, size_t& cursor) {
     const RowInputs inputs = row_inputs(contact, held);
     reuse = cache->find(inputs, cursor);
     // In place, this slot's entry was last step's for the same key and
-    // rows, read just now by find and by no other slot.
-    (setup.in_place ? cache->entries : cache->next)[slot] = {inputs, first, slot};
+    // rows, read just now by find and by no other slot; found there, it
+    // holds these inputs, rows and slot already.
+    if (!(setup.in_place && reuse == &cache->entries[slot])) {
+      (setup.in_place ? cache->entries : cache->next)[slot] = {inputs, first, slot};
+    }
   }
   // Friction: the geometric means of the bodies' coefficients, as last
   // step's rows hold them where they are reused (their bodies' are equal).
