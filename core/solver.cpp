@@ -66,20 +66,20 @@ AngularPart make_twist(const SolverBody& a, const SolverBody& b, Vec3 n) {
 // and to the angular impulse lambda u, u = sum alpha_i (d_i x n); the row
 // measures (w_b - w_a) . u. Solving it resolves a face's tilt in one step
 // where the point rows alone need many passes (a tall stack's rocking mode).
-ManifoldRow::Rocking make_rocking(const SolverBody& a, const SolverBody& b, const Manifold& m, int count,
-                                  Vec3 centroid, Vec3 e) {
+// `arms`: the first `count` points' d_i x n, the same for both axes.
+ManifoldRow::Rocking make_rocking(const SolverBody& a, const SolverBody& b, const Vec3 (&arms)[max_manifold_points],
+                                  int count, Vec3 e) {
   ManifoldRow::Rocking r;
-  Vec3 arms[max_manifold_points];
+  Fixed along[max_manifold_points];  // (d_i x n) . e
   Fixed s;
   for (int i = 0; i < count; ++i) {
-    arms[i] = cross(m.points[static_cast<size_t>(i)].position - centroid, m.normal);
-    const Fixed along = dot(arms[i], e);
-    s += along * along;
+    along[i] = dot(arms[i], e);
+    s += along[i] * along[i];
   }
   if (s < 0.0001_fx) return r;  // the points lie on a line along e: no lever about it
   Vec3 u;
   for (int i = 0; i < count; ++i) {
-    r.alpha[i] = dot(arms[i], e) / s;
+    r.alpha[i] = along[i] / s;
     u += arms[i] * r.alpha[i];
   }
   r.row = make_twist(a, b, u);
@@ -360,10 +360,12 @@ bool build_rows(const RowSetup& setup, size_t slot, size_t& cursor) {
     Fixed radius;
     for (int i = 0; i < held; ++i) radius += length(m.points[static_cast<size_t>(i)].position - centroid);
     const Vec3 ra = centroid - body_a.pose.position, rb = centroid - body_b.pose.position;
+    Vec3 arms[max_manifold_points];  // (p_i - c) x n, for both rocking rows
+    for (int i = 0; i < held; ++i) arms[i] = cross(m.points[static_cast<size_t>(i)].position - centroid, m.normal);
     manifold_rows[slot] = {ia, ib, first, static_cast<size_t>(held), make_jacobian(a, b, ra, rb, m.normal),
                              {make_jacobian(a, b, ra, rb, t1), make_jacobian(a, b, ra, rb, t2)},
                              make_twist(a, b, m.normal), ra, rb, target / count, radius / count, mu_s, mu_d, &m,
-                             {make_rocking(a, b, m, held, centroid, t1), make_rocking(a, b, m, held, centroid, t2)},
+                             {make_rocking(a, b, arms, held, t1), make_rocking(a, b, arms, held, t2)},
                              {}, false, {}, Fixed{}};
     ManifoldRow& face = manifold_rows[slot];
     face.share_mass = face.normal.mass / count;
