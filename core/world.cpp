@@ -320,20 +320,30 @@ void World::move_contacts_back() {
 void World::find_contacts() {
   proxies_.clear();
   turn_speed_.assign(bodies_.size(), Fixed{});
+  shape_extents_.resize(bodies_.size());
   for (uint32_t i = 0; i < bodies_.size(); ++i) {
     const Body& body = bodies_[i];
     if (!body.alive) continue;
+    // The reach and bounds found last for this body, or found now (the
+    // bounds again only where the pose moved by a bit).
+    ShapeExtent& extent = shape_extents_[i];
+    if (!extent.known || extent.generation != body.generation) {
+      extent = {true, body.generation, body_radius(body), body.pose, body_bounds(body)};
+    } else if (!(extent.pose == body.pose)) {
+      extent.pose = body.pose;
+      extent.bounds = body_bounds(body);
+    }
     // The turn's speed at the farthest point, at most the envelope's linear
     // speed: the margins stay within the motion the envelope bounds (a
     // 0.01 kg compound 87 m across at 100 rad/s would otherwise keep points
     // 140 m apart, whose arms overflow its rows).
     if (body.angular_velocity != Vec3{}) {
-      turn_speed_[i] = min(length(body.angular_velocity) * body_radius(body), settings_.max_linear_speed);
+      turn_speed_[i] = min(length(body.angular_velocity) * extent.radius, settings_.max_linear_speed);
     }
     // Grown by the speculative distance and this step's motion, the turn's
     // included (contact_update.cpp).
     const Fixed margin = settings_.speculative_distance + (length(body.linear_velocity) + turn_speed_[i]) * settings_.dt;
-    proxies_.push_back({i, body_bounds(body).expanded(margin), needs_contacts(body)});
+    proxies_.push_back({i, extent.bounds.expanded(margin), needs_contacts(body)});
   }
   find_pairs(proxies_, pairs_, broadphase_scratch_);
   update_contacts(bodies_, pairs_, settings_, turn_speed_, contacts_, previous_contacts_, narrowphase_cache_);

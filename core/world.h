@@ -112,6 +112,17 @@ class World {
   BroadphaseScratch broadphase_scratch_;
   std::vector<Contact> previous_contacts_;  // workspace of update_contacts
   std::vector<Fixed> turn_speed_;           // per slot: |w| times the body's reach (m/s), this step
+  // Per slot, what find_contacts takes from a body's shapes, which never
+  // change while it lives (a slot's next occupant has a new generation):
+  // its reach, and its bounds at the pose they were found for. Not state.
+  struct ShapeExtent {
+    bool known = false;
+    uint32_t generation = 0;
+    Fixed radius;  // body_radius
+    Pose pose;
+    Aabb bounds;   // body_bounds at `pose`
+  };
+  std::vector<ShapeExtent> shape_extents_;
   NarrowphaseCache narrowphase_cache_;      // a removed body's entries dropped at once
   InertiaCache inertia_cache_;              // the standard pipeline's velocity integration
   PushVelocities push_;
