@@ -151,6 +151,44 @@ void gather_bodies(const std::vector<Body>& bodies, std::vector<SolverBody>& out
   }
 }
 
+// A worker's last pair friction and tangent basis in the row setup, each a
+// function of its inputs alone (the two bodies' coefficients; the normal):
+// consecutive contacts of a pile often share their materials, or their
+// normal (bodies on the ground), and take the square roots and the
+// normalisation found for the contact before.
+class RowMemo {
+ public:
+  // The pair's static and dynamic friction: the geometric means.
+  void friction(const Material& a, const Material& b, Fixed& mu_s, Fixed& mu_d) {
+    if (!mixed_ || !(a.static_friction == static_a_ && b.static_friction == static_b_ &&
+                     a.dynamic_friction == dynamic_a_ && b.dynamic_friction == dynamic_b_)) {
+      mixed_ = true;
+      static_a_ = a.static_friction;
+      static_b_ = b.static_friction;
+      dynamic_a_ = a.dynamic_friction;
+      dynamic_b_ = b.dynamic_friction;
+      mu_s_ = sqrt(static_a_ * static_b_);
+      mu_d_ = sqrt(dynamic_a_ * dynamic_b_);
+    }
+    mu_s = mu_s_;
+    mu_d = mu_d_;
+  }
+  void tangents(Vec3 n, Vec3& t1, Vec3& t2) {
+    if (!based_ || !(n == normal_)) {
+      based_ = true;
+      normal_ = n;
+      tangent_basis(n, t1_, t2_);
+    }
+    t1 = t1_;
+    t2 = t2_;
+  }
+
+ private:
+  bool mixed_ = false, based_ = false;
+  Fixed static_a_, static_b_, dynamic_a_, dynamic_b_, mu_s_, mu_d_;
+  Vec3 normal_, t1_, t2_;
+};
+
 // What a manifold's pose-dependent rows are computed from (row_cache.h),
 // its points already in row order.
 RowInputs row_inputs(const Contact& contact, int held) {
@@ -186,7 +224,7 @@ struct RowSetup {
 // pose-dependent parts where its RowInputs did not change by a bit (found
 // from `cursor`, which walks the cache's entries in key order). Whether
 // they were reused.
-bool build_rows(const RowSetup& setup, size_t slot, size_t& cursor) {
+bool build_rows(const RowSetup& setup, size_t slot, size_t& cursor, RowMemo& memo) {
   const Settings& settings = setup.settings;
   const std::vector<Body>& bodies = setup.bodies;
   const std::vector<SolverBody>& solver_bodies = setup.solver_bodies;
@@ -229,15 +267,18 @@ bool build_rows(const RowSetup& setup, size_t slot, size_t& cursor) {
   }
   // Friction: the geometric means of the bodies' coefficients, as last
   // step's rows hold them where they are reused (their bodies' are equal).
-  const Fixed mu_s = reuse ? last_manifolds[reuse->manifold_row].static_friction
-                           : sqrt(body_a.material.static_friction * body_b.material.static_friction);
-  const Fixed mu_d = reuse ? last_manifolds[reuse->manifold_row].dynamic_friction
-                           : sqrt(body_a.material.dynamic_friction * body_b.material.dynamic_friction);
+  Fixed mu_s, mu_d;
+  if (reuse) {
+    mu_s = last_manifolds[reuse->manifold_row].static_friction;
+    mu_d = last_manifolds[reuse->manifold_row].dynamic_friction;
+  } else {
+    memo.friction(body_a.material, body_b.material, mu_s, mu_d);
+  }
   // The tangents (a fixed choice per normal, so warm-started friction
   // keeps its meaning), for the rows that are built.
   Vec3 t1, t2;
   if (!reuse || (rolling_limit > Fixed{} && last_manifolds[reuse->manifold_row].rolling_limit == Fixed{})) {
-    tangent_basis(m.normal, t1, t2);
+    memo.tangents(m.normal, t1, t2);
   }
   Vec3 centroid;
   Fixed target;
@@ -406,7 +447,8 @@ void build_rows_of_worker(void* context, int worker) {
                   : setup.in_place ? begin  // the entries lie as the contacts do
                                    : setup.cache->cursor_at(setup.contacts[setup.solved[begin].contact].key);
   uint64_t reused = 0;
-  for (size_t slot = begin; slot < end; ++slot) reused += build_rows(setup, slot, cursor) ? 1u : 0u;
+  RowMemo memo;
+  for (size_t slot = begin; slot < end; ++slot) reused += build_rows(setup, slot, cursor, memo) ? 1u : 0u;
   setup.reused[w] = reused;
 }
 
