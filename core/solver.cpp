@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstddef>
 
 #include "core/shock.h"
 #include "core/solver_rows.h"
@@ -121,11 +122,11 @@ int hold_touching_first(Manifold& m) {
   const size_t count = static_cast<size_t>(m.point_count);
   // Already in order (no touching point after one apart: every point of a
   // resting face), the partition would copy each point onto itself.
-  size_t in_order = 0;
-  while (in_order < count && touches(m.points[in_order])) ++in_order;
-  size_t apart = in_order;
-  while (apart < count && !touches(m.points[apart])) ++apart;
-  if (apart == count) return in_order > 0 ? static_cast<int>(in_order) : m.point_count;
+  const auto first = m.points.begin(), last = first + static_cast<std::ptrdiff_t>(count);
+  if (std::is_partitioned(first, last, touches)) {
+    const auto held = std::partition_point(first, last, touches) - first;
+    return held > 0 ? static_cast<int>(held) : m.point_count;
+  }
   std::array<ContactPoint, max_manifold_points> ordered;
   size_t held = 0;
   for (size_t i = 0; i < count; ++i) {
