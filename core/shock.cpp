@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "core/shock_groups.h"
 #include "core/shock_levels.h"
 #include "core/shock_solve.h"
 
@@ -9,9 +10,10 @@ namespace bitstep {
 
 namespace {
 
-// A rank whose touching contacts the iterations left approaching, sliding
-// and twisting no faster than this is held already (moving_at_contacts,
-// settle_unconverged_rank), m/s.
+// A rank, or an island, whose touching contacts the iterations left
+// approaching, sliding and twisting no faster than this is held already
+// (moving_at_contacts, settle_unconverged_rank, keep_iterations_where_held),
+// m/s.
 constexpr Fixed quiet_motion = 0.001_fx;
 
 // Twice the kinetic energy per unit mass, J/kg: |v|^2 + w . (I / m) w.
@@ -125,7 +127,10 @@ void solve_rank(const Settings& settings, const std::vector<Body>& bodies, const
     skipped = next != pass;
     pass = next;
   }
-  if (!converged) settle_unconverged_rank(bodies, before_shock, held_already, solver_bodies);
+  if (!converged) {
+    settle_unconverged_rank(bodies, before_shock, held_already, solver_bodies);
+    for (const RankBody& b : before_shock) scratch.groups.unconverged.push_back(b.body);
+  }
   for (size_t i = begin; i < end; ++i) {
     for (uint32_t body : {shock_manifolds[i]->a, shock_manifolds[i]->b}) {
       if (level[body] != rank || solver_bodies[body].inverse_mass == Fixed{}) continue;
@@ -242,24 +247,28 @@ ManifoldRow& one_sided_copy(SolverScratch& scratch, size_t position, bool freeze
   return copy;
 }
 
+bool moving_at_contact(const std::vector<SolverBody>& solver_bodies, const std::vector<PointRow>& rows,
+                       const ManifoldRow& m, Fixed speed) {
+  const SolverBody& a = solver_bodies[m.a];
+  const SolverBody& b = solver_bodies[m.b];
+  bool touching = false;
+  for (size_t k = 0; k < m.count; ++k) {
+    const PointRow& row = rows[m.first + k];
+    if (row.point->depth < -touch_tolerance) continue;
+    touching = true;
+    if (relative_velocity(a, b, row.normal) < -speed) return true;
+  }
+  if (!touching) return false;
+  if (abs(relative_velocity(a, b, m.tangent[0])) > speed || abs(relative_velocity(a, b, m.tangent[1])) > speed) {
+    return true;
+  }
+  return abs(relative_spin(a, b, m.twist)) * m.twist_radius > speed;
+}
+
 bool moving_at_contacts(const std::vector<SolverBody>& solver_bodies, const std::vector<ManifoldRow*>& manifolds,
                         const std::vector<PointRow>& rows, size_t begin, size_t end, Fixed speed) {
   for (size_t i = begin; i < end; ++i) {
-    const ManifoldRow& m = *manifolds[i];
-    const SolverBody& a = solver_bodies[m.a];
-    const SolverBody& b = solver_bodies[m.b];
-    bool touching = false;
-    for (size_t k = 0; k < m.count; ++k) {
-      const PointRow& row = rows[m.first + k];
-      if (row.point->depth < -touch_tolerance) continue;
-      touching = true;
-      if (relative_velocity(a, b, row.normal) < -speed) return true;
-    }
-    if (!touching) continue;
-    if (abs(relative_velocity(a, b, m.tangent[0])) > speed || abs(relative_velocity(a, b, m.tangent[1])) > speed) {
-      return true;
-    }
-    if (abs(relative_spin(a, b, m.twist)) * m.twist_radius > speed) return true;
+    if (moving_at_contact(solver_bodies, rows, *manifolds[i], speed)) return true;
   }
   return false;
 }
@@ -306,6 +315,7 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
   scratch.glued_alone.assign(bodies.size(), 0);
   scratch.glued_velocity.resize(bodies.size());  // read only where glued_to_all or glued_alone
   gather_rows(contacts, scratch);
+  keep_velocities(scratch.bodies, scratch.groups);
   scratch.glue_faces.reset(bodies.size(), scratch.order.size());
   // Rank by rank, each made immovable once solved.
   scratch.saved_inverse_mass.clear();
@@ -318,6 +328,7 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
   for (size_t i = 0; i < scratch.frozen_bodies.size(); ++i) {
     scratch.bodies[scratch.frozen_bodies[i]].inverse_mass = scratch.saved_inverse_mass[i];
   }
+  keep_iterations_where_held(scratch.manifolds, scratch.rows, quiet_motion, scratch.groups, scratch.bodies);
   restore_rows(contacts, scratch);
 }
 

@@ -20,7 +20,9 @@ namespace bitstep {
 // manifolds; group_supports finds the bodies held up through several
 // contacts; gather_rows saves the impulses the step may change; then rank by
 // rank, passes over the rank's manifolds (settle_unconverged_rank where
-// they do not converge), after which its bodies are immovable.
+// they do not converge), after which its bodies are immovable; last, the
+// islands the iterations held where a rank did not converge get the
+// iterations' velocities back (shock_groups.h).
 void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, std::vector<Contact>& contacts,
                      SolverScratch& scratch);
 
@@ -68,6 +70,9 @@ ManifoldRow& one_sided_copy(SolverScratch& scratch, size_t position, bool freeze
 // step left them: a box the iterations carried along on a rocking support,
 // once the shock step has stopped the support, slides on it, and kept
 // sliding at 0.6 mm/s for good while only approach was looked at.
+// moving_at_contact: the same for one manifold.
+bool moving_at_contact(const std::vector<SolverBody>& solver_bodies, const std::vector<PointRow>& rows,
+                       const ManifoldRow& m, Fixed speed);
 bool moving_at_contacts(const std::vector<SolverBody>& solver_bodies, const std::vector<ManifoldRow*>& manifolds,
                         const std::vector<PointRow>& rows, size_t begin, size_t end, Fixed speed);
 

@@ -208,6 +208,15 @@ struct SupportGroups {
   std::vector<uint32_t> fill;           // per slot, while grouping (counts, then fill positions)
 };
 
+// What the shock step needs to give islands the iterations hold their
+// velocities back (shock_groups.h).
+struct ShockGroups {
+  std::vector<BodyRates> before_shock;  // per slot: the iterations' velocity
+  std::vector<uint32_t> unconverged;    // bodies of ranks that did not converge (with repeats)
+  std::vector<uint32_t> parent;         // per slot: union-find parent (an island's root is its lowest slot)
+  std::vector<uint8_t> flags;           // per root: unconverged, moving
+};
+
 // A body of the rank the shock step is solving, and its velocity from the
 // iterations.
 struct RankBody {
@@ -230,6 +239,7 @@ struct SolverScratch {
   ShockLevels levels;
   std::vector<ShockEntry> order;
   SupportGroups supports;
+  ShockGroups groups;
   std::vector<uint8_t> glued_to_all;      // per slot
   std::vector<uint8_t> glued_alone;       // per slot: glued to its one support in the last pass
   std::vector<BodyRates> glued_velocity;  // per slot: the velocity the last glue gave it

@@ -1,0 +1,37 @@
+// Where the shock step's answer is not kept. Its ranks' passes need not
+// converge: in settled heaps they go round cycles (a box pushed back and
+// forth by rows whose impulses grow in opposite directions), and the
+// velocities the last pass leaves are arbitrary. Settled heaps crept on
+// them: 40 of 96 surveyed heaps of 27 boxes (both pipelines) moved over
+// 1 mm in 10 s after 30 s of settling, some by 18 cm, while the iterations
+// alone bring such a heap to exact rest. So an island (dynamic bodies
+// joined by touching contacts) that the iterations already hold, none of
+// its touching contacts approaching, sliding or twisting faster than
+// `quiet`, and in which some rank of the shock step did not converge, keeps
+// the iterations' velocities (4 of 96 heaps then move over 1 mm, none over
+// 7 mm). Stacks, pyramids and walls converge in every rank: the iterations
+// alone let them drift (a 20-box stack 1.5 cm in 10 s), the shock step's
+// answer holds them. Internal to core/.
+#pragma once
+
+#include <vector>
+
+#include "core/solver_rows.h"
+
+namespace bitstep {
+
+// Before the shock step: keeps every body's velocity (the iterations'),
+// and clears the list of bodies in unconverged ranks (groups.unconverged,
+// filled by the shock step).
+void keep_velocities(const std::vector<SolverBody>& bodies, ShockGroups& groups);
+
+// After it: finds the islands of the bodies listed unconverged (union-find
+// over the touching manifolds between two movable bodies) and gives every
+// body of an island the iterations hold (moving_at_contact at the kept
+// velocities, no faster than `quiet`) its kept velocity back. Returns how
+// many bodies got it. Does nothing (and costs nothing) when every rank
+// converged.
+size_t keep_iterations_where_held(const std::vector<ManifoldRow>& manifolds, const std::vector<PointRow>& rows,
+                                  Fixed quiet, ShockGroups& groups, std::vector<SolverBody>& bodies);
+
+}  // namespace bitstep
