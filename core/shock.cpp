@@ -120,7 +120,11 @@ void solve_rank(const Settings& settings, const std::vector<Body>& bodies, const
   bool converged = false;
   const int last_pass = settings.shock_iterations - 1;
   bool skipped = false;  // once: the history does not follow the jump
+  std::vector<BodyRates>& before_last_pass = scratch.groups.before_last_pass;
+  before_last_pass.clear();
   for (int pass = 0; pass <= last_pass && !converged; ++pass) {
+    before_last_pass.clear();
+    for (const RankBody& b : before_shock) before_last_pass.push_back(solver_bodies[b.body].velocity);
     converged = !rank_pass(bodies, level, scratch, begin, end, pass);
     if (converged || skipped) continue;
     const int next = skip_repeating_passes(solver_bodies, before_shock, scratch.rank_history, pass, last_pass);
@@ -128,8 +132,15 @@ void solve_rank(const Settings& settings, const std::vector<Body>& bodies, const
     pass = next;
   }
   if (!converged) {
+    // The islands still changing in the last pass (a rank spans every
+    // island with bodies at its level).
+    for (size_t i = 0; i < before_shock.size(); ++i) {
+      const uint32_t body = before_shock[i].body;
+      if (before_last_pass.empty() || !(solver_bodies[body].velocity == before_last_pass[i])) {
+        scratch.groups.unconverged.push_back(body);
+      }
+    }
     settle_unconverged_rank(bodies, before_shock, held_already, solver_bodies);
-    for (const RankBody& b : before_shock) scratch.groups.unconverged.push_back(b.body);
   }
   for (size_t i = begin; i < end; ++i) {
     for (uint32_t body : {shock_manifolds[i]->a, shock_manifolds[i]->b}) {

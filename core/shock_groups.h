@@ -3,15 +3,19 @@
 // forth by rows whose impulses grow in opposite directions), and the
 // velocities the last pass leaves are arbitrary. Settled heaps crept on
 // them: 40 of 96 surveyed heaps of 27 boxes (both pipelines) moved over
-// 1 mm in 10 s after 30 s of settling, some by 18 cm, while the iterations
+// 1 mm in 10 s after 30 s of settling, one by 28 cm, while the iterations
 // alone bring such a heap to exact rest. So an island (dynamic bodies
 // joined by touching contacts) that the iterations already hold, none of
 // its touching contacts approaching, sliding or twisting faster than
-// `quiet`, and in which some rank of the shock step did not converge, keeps
-// the iterations' velocities (4 of 96 heaps then move over 1 mm, none over
-// 7 mm). Stacks, pyramids and walls converge in every rank: the iterations
-// alone let them drift (a 20-box stack 1.5 cm in 10 s), the shock step's
-// answer holds them. Internal to core/.
+// `quiet`, and which the last pass of some rank still changed, keeps the
+// iterations' velocities (7 of the 96 heaps then move over 1 mm, 9 without
+// the shock step). Convergence is judged island by island: a rank is a
+// level across the whole scene, and judged rank by rank, a heap's
+// unconverged ranks sent a stack 5 m away back to the iterations'
+// velocities every step (the playground's second stack drifted 18 mm in
+// 20 s). Stacks, pyramids and walls converge and keep the shock step's
+// answer: the iterations alone let them drift (a 20-box stack 1.5 cm in
+// 10 s). Internal to core/.
 #pragma once
 
 #include <vector>
@@ -21,11 +25,11 @@
 namespace bitstep {
 
 // Before the shock step: keeps every body's velocity (the iterations'),
-// and clears the list of bodies in unconverged ranks (groups.unconverged,
-// filled by the shock step).
+// and clears groups.unconverged, where the shock step lists the bodies
+// whose velocity a rank's last pass still changed.
 void keep_velocities(const std::vector<SolverBody>& bodies, ShockGroups& groups);
 
-// After it: finds the islands of the bodies listed unconverged (union-find
+// After it: finds the islands of the bodies listed there (union-find
 // over the touching manifolds between two movable bodies) and gives every
 // body of an island the iterations hold (moving_at_contact at the kept
 // velocities, no faster than `quiet`) its kept velocity back. Returns how

@@ -212,7 +212,8 @@ struct SupportGroups {
 // velocities back (shock_groups.h).
 struct ShockGroups {
   std::vector<BodyRates> before_shock;  // per slot: the iterations' velocity
-  std::vector<uint32_t> unconverged;    // bodies of ranks that did not converge (with repeats)
+  std::vector<uint32_t> unconverged;    // bodies whose velocity a rank's last pass still changed (with repeats)
+  std::vector<BodyRates> before_last_pass;  // the rank's bodies' velocities before its last pass
   std::vector<uint32_t> parent;         // per slot: union-find parent (an island's root is its lowest slot)
   std::vector<uint8_t> flags;           // per root: unconverged, moving
 };
