@@ -66,6 +66,7 @@ struct RowCache {
   std::vector<BodyRowInputs> bodies;  // per slot, at the last cached solve
   std::vector<uint8_t> still;         // per slot: this solve's inputs are those, bit for bit
   bool enabled = true;         // off: every row is built (the reuse tests compare both)
+  uint64_t entries_solve = 0;  // the solve (SolverScratch::solves) the entries are of; 0: none
   uint64_t reused = 0, built = 0;  // manifolds, over the world's life (figures, not state)
 
   // Marks each slot still or not against the last cached solve, and keeps

@@ -327,7 +327,7 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
   scratch.glued_velocity.resize(bodies.size());  // read only where glued_to_all or glued_alone
   gather_rows(contacts, scratch);
   keep_velocities(scratch.bodies, scratch.groups);
-  scratch.glue_faces.reset(bodies.size(), scratch.order.size());
+  scratch.glue_faces.reset(bodies.size(), scratch.order.size(), scratch.solves, scratch.rows_reused_from);
   // Rank by rank, each made immovable once solved.
   scratch.saved_inverse_mass.clear();
   scratch.frozen_bodies.clear();

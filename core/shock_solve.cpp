@@ -83,8 +83,10 @@ void measure_face(const ManifoldRow& m, const std::vector<PointRow>& rows, GlueF
   face.inverse_det = Fixed::one() / det;
   face.n = n;
   face.centroid = centroid;
-  face.first_point = static_cast<uint32_t>(faces.points.size());
-  for (size_t i = 0; i < m.count; ++i) faces.points.push_back({cross(rows[m.first + i].point->position - centroid, n), {}, {}});
+  face.first_point = faces.take_points(m.count);
+  for (size_t i = 0; i < m.count; ++i) {
+    faces.points[face.first_point + i] = {cross(rows[m.first + i].point->position - centroid, n), {}, {}};
+  }
   face.state = GlueFace::State::usable;
 }
 
@@ -160,6 +162,12 @@ bool glue(SolverBody& mover, const SolverBody& support, const Body& body, bool m
 
 namespace {
 
+// A support contact's row and which way its normal points, as
+// GlueFaces::entry_rows keeps them.
+uint64_t entry_row(const ManifoldRow& m, const std::vector<uint32_t>& level) {
+  return uint64_t{m.index} * 2 + (level[m.a] < level[m.b] ? 1 : 0);
+}
+
 // glue_all's face: every support contact resting (no row asking the
 // surfaces apart), facing the same way (normals within a quarter of a
 // degree), three points or more not on a line; their centroid, levers and
@@ -190,19 +198,22 @@ void measure_faces(const uint32_t* entries, size_t entry_count, const std::vecto
   }
   if (point_count < 3) return;
   centroid = centroid / Fixed::from_int(point_count);
-  face.first_point = static_cast<uint32_t>(faces.points.size());
-  face.first_middle = static_cast<uint32_t>(faces.middles.size());
+  face.first_point = faces.take_points(static_cast<size_t>(point_count));
+  face.first_middle = faces.take_middles(entry_count);
+  face.entry_count = static_cast<uint32_t>(entry_count);
   Fixed radius;
+  size_t k = face.first_point;
   for (size_t e = 0; e < entry_count; ++e) {
     const ManifoldRow& m = *manifolds[entries[e]];
     Vec3 middle;
-    for (size_t i = 0; i < m.count; ++i) {
+    for (size_t i = 0; i < m.count; ++i, ++k) {
       const Vec3 position = rows[m.first + i].point->position;
-      faces.points.push_back({cross(position - centroid, n), {}, {}});
+      faces.points[k] = {cross(position - centroid, n), {}, {}};
       radius += length(position - centroid);
       middle += position;
     }
-    faces.middles.push_back(middle / Fixed::from_int(static_cast<int32_t>(m.count)));
+    faces.middles[face.first_middle + e] = middle / Fixed::from_int(static_cast<int32_t>(m.count));
+    faces.entry_rows[face.first_middle + e] = entry_row(m, level);
   }
   radius = radius / Fixed::from_int(point_count);
   // The arms are measured in units of the points' mean distance from c, so
@@ -213,7 +224,7 @@ void measure_faces(const uint32_t* entries, size_t entry_count, const std::vecto
   const Vec3 e0 = normalize(cross(n, axis));
   const Vec3 e1 = cross(n, e0);
   Fixed g00, g01, g11;
-  size_t k = face.first_point;
+  k = face.first_point;
   for (size_t e = 0; e < entry_count; ++e) {
     const ManifoldRow& m = *manifolds[entries[e]];
     for (size_t i = 0; i < m.count; ++i, ++k) {
@@ -242,6 +253,50 @@ void measure_faces(const uint32_t* entries, size_t entry_count, const std::vecto
   face.state = GlueFace::State::usable;
 }
 
+// The body's face of the last shock step, taken again where it lies
+// (GlueFaces::face_at keeps it) when measure_faces would find it again.
+// Exact: measure_faces reads only the support contacts (their number and
+// order), each one's up normal, point count, point positions in row order,
+// static friction, and whether a row asks the surfaces apart. A contact
+// whose ManifoldRow::reused_from is the row that last step's face was
+// measured from (entry_rows) has, by the row cache (row_cache.h: key,
+// normal, points in row order and touching count compared word for word,
+// both bodies' friction too, so its static friction is that row's), the
+// same normal, count, positions and friction; the same row and the same
+// level order give the same up. GlueFaces::recall makes sure last step's
+// rows are those this step's were reused from (the shock step runs in the
+// solve that built its rows, so its faces read what the cache compared).
+// A usable face was measured with no row asking apart, so only that is
+// checked again here.
+bool recall_faces(const uint32_t* entries, size_t entry_count, const std::vector<uint32_t>& level,
+                  const std::vector<ManifoldRow*>& manifolds, const std::vector<PointRow>& rows, GlueFace& face,
+                  GlueFaces& faces) {
+  // Its points and middles lie past what this step has handed out: not
+  // written over this step.
+  if (face.first_point != faces.points_used || face.first_middle != faces.middles_used ||
+      face.entry_count != entry_count) {
+    return false;
+  }
+  for (size_t e = 0; e < entry_count; ++e) {
+    const ManifoldRow& m = *manifolds[entries[e]];
+    if (m.reused_from == ManifoldRow::none) return false;
+    if (faces.entry_rows[face.first_middle + e] != uint64_t{m.reused_from} * 2 + (level[m.a] < level[m.b] ? 1 : 0)) {
+      return false;
+    }
+    for (size_t i = 0; i < m.count; ++i) {
+      if (rows[m.first + i].velocity_target > Fixed{}) return false;
+    }
+  }
+  // Taken again: the same places, this step's rows named for the next.
+  faces.take_points(static_cast<size_t>(face.point_count));
+  faces.take_middles(entry_count);
+  for (size_t e = 0; e < entry_count; ++e) {
+    faces.entry_rows[face.first_middle + e] = entry_row(*manifolds[entries[e]], level);
+  }
+  face.state = GlueFace::State::usable;
+  return true;
+}
+
 }  // namespace
 
 // A body held up by several supports is glued to all of them at once when
@@ -261,7 +316,10 @@ bool glue_all(SolverBody& mover, const Body& body, const std::vector<SolverBody>
               const std::vector<uint32_t>& level, const std::vector<ManifoldRow*>& manifolds,
               std::vector<PointRow>& rows, GlueFace& face, GlueFaces& faces) {
   constexpr Fixed same_motion = 0.000001_fx;  // m/s and rad/s
-  if (!faces.measured(face)) measure_faces(entries, entry_count, level, manifolds, rows, face, faces);
+  if (!faces.measured(face) &&
+      !(face.recallable && recall_faces(entries, entry_count, level, manifolds, rows, face, faces))) {
+    measure_faces(entries, entry_count, level, manifolds, rows, face, faces);
+  }
   if (face.state == GlueFace::State::never) return false;
   const Vec3 position = body.pose.position;
   const Vec3 n = face.n, centroid = face.centroid;

@@ -412,6 +412,8 @@ bool build_rows(const RowSetup& setup, size_t slot, size_t& cursor, RowMemo& mem
     ManifoldRow& face = manifold_rows[slot];
     face.share_mass = face.normal.mass / count;
   }
+  manifold_rows[slot].index = static_cast<uint32_t>(slot);
+  manifold_rows[slot].reused_from = reuse ? static_cast<uint32_t>(reuse->manifold_row) : ManifoldRow::none;
   // A resting face (3 or more touching points asking for no relative
   // speed) has three normal degrees of freedom, its centroid row and two
   // rocking rows, which keep every point pushing: its point rows would only
@@ -558,6 +560,11 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
                 bodies[i].material.static_friction, bodies[i].material.dynamic_friction};
     }
     cache.compare_bodies(now);
+  }
+  if (kind != SolvePass::collision) {
+    ++scratch.solves;
+    scratch.rows_reused_from = cached ? cache.entries_solve : 0;
+    if (cached) cache.entries_solve = scratch.solves;
   }
   const size_t row_count = plan_rows(settings, bodies, solver_bodies, contacts, kind, scratch.solved);
   // The collision pass (its manifolds are those that hit) builds every row,

@@ -105,6 +105,12 @@ struct ManifoldRow {
   // as between two boxes.
   AngularPart rolling[2] = {};
   Fixed rolling_limit;
+  // Its place in this solve's manifold rows, and the place in the solve
+  // numbered SolverScratch::rows_reused_from of the row it was copied from
+  // (row_cache.h: the same key, normal, points and friction), or none.
+  // glue_all's faces know from these that their inputs stand (shock_solve.cpp).
+  static constexpr uint32_t none = UINT32_MAX;
+  uint32_t index = 0, reused_from = none;
 };
 
 // Inside the solver no product or sum can leave the Q32.32 range, so they
@@ -262,6 +268,9 @@ struct SolverScratch {
   std::vector<PointRow> last_rows;
   std::vector<ManifoldRow> last_manifolds;
   bool rows_from_cached_solve = false;  // rows / manifolds hold the last cached solve's
+  // The solves that build `manifolds`, numbered from 1; the one whose rows
+  // this solve's were reused from (ManifoldRow::reused_from), 0 for none.
+  uint64_t solves = 0, rows_reused_from = 0;
   // The iterations and position passes on several workers (ordered_sweeps.h).
   OrderedSweeps sweeps;
 };
