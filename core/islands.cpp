@@ -2,10 +2,6 @@
 
 namespace bitstep {
 
-namespace {
-
-// Union-find with the smaller slot as the root, so a set's root is its
-// lowest slot whatever order the unions come in.
 uint32_t find_root(std::vector<uint32_t>& parent, uint32_t i) {
   while (parent[i] != i) {
     parent[i] = parent[parent[i]];  // path halving
@@ -24,8 +20,6 @@ void unite(std::vector<uint32_t>& parent, uint32_t a, uint32_t b) {
     parent[a] = b;
   }
 }
-
-}  // namespace
 
 void build_islands(const std::vector<Body>& bodies, const std::vector<Contact>& contacts,
                    Islands& islands) {

@@ -28,6 +28,13 @@ struct Islands {
   std::vector<uint32_t> parent, island_of_root, fill;
 };
 
+// Union-find over body slots with the smaller slot as the root, so a set's
+// root is its lowest slot whatever order the unions come in (deterministic);
+// find_root halves the path on the way. Also used by the shock step's
+// islands (shock_groups.cpp).
+uint32_t find_root(std::vector<uint32_t>& parent, uint32_t i);
+void unite(std::vector<uint32_t>& parent, uint32_t a, uint32_t b);
+
 // Builds the islands from the contacts that touch (manifold.h: a point
 // within touch_tolerance) joins its two bodies when both are dynamic.
 // Deterministic: the result depends on slots and contacts only, never on

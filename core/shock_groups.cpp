@@ -1,8 +1,8 @@
 #include "core/shock_groups.h"
 
-#include <algorithm>
 #include <utility>
 
+#include "core/islands.h"
 #include "core/manifold.h"
 #include "core/shock.h"
 
@@ -11,16 +11,6 @@ namespace bitstep {
 namespace {
 
 constexpr uint8_t unconverged = 1, moving = 2;
-
-// The root of body's island, halving the path on the way (deterministic:
-// it depends on the order of the unions only).
-uint32_t root_of(std::vector<uint32_t>& parent, uint32_t body) {
-  while (parent[body] != body) {
-    parent[body] = parent[parent[body]];
-    body = parent[body];
-  }
-  return body;
-}
 
 void swap_velocities(std::vector<SolverBody>& bodies, std::vector<BodyRates>& kept) {
   for (size_t i = 0; i < bodies.size(); ++i) std::swap(bodies[i].velocity, kept[i]);
@@ -44,21 +34,20 @@ size_t keep_iterations_where_held(const std::vector<ManifoldRow>& manifolds, con
   const auto movable = [&](uint32_t body) { return bodies[body].inverse_mass != Fixed{}; };
   for (const ManifoldRow& m : manifolds) {
     if (!movable(m.a) || !movable(m.b) || !touches(*m.manifold)) continue;
-    const uint32_t a = root_of(parent, m.a), b = root_of(parent, m.b);
-    parent[std::max(a, b)] = std::min(a, b);
+    unite(parent, m.a, m.b);
   }
   std::vector<uint8_t>& flags = groups.flags;
   flags.assign(n, 0);
-  for (uint32_t body : groups.unconverged) flags[root_of(parent, body)] |= unconverged;
+  for (uint32_t body : groups.unconverged) flags[find_root(parent, body)] |= unconverged;
   // Judged at the iterations' velocities.
   swap_velocities(bodies, groups.before_shock);
   for (const ManifoldRow& m : manifolds) {
-    if (moving_at_contact(bodies, rows, m, quiet)) flags[root_of(parent, movable(m.a) ? m.a : m.b)] |= moving;
+    if (moving_at_contact(bodies, rows, m, quiet)) flags[find_root(parent, movable(m.a) ? m.a : m.b)] |= moving;
   }
   swap_velocities(bodies, groups.before_shock);
   size_t kept = 0;
   for (uint32_t i = 0; i < n; ++i) {
-    if (flags[root_of(parent, i)] != unconverged) continue;
+    if (flags[find_root(parent, i)] != unconverged) continue;
     bodies[i].velocity = groups.before_shock[i];
     ++kept;
   }

@@ -162,10 +162,10 @@ bool glue(SolverBody& mover, const SolverBody& support, const Body& body, bool m
 
 namespace {
 
-// A support contact's row and which way its normal points, as
-// GlueFaces::entry_rows keeps them.
-uint64_t entry_row(const ManifoldRow& m, const std::vector<uint32_t>& level) {
-  return uint64_t{m.index} * 2 + (level[m.a] < level[m.b] ? 1 : 0);
+// A support contact's row (its index in the solve named) and which way its
+// normal points, as GlueFaces::entry_rows keeps them.
+uint64_t entry_row(uint32_t row, const ManifoldRow& m, const std::vector<uint32_t>& level) {
+  return uint64_t{row} * 2 + (level[m.a] < level[m.b] ? 1 : 0);
 }
 
 // glue_all's face: every support contact resting (no row asking the
@@ -213,7 +213,7 @@ void measure_faces(const uint32_t* entries, size_t entry_count, const std::vecto
       middle += position;
     }
     faces.middles[face.first_middle + e] = middle / Fixed::from_int(static_cast<int32_t>(m.count));
-    faces.entry_rows[face.first_middle + e] = entry_row(m, level);
+    faces.entry_rows[face.first_middle + e] = entry_row(m.index, m, level);
   }
   radius = radius / Fixed::from_int(point_count);
   // The arms are measured in units of the points' mean distance from c, so
@@ -280,9 +280,7 @@ bool recall_faces(const uint32_t* entries, size_t entry_count, const std::vector
   for (size_t e = 0; e < entry_count; ++e) {
     const ManifoldRow& m = *manifolds[entries[e]];
     if (m.reused_from == ManifoldRow::none) return false;
-    if (faces.entry_rows[face.first_middle + e] != uint64_t{m.reused_from} * 2 + (level[m.a] < level[m.b] ? 1 : 0)) {
-      return false;
-    }
+    if (faces.entry_rows[face.first_middle + e] != entry_row(m.reused_from, m, level)) return false;
     for (size_t i = 0; i < m.count; ++i) {
       if (rows[m.first + i].velocity_target > Fixed{}) return false;
     }
@@ -291,7 +289,8 @@ bool recall_faces(const uint32_t* entries, size_t entry_count, const std::vector
   faces.take_points(static_cast<size_t>(face.point_count));
   faces.take_middles(entry_count);
   for (size_t e = 0; e < entry_count; ++e) {
-    faces.entry_rows[face.first_middle + e] = entry_row(*manifolds[entries[e]], level);
+    const ManifoldRow& m = *manifolds[entries[e]];
+    faces.entry_rows[face.first_middle + e] = entry_row(m.index, m, level);
   }
   face.state = GlueFace::State::usable;
   return true;

@@ -99,6 +99,20 @@ Comparison compare(const Settings& settings, int steps, const std::function<void
   return result;
 }
 
+// Replaces `body` by an icy box (mu_s 0.05, mu 0.04) of the
+// given half extents at its pose, in the same slot; its new handle.
+BodyId make_icy(TestWorld& t, BodyId body, Vec3 half_extents) {
+  BodyDef def;
+  def.pose = t.world.body(body).pose;
+  def.shapes.push_back({ShapeType::box, half_extents, {}, {}, {}});
+  def.material.static_friction = 0.05_fx;
+  def.material.dynamic_friction = 0.04_fx;
+  REQUIRE(t.world.remove_body(body));
+  const BodyId icy = t.world.create_body(def).id;
+  REQUIRE(icy.index == body.index);
+  return icy;
+}
+
 }  // namespace
 
 TEST_CASE("a standing stack reuses its collision tests and keeps the same bits", "[world][reuse]") {
@@ -147,15 +161,7 @@ TEST_CASE("a box of other friction created in a removed box's slot, at its pose,
   const Comparison c = compare(settings, 120, [](TestWorld& t, int step) {
     BodyId middle{3, 0};
     if (step > 40) middle.generation = t.world.bodies()[3].generation;  // the new body's handle
-    if (step == 40) {
-      BodyDef def;
-      def.pose = t.world.body(middle).pose;
-      def.shapes.push_back({ShapeType::box, {0.5_fx, 0.5_fx, 0.5_fx}, {}, {}, {}});
-      def.material.static_friction = 0.05_fx;
-      def.material.dynamic_friction = 0.04_fx;
-      REQUIRE(t.world.remove_body(middle));
-      REQUIRE(t.world.create_body(def).id.index == 3);
-    }
+    if (step == 40) make_icy(t, middle, {0.5_fx, 0.5_fx, 0.5_fx});
     if (step > 40) {
       const Fixed weight = 9.81_fx / t.world.body(middle).inverse_mass;
       t.world.apply_force(middle, {weight * 1.2_fx, Fixed{}, Fixed{}}, t.world.body(middle).pose.position);
@@ -180,15 +186,7 @@ TEST_CASE("a standing wall takes its bricks' faces again and keeps the same bits
       [](TestWorld& t, int step) {
         BodyId middle{2, 0};
         if (step > 40) middle.generation = t.world.bodies()[2].generation;
-        if (step == 40) {
-          BodyDef def;
-          def.pose = t.world.body(middle).pose;
-          def.shapes.push_back({ShapeType::box, {0.5_fx, 0.25_fx, 0.25_fx}, {}, {}, {}});
-          def.material.static_friction = 0.05_fx;
-          def.material.dynamic_friction = 0.04_fx;
-          REQUIRE(t.world.remove_body(middle));
-          REQUIRE(t.world.create_body(def).id.index == 2);
-        }
+        if (step == 40) make_icy(t, middle, {0.5_fx, 0.25_fx, 0.25_fx});
         if (step >= 60) {
           const BodyId pushed{4, t.world.bodies()[4].generation};
           const Fixed weight = 9.81_fx / t.world.body(pushed).inverse_mass;

@@ -159,6 +159,20 @@ void add_heap(TestWorld& t, int turn, Fixed shift) {
   }
 }
 
+// Every body's position, and the farthest any body has got from them (m).
+std::vector<Vec3> positions(const World& world) {
+  std::vector<Vec3> at;
+  for (const Body& b : world.bodies()) at.push_back(b.pose.position);
+  return at;
+}
+double farthest_from(const World& world, const std::vector<Vec3>& at) {
+  double moved = 0;
+  for (size_t i = 0; i < at.size(); ++i) {
+    moved = std::max(moved, to_double(length(world.bodies()[i].pose.position - at[i])));
+  }
+  return moved;
+}
+
 }  // namespace
 
 // Three layers of nine spheres (r 0.2 m) dropped into a pen. Once settled
@@ -176,15 +190,12 @@ TEST_CASE("a pile of spheres in a pen gains no energy once settled", "[resting]"
     for (int k = 0; k < 27; ++k) t.add_sphere(drop_spot(k), 0.2_fx);
     t.simulate_steps(600);
     const double settled = to_double(t.world.stats().kinetic_energy);
-    std::vector<Vec3> at_10s;
-    for (const Body& b : t.world.bodies()) at_10s.push_back(b.pose.position);
+    const std::vector<Vec3> at_10s = positions(t.world);
     double largest = 0, moved = 0;
     for (int step = 600; step < 1800; ++step) {
       t.world.step();
       largest = std::max(largest, to_double(t.world.stats().kinetic_energy));
-      for (size_t i = 0; i < at_10s.size(); ++i) {
-        moved = std::max(moved, to_double(length(t.world.bodies()[i].pose.position - at_10s[i])));
-      }
+      moved = std::max(moved, farthest_from(t.world, at_10s));
     }
     INFO((pipeline == Pipeline::standard ? "standard" : "guendelman") << ": KE at 10 s " << settled
                                                                       << " J, largest after " << largest
@@ -251,13 +262,9 @@ TEST_CASE("a settled heap of boxes in a pen stays put with sleep off", "[resting
     TestWorld t(settings);
     add_heap(t, 3, Fixed::from_int(3) * 0.013_fx);
     t.simulate_steps(2400);
-    std::vector<Vec3> at_40s;
-    for (const Body& b : t.world.bodies()) at_40s.push_back(b.pose.position);
+    const std::vector<Vec3> at_40s = positions(t.world);
     t.simulate_steps(1200);
-    double moved = 0;
-    for (size_t i = 0; i < at_40s.size(); ++i) {
-      moved = std::max(moved, to_double(length(t.world.bodies()[i].pose.position - at_40s[i])));
-    }
+    const double moved = farthest_from(t.world, at_40s);
     INFO((pipeline == Pipeline::standard ? "standard" : "guendelman") << ": farthest move 40-60 s " << moved << " m");
     CHECK(moved < 0.0002);
   }
@@ -287,16 +294,13 @@ TEST_CASE("heaps whose shock ranks never converge stay put with sleep off", "[re
     TestWorld t(settings);
     add_heap(t, heap.arrangement % 3, Fixed::from_int(heap.arrangement) * 0.0065_fx);
     t.simulate_steps(1800);
-    std::vector<Vec3> at_30s;
-    for (const Body& b : t.world.bodies()) at_30s.push_back(b.pose.position);
-    double moved = 0, largest = 0;
+    const std::vector<Vec3> at_30s = positions(t.world);
+    double largest = 0;
     for (int step = 0; step < 600; ++step) {
       t.world.step();
       largest = std::max(largest, to_double(t.world.stats().kinetic_energy));
     }
-    for (size_t i = 0; i < at_30s.size(); ++i) {
-      moved = std::max(moved, to_double(length(t.world.bodies()[i].pose.position - at_30s[i])));
-    }
+    const double moved = farthest_from(t.world, at_30s);
     INFO((heap.pipeline == Pipeline::standard ? "standard" : "guendelman")
          << ", arrangement " << heap.arrangement << ": farthest move 30-40 s " << moved << " m, largest KE "
          << largest << " J");
