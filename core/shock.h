@@ -19,9 +19,10 @@ namespace bitstep {
 // shock_levels ranks the bodies; order_manifolds picks and sorts the
 // manifolds; group_supports finds the bodies held up through several
 // contacts; gather_rows saves the impulses the step may change; then rank by
-// rank, passes over the rank's manifolds (settle_unconverged_rank where
-// they do not converge), after which its bodies are immovable; last, the
-// islands the iterations held where a rank did not converge get the
+// rank, and within a rank cluster by cluster (order_manifolds), passes over
+// the cluster's manifolds until they converge (settle_unconverged_cluster
+// where they do not), after which its bodies are immovable; last, the
+// islands the iterations held where a cluster did not converge get the
 // iterations' velocities back (shock_groups.h).
 void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, std::vector<Contact>& contacts,
                      SolverScratch& scratch);
@@ -29,13 +30,16 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
 // The phases, exposed for their tests.
 
 // The manifolds the shock step solves (positions in manifold_rows), by
-// (rank of the higher body, position): both bodies ranked, and either
+// (rank of the higher body, cluster, position); a cluster is the bodies of
+// one rank joined by the rank's manifolds between them, numbered by its
+// lowest slot (`parent`: union-find workspace, per slot). Both bodies
+// ranked, and either
 // within a rank, or the lower one holding the higher up, or a sideways
 // contact within one height. Left to the iterations: contacts between
 // heights that are not supports, those by which the higher-ranked body
 // holds the lower up, and speculative (apart) ones that are not sideways.
 void order_manifolds(const Settings& settings, const ShockLevels& levels, const std::vector<ManifoldRow>& manifold_rows,
-                     std::vector<ShockEntry>& order);
+                     std::vector<ShockEntry>& order, std::vector<uint32_t>& parent);
 
 // Bodies held up through more than one contact of `order` (by several
 // bodies, or by several shapes of one: a table's four legs on the table
@@ -94,18 +98,19 @@ bool moving_at_contacts(const std::vector<SolverBody>& solver_bodies, const std:
 int skip_repeating_passes(const std::vector<SolverBody>& solver_bodies, const std::vector<RankBody>& rank,
                           std::vector<BodyRates>& history, int pass, int last_pass);
 
-// A rank whose passes did not converge: they end at an arbitrary point of
-// an oscillation (a box on one corner leaning on a glued box of its own
-// rank loses ~1% of its rotation per pass; a row whose point is a hair
-// apart hands back the iterations' impulse and the next glue undoes it),
-// and settled heaps crept by ~1 mm/s on what the last pass left. A rank
-// the iterations already hold (held_already: no sideways contact, and at
-// every touching contact, against the ranks below as the shock step left
-// them, no point approaching and no sliding or twisting faster than 1 mm/s)
-// gets the iterations' velocities back (before_shock); any other keeps, body by body, whichever
-// of its two velocities has the lower kinetic energy: the shock step may
-// stop motion it did not finish solving, never add to it.
-void settle_unconverged_rank(const std::vector<Body>& bodies, const std::vector<RankBody>& before_shock,
+// A cluster of a rank whose passes did not converge: they end at an
+// arbitrary point of an oscillation (a box on one corner leaning on a
+// glued box of its own rank loses ~1% of its rotation per pass; a row
+// whose point is a hair apart hands back the iterations' impulse and the
+// next glue undoes it), and settled heaps crept by ~1 mm/s on what the
+// last pass left. A cluster the iterations already hold (held_already: no
+// sideways contact, and at every touching contact, against the ranks below
+// as the shock step left them, no point approaching and no sliding or
+// twisting faster than 1 mm/s) gets the iterations' velocities back
+// (before_shock); any other keeps, body by body, whichever of its two
+// velocities has the lower kinetic energy: the shock step may stop motion
+// it did not finish solving, never add to it.
+void settle_unconverged_cluster(const std::vector<Body>& bodies, const std::vector<RankBody>& before_shock,
                              bool held_already, std::vector<SolverBody>& solver_bodies);
 
 }  // namespace bitstep

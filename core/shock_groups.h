@@ -1,4 +1,4 @@
-// Where the shock step's answer is not kept. Its ranks' passes need not
+// Where the shock step's answer is not kept. Its clusters' passes need not
 // converge: in settled heaps they go round cycles (a box pushed back and
 // forth by rows whose impulses grow in opposite directions), and the
 // velocities the last pass leaves are arbitrary. Settled heaps crept on
@@ -7,15 +7,14 @@
 // alone bring such a heap to exact rest. So an island (dynamic bodies
 // joined by touching contacts) that the iterations already hold, none of
 // its touching contacts approaching, sliding or twisting faster than
-// `quiet`, and which the last pass of some rank still changed, keeps the
-// iterations' velocities (7 of the 96 heaps then move over 1 mm, 9 without
-// the shock step). Convergence is judged island by island: a rank is a
-// level across the whole scene, and judged rank by rank, a heap's
-// unconverged ranks sent a stack 5 m away back to the iterations'
-// velocities every step (the playground's second stack drifted 18 mm in
-// 20 s). Stacks, pyramids and walls converge and keep the shock step's
-// answer: the iterations alone let them drift (a 20-box stack 1.5 cm in
-// 10 s). Internal to core/.
+// `quiet`, and which the last pass of some cluster still changed, keeps the
+// iterations' velocities (4 of the 96 heaps then move over 1 mm, at most
+// 7 mm, 9 without the shock step). Convergence is judged island by
+// island: judged rank by rank across the scene, a heap's unconverged ranks
+// sent a stack 5 m away back to the iterations' velocities every step (the
+// playground's second stack drifted 18 mm in 20 s). Stacks, pyramids and
+// walls converge and keep the shock step's answer: the iterations alone
+// let them drift (a 20-box stack 1.5 cm in 10 s). Internal to core/.
 #pragma once
 
 #include <vector>
@@ -26,14 +25,14 @@ namespace bitstep {
 
 // Before the shock step: keeps every body's velocity (the iterations'),
 // and clears groups.unconverged, where the shock step lists the bodies
-// whose velocity a rank's last pass still changed.
+// whose velocity a cluster's last pass still changed.
 void keep_velocities(const std::vector<SolverBody>& bodies, ShockGroups& groups);
 
 // After it: finds the islands of the bodies listed there (union-find
 // over the touching manifolds between two movable bodies) and gives every
 // body of an island the iterations hold (moving_at_contact at the kept
 // velocities, no faster than `quiet`) its kept velocity back. Returns how
-// many bodies got it. Does nothing (and costs nothing) when every rank
+// many bodies got it. Does nothing (and costs nothing) when every cluster
 // converged.
 size_t keep_iterations_where_held(const std::vector<ManifoldRow>& manifolds, const std::vector<PointRow>& rows,
                                   Fixed quiet, ShockGroups& groups, std::vector<SolverBody>& bodies);

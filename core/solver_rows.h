@@ -197,9 +197,10 @@ inline void solve_push(SolverBody& a, SolverBody& b, const PointRow& row) {
   solve_point(a.push, b.push, row.normal, row.point->split_impulse, row.push_target, row.impact);
 }
 
-// A manifold in the shock step's order: by the support level of its higher
-// body, then by its index.
+// A manifold in the shock step's order: by the support level of its
+// higher body, then by its cluster, then by its index.
 struct ShockEntry {
+  uint32_t cluster;  // the lowest slot of the bodies of its rank that the rank's passes couple to it
   uint32_t level;
   uint32_t index;
   bool holds_up;  // between ranks: the lower body holds the other up against gravity
@@ -245,6 +246,7 @@ struct SolverScratch {
   // The shock step (shock.cpp).
   ShockLevels levels;
   std::vector<ShockEntry> order;
+  std::vector<uint32_t> cluster_parent;  // per slot: union-find parent while the order is sorted
   SupportGroups supports;
   ShockGroups groups;
   std::vector<uint8_t> glued_to_all;      // per slot

@@ -67,7 +67,8 @@ TEST_CASE("the shock step solves supports, sideways chains and ranks' own contac
                 {1, 4, east, apart},       // 8: sideways and apart: solved one-sided up to touching
             });
   std::vector<ShockEntry> order;
-  order_manifolds(settings, f.levels, f.rows, order);
+  std::vector<uint32_t> parent;
+  order_manifolds(settings, f.levels, f.rows, order, parent);
   std::vector<uint32_t> indices, levels;
   std::vector<bool> holds_up;
   for (const ShockEntry& e : order) {
@@ -75,9 +76,42 @@ TEST_CASE("the shock step solves supports, sideways chains and ranks' own contac
     levels.push_back(e.level);
     holds_up.push_back(e.holds_up);
   }
-  CHECK(indices == std::vector<uint32_t>{1, 0, 3, 5, 7, 8});
+  // Rank 2 in two clusters: 2 with 6 beside it (0, 5, 7), and 4 (3, 8).
+  CHECK(indices == std::vector<uint32_t>{1, 0, 5, 7, 3, 8});
   CHECK(levels == std::vector<uint32_t>{1, 2, 2, 2, 2, 2});
-  CHECK(holds_up == std::vector<bool>{true, true, false, true, false, false});
+  CHECK(holds_up == std::vector<bool>{true, true, true, false, false, false});
+}
+
+// Two columns on one ground, 1 on 0 and 2 on 1, 3 on 0 and 4 on 3, and 5
+// on 2 and 4, joining them at rank 3; 6 beside 5 and touching it. Rank by
+// rank, the bodies of a rank fall into clusters joined by the rank's own
+// manifolds (numbered by their lowest slot), each solved on its own: the
+// two columns' ranks 1 and 2 are two clusters each, rank 3 one.
+TEST_CASE("the shock step solves each rank cluster by cluster", "[shock]") {
+  const Settings settings;
+  const Fixed touching = 0.0001_fx;
+  Fixture f({0, 1, 2, 1, 2, 3, 3}, {0, 1, 2, 1, 2, 3, 3},
+            {
+                {0, 3, up, touching},    // 0
+                {0, 1, up, touching},    // 1
+                {3, 4, up, touching},    // 2
+                {1, 2, up, touching},    // 3
+                {4, 5, up, touching},    // 4
+                {2, 5, up, touching},    // 5
+                {5, 6, east, touching},  // 6
+            });
+  std::vector<ShockEntry> order;
+  std::vector<uint32_t> parent;
+  order_manifolds(settings, f.levels, f.rows, order, parent);
+  std::vector<uint32_t> indices, clusters, levels;
+  for (const ShockEntry& e : order) {
+    indices.push_back(e.index);
+    clusters.push_back(e.cluster);
+    levels.push_back(e.level);
+  }
+  CHECK(indices == std::vector<uint32_t>{1, 0, 3, 2, 4, 5, 6});
+  CHECK(clusters == std::vector<uint32_t>{1, 3, 2, 4, 5, 5, 5});
+  CHECK(levels == std::vector<uint32_t>{1, 1, 2, 2, 3, 3, 3});
 }
 
 // Body 1 stands on four legs on body 0 (four contacts with one support),
@@ -96,7 +130,8 @@ TEST_CASE("the shock step groups a body's support contacts when it has more than
                 {0, 1, up, touching},
             });
   std::vector<ShockEntry> order;
-  order_manifolds(settings, f.levels, f.rows, order);
+  std::vector<uint32_t> parent;
+  order_manifolds(settings, f.levels, f.rows, order, parent);
   REQUIRE(order.size() == 7);
   SupportGroups groups;
   group_supports(4, f.levels.rank, f.rows, order, groups);
@@ -127,12 +162,12 @@ TEST_CASE("a rank whose passes do not converge never leaves a body faster than t
   solver[1].velocity = slow;
 
   SECTION("each body keeps the lower-energy velocity") {
-    settle_unconverged_rank(bodies, before, false, solver);
+    settle_unconverged_cluster(bodies, before, false, solver);
     CHECK(solver[0].velocity == slow);
     CHECK(solver[1].velocity == slow);
   }
   SECTION("a rank the iterations already hold gets their velocities back") {
-    settle_unconverged_rank(bodies, before, true, solver);
+    settle_unconverged_cluster(bodies, before, true, solver);
     CHECK(solver[0].velocity == slow);
     CHECK(solver[1].velocity == fast);
   }
