@@ -17,6 +17,7 @@ struct Aabb {
     const Vec3 m{margin, margin, margin};
     return {min - m, max + m};
   }
+  friend bool operator==(const Aabb&, const Aabb&) = default;
 };
 
 // The bounds of a placed shape; a plane's are the whole world.

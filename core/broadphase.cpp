@@ -32,6 +32,10 @@ BodyPair ordered(uint32_t a, uint32_t b) { return a < b ? BodyPair{a, b} : BodyP
 
 void find_pairs(const std::vector<BroadphaseProxy>& proxies, std::vector<BodyPair>& pairs,
                 BroadphaseScratch& scratch) {
+  if (scratch.reuse) {
+    if (proxies == scratch.last_proxies) return;
+    scratch.last_proxies = proxies;
+  }
   pairs.clear();
   // Few movers among many resting proxies (a world mostly asleep): each
   // mover against every proxy costs m n, less than the grid's n log n.

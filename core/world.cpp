@@ -130,6 +130,9 @@ void World::forget_narrowphase(uint32_t slot) {
 }
 
 void World::set_contact_reuse(bool on) {
+  broadphase_scratch_.reuse = on;
+  broadphase_scratch_.last_proxies.clear();
+  pairs_.clear();  // what no proxies give: the pairs and last_proxies agree
   narrowphase_cache_.enabled = on;
   narrowphase_cache_.entries.clear();
   solver_scratch_.row_cache.enabled = on;

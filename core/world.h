@@ -69,8 +69,9 @@ class World {
   const std::vector<uint32_t>& free_slots() const { return free_slots_; }
   StepStats stats() const;
 
-  // Exact reuse of last step's narrowphase results where both bodies' poses
-  // did not move by a bit (contact_update.h), and of a manifold's
+  // Exact reuse of last step's broadphase pairs where no body's bounds or
+  // margin changed by a bit (broadphase.h), of its narrowphase results where
+  // both bodies' poses did not move by a bit (contact_update.h), and of a manifold's
   // pose-dependent solver rows where everything they are computed from is
   // bit-identical (row_cache.h). On by default; the results are the same
   // bits either way (tests compare the two). Not state.

@@ -126,12 +126,13 @@ std::vector<std::string> replays_of_this_build() {
 
 }  // namespace
 
-// The narrowphase reuses last step's result for a shape pair whose poses
-// and margin did not change by a bit (core/contact_update.h), the solver a
-// manifold's rows whose inputs did not (core/row_cache.h); the recorded
-// chains were made with both on. Off, every replay must give the same hash at
-// every step.
-TEST_CASE("every golden replay gives the same chain with the narrowphase's and the rows' reuse off",
+// The broadphase reuses last step's pairs when no body's bounds or margin
+// changed by a bit (core/broadphase.h), the narrowphase last step's result
+// for a shape pair whose poses and margin did not (core/contact_update.h),
+// the solver a manifold's rows whose inputs did not (core/row_cache.h); the
+// recorded chains were made with all three on. Off, every replay must give
+// the same hash at every step.
+TEST_CASE("every golden replay gives the same chain with the pairs', narrowphase's and rows' reuse off",
           "[replay][golden]") {
   const std::vector<std::string> paths = replays_of_this_build();
   for (const std::string& path : paths) {
