@@ -13,7 +13,7 @@ namespace {
 
 // A rank, or an island, whose touching contacts the iterations left
 // approaching, sliding and twisting no faster than this is held already
-// (moving_at_contacts, settle_unconverged_cluster, keep_iterations_where_held),
+// (moving_at_contact, settle_unconverged_cluster, keep_iterations_where_held),
 // m/s.
 constexpr Fixed quiet_motion = 0.001_fx;
 
@@ -90,6 +90,28 @@ bool cluster_pass(const std::vector<Body>& bodies, const std::vector<uint32_t>& 
   return changed;
 }
 
+// Whether some touching contact of the cluster [begin, end) moves faster
+// than quiet_motion (moving_at_contact) at the velocities its bodies had
+// before its passes (scratch.rank_bodies), against the ranks below as the
+// shock step left them: judged after the passes, and only for a cluster
+// that did not converge, with the same bits as before them. Its manifolds'
+// rows as they were then (scratch.manifolds: a pass may point the order at
+// a one-sided copy); the ranks below stayed frozen.
+bool moving_before_passes(SolverScratch& scratch, size_t begin, size_t end) {
+  std::vector<SolverBody>& solver_bodies = scratch.bodies;
+  const std::vector<RankBody>& before_shock = scratch.rank_bodies;
+  std::vector<BodyRates>& after = scratch.groups.before_last_pass;  // free once the unconverged are listed
+  after.clear();
+  for (const RankBody& b : before_shock) after.push_back(solver_bodies[b.body].velocity);
+  for (const RankBody& b : before_shock) solver_bodies[b.body].velocity = b.velocity;
+  bool moving = false;
+  for (size_t i = begin; i < end && !moving; ++i) {
+    moving = moving_at_contact(solver_bodies, scratch.rows, scratch.manifolds[scratch.order[i].index], quiet_motion);
+  }
+  for (size_t i = 0; i < before_shock.size(); ++i) solver_bodies[before_shock[i].body].velocity = after[i];
+  return moving;
+}
+
 // Solves the cluster [begin, end) of scratch.order (one rank's): passes
 // until one changes no velocity (exactly: the arithmetic is fixed point),
 // at most shock_iterations, the passes that would only go round a cycle
@@ -116,8 +138,6 @@ void solve_cluster(const Settings& settings, const std::vector<Body>& bodies, co
     }
     sideways = sideways || (level[m.a] != level[m.b] && !order[i].holds_up);
   }
-  const bool held_already =
-      !sideways && !moving_at_contacts(solver_bodies, shock_manifolds, scratch.rows, begin, end, quiet_motion);
   bool converged = false;
   const int last_pass = settings.shock_iterations - 1;
   bool skipped = false;  // once: the history does not follow the jump
@@ -140,6 +160,7 @@ void solve_cluster(const Settings& settings, const std::vector<Body>& bodies, co
         scratch.groups.unconverged.push_back(body);
       }
     }
+    const bool held_already = !sideways && !moving_before_passes(scratch, begin, end);
     settle_unconverged_cluster(bodies, before_shock, held_already, solver_bodies);
   }
   for (size_t i = begin; i < end; ++i) {
@@ -296,14 +317,6 @@ bool moving_at_contact(const std::vector<SolverBody>& solver_bodies, const std::
     return true;
   }
   return abs(relative_spin(a, b, m.twist)) * m.twist_radius > speed;
-}
-
-bool moving_at_contacts(const std::vector<SolverBody>& solver_bodies, const std::vector<ManifoldRow*>& manifolds,
-                        const std::vector<PointRow>& rows, size_t begin, size_t end, Fixed speed) {
-  for (size_t i = begin; i < end; ++i) {
-    if (moving_at_contact(solver_bodies, rows, *manifolds[i], speed)) return true;
-  }
-  return false;
 }
 
 int skip_repeating_passes(const std::vector<SolverBody>& solver_bodies, const std::vector<RankBody>& rank,

@@ -67,18 +67,15 @@ void restore_rows(std::vector<Contact>& contacts, SolverScratch& scratch);
 // scratch.shock_manifolds[position] then points at it.
 ManifoldRow& one_sided_copy(SolverScratch& scratch, size_t position, bool freeze_a);
 
-// Whether some touching contact among manifolds [begin, end) (their rows
-// in `rows`) moves faster than `speed` (m/s) at the bodies' velocities: a
-// point approaching, or the surfaces sliding or twisting at the manifold's
-// centre. Called before a rank's passes, with the ranks below as the shock
-// step left them: a box the iterations carried along on a rocking support,
-// once the shock step has stopped the support, slides on it, and kept
-// sliding at 0.6 mm/s for good while only approach was looked at.
-// moving_at_contact: the same for one manifold.
+// Whether manifold m (its rows in `rows`) touches and moves faster than
+// `speed` (m/s) at the bodies' velocities: a point approaching, or the
+// surfaces sliding or twisting at the manifold's centre. Judged for a
+// cluster at its velocities before its passes, with the ranks below as the
+// shock step left them: a box the iterations carried along on a rocking
+// support, once the shock step has stopped the support, slides on it, and
+// kept sliding at 0.6 mm/s for good while only approach was looked at.
 bool moving_at_contact(const std::vector<SolverBody>& solver_bodies, const std::vector<PointRow>& rows,
                        const ManifoldRow& m, Fixed speed);
-bool moving_at_contacts(const std::vector<SolverBody>& solver_bodies, const std::vector<ManifoldRow*>& manifolds,
-                        const std::vector<PointRow>& rows, size_t begin, size_t end, Fixed speed);
 
 // Passes that only go round a cycle. In settled piles most ranks never
 // converge: within a few passes their velocities cycle (a box pushed back

@@ -197,11 +197,10 @@ TEST_CASE("a rank is held already only if nothing approaches, slides or twists a
   row.b = 1;
   row.normal.direction = up;
   row.point = &manifold.points[0];
-  const std::vector<ManifoldRow*> manifolds{&m};
   const std::vector<PointRow> rows{row};
   std::vector<SolverBody> solver(2);
   const Fixed quiet = 0.001_fx;
-  const auto moving = [&] { return moving_at_contacts(solver, manifolds, rows, 0, 1, quiet); };
+  const auto moving = [&] { return moving_at_contact(solver, rows, m, quiet); };
 
   CHECK_FALSE(moving());
   solver[1].velocity.linear = {0.0006_fx, -0.0005_fx, Fixed{}};
