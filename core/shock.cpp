@@ -176,7 +176,7 @@ void solve_cluster(const Settings& settings, const std::vector<Body>& bodies, co
 }  // namespace
 
 void order_manifolds(const Settings& settings, const ShockLevels& levels, const std::vector<ManifoldRow>& manifold_rows,
-                     std::vector<ShockEntry>& order, std::vector<uint32_t>& parent) {
+                     std::vector<ShockEntry>& order, ShockOrderWorkspace& workspace) {
   const std::vector<uint32_t>& level = levels.rank;
   const std::vector<uint32_t>& height = levels.height;
   // Whether the lower-ranked body of a manifold between ranks holds the
@@ -191,7 +191,8 @@ void order_manifolds(const Settings& settings, const ShockLevels& levels, const 
   // Any other contact between heights (a tumbling body touching another
   // from below or the side) is left to the iterations: freezing the wrong
   // side would squeeze the body between two immovable ones.
-  order.clear();
+  std::vector<ShockEntry>& unsorted = workspace.unsorted;
+  unsorted.clear();
   for (uint32_t i = 0; i < manifold_rows.size(); ++i) {
     const ManifoldRow& m = manifold_rows[i];
     if (level[m.a] == not_supported || level[m.b] == not_supported) continue;
@@ -211,7 +212,7 @@ void order_manifolds(const Settings& settings, const ShockLevels& levels, const 
     // stop a falling body in the air), unless sideways, where it is solved
     // one-sided up to touching and no more.
     if (!sideways && !touches(*m.manifold)) continue;
-    order.push_back({0, std::max(level[m.a], level[m.b]), i, support});
+    unsorted.push_back({0, std::max(level[m.a], level[m.b]), i, support});
   }
   // Clusters: a rank's passes couple two of its bodies only through a
   // manifold between them (against the ranks below, frozen, a body is
@@ -223,20 +224,38 @@ void order_manifolds(const Settings& settings, const ShockLevels& levels, const 
   // manifold visits per step), and a box glued at rest took the
   // iterations' sliding back because a box elsewhere in its rank still
   // rocked (settle_unconverged_cluster).
+  std::vector<uint32_t>& parent = workspace.parent;
   parent.resize(level.size());
   for (uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
-  for (const ShockEntry& e : order) {
+  uint32_t top = 0;
+  for (const ShockEntry& e : unsorted) {
     const ManifoldRow& m = manifold_rows[e.index];
     if (level[m.a] == level[m.b]) unite(parent, m.a, m.b);
+    top = std::max(top, e.level);
   }
-  for (ShockEntry& e : order) {
+  for (ShockEntry& e : unsorted) {
     const ManifoldRow& m = manifold_rows[e.index];
     e.cluster = find_root(parent, level[m.a] == e.level ? m.a : m.b);
   }
-  std::sort(order.begin(), order.end(), [](ShockEntry x, ShockEntry y) {
-    if (x.level != y.level) return x.level < y.level;
+  // By level, a counting sort that keeps each level's entries in index
+  // order; then by cluster within a level, sorted only where a level holds
+  // more than one cluster out of order (a wall's course, a pyramid's layer:
+  // one cluster, nothing to sort).
+  std::vector<uint32_t>& start = workspace.level_start;
+  start.assign(static_cast<size_t>(top) + 2, 0);
+  for (const ShockEntry& e : unsorted) ++start[e.level + 1];
+  for (size_t l = 1; l < start.size(); ++l) start[l] += start[l - 1];
+  order.resize(unsorted.size());
+  for (const ShockEntry& e : unsorted) order[start[e.level]++] = e;
+  const auto by_cluster = [](ShockEntry x, ShockEntry y) {
     return x.cluster != y.cluster ? x.cluster < y.cluster : x.index < y.index;
-  });
+  };
+  for (size_t begin = 0, end = 0; begin < order.size(); begin = end) {
+    while (end < order.size() && order[end].level == order[begin].level) ++end;
+    const auto first = order.begin() + static_cast<std::ptrdiff_t>(begin);
+    const auto last = order.begin() + static_cast<std::ptrdiff_t>(end);
+    if (!std::is_sorted(first, last, by_cluster)) std::sort(first, last, by_cluster);
+  }
 }
 
 void group_supports(size_t body_count, const std::vector<uint32_t>& level, const std::vector<ManifoldRow>& manifold_rows,
@@ -354,7 +373,7 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
   if (scratch.manifolds.empty()) return;  // nothing awake touches anything
   shock_levels(bodies, contacts, settings.gravity, scratch.levels);
   const std::vector<uint32_t>& level = scratch.levels.rank;
-  order_manifolds(settings, scratch.levels, scratch.manifolds, scratch.order, scratch.cluster_parent);
+  order_manifolds(settings, scratch.levels, scratch.manifolds, scratch.order, scratch.order_workspace);
   group_supports(bodies.size(), level, scratch.manifolds, scratch.order, scratch.supports);
   // Per body, whether it is glued to all its supports at once in this pass.
   scratch.glued_to_all.assign(bodies.size(), 0);

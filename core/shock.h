@@ -32,14 +32,13 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
 // The manifolds the shock step solves (positions in manifold_rows), by
 // (rank of the higher body, cluster, position); a cluster is the bodies of
 // one rank joined by the rank's manifolds between them, numbered by its
-// lowest slot (`parent`: union-find workspace, per slot). Both bodies
-// ranked, and either
+// lowest slot. Both bodies ranked, and either
 // within a rank, or the lower one holding the higher up, or a sideways
 // contact within one height. Left to the iterations: contacts between
 // heights that are not supports, those by which the higher-ranked body
 // holds the lower up, and speculative (apart) ones that are not sideways.
 void order_manifolds(const Settings& settings, const ShockLevels& levels, const std::vector<ManifoldRow>& manifold_rows,
-                     std::vector<ShockEntry>& order, std::vector<uint32_t>& parent);
+                     std::vector<ShockEntry>& order, ShockOrderWorkspace& workspace);
 
 // Bodies held up through more than one contact of `order` (by several
 // bodies, or by several shapes of one: a table's four legs on the table

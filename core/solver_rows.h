@@ -206,6 +206,13 @@ struct ShockEntry {
   bool holds_up;  // between ranks: the lower body holds the other up against gravity
 };
 
+// order_manifolds' working memory, kept from step to step.
+struct ShockOrderWorkspace {
+  std::vector<uint32_t> parent;       // per slot: union-find parent (clusters)
+  std::vector<uint32_t> level_start;  // per level + 1: where its entries begin (a counting sort)
+  std::vector<ShockEntry> unsorted;
+};
+
 // The shock step's bodies held up through several contacts, and each
 // one's support manifolds (shock.cpp, group_supports).
 struct SupportGroups {
@@ -246,7 +253,7 @@ struct SolverScratch {
   // The shock step (shock.cpp).
   ShockLevels levels;
   std::vector<ShockEntry> order;
-  std::vector<uint32_t> cluster_parent;  // per slot: union-find parent while the order is sorted
+  ShockOrderWorkspace order_workspace;
   SupportGroups supports;
   ShockGroups groups;
   std::vector<uint8_t> glued_to_all;      // per slot

@@ -67,8 +67,8 @@ TEST_CASE("the shock step solves supports, sideways chains and ranks' own contac
                 {1, 4, east, apart},       // 8: sideways and apart: solved one-sided up to touching
             });
   std::vector<ShockEntry> order;
-  std::vector<uint32_t> parent;
-  order_manifolds(settings, f.levels, f.rows, order, parent);
+  ShockOrderWorkspace workspace;
+  order_manifolds(settings, f.levels, f.rows, order, workspace);
   std::vector<uint32_t> indices, levels;
   std::vector<bool> holds_up;
   for (const ShockEntry& e : order) {
@@ -101,8 +101,8 @@ TEST_CASE("the shock step solves each rank cluster by cluster", "[shock]") {
                 {5, 6, east, touching},  // 6
             });
   std::vector<ShockEntry> order;
-  std::vector<uint32_t> parent;
-  order_manifolds(settings, f.levels, f.rows, order, parent);
+  ShockOrderWorkspace workspace;
+  order_manifolds(settings, f.levels, f.rows, order, workspace);
   std::vector<uint32_t> indices, clusters, levels;
   for (const ShockEntry& e : order) {
     indices.push_back(e.index);
@@ -130,8 +130,8 @@ TEST_CASE("the shock step groups a body's support contacts when it has more than
                 {0, 1, up, touching},
             });
   std::vector<ShockEntry> order;
-  std::vector<uint32_t> parent;
-  order_manifolds(settings, f.levels, f.rows, order, parent);
+  ShockOrderWorkspace workspace;
+  order_manifolds(settings, f.levels, f.rows, order, workspace);
   REQUIRE(order.size() == 7);
   SupportGroups groups;
   group_supports(4, f.levels.rank, f.rows, order, groups);
