@@ -169,9 +169,9 @@ void update(const SweepRun& run, SweepKind kind, uint32_t item, uint32_t ia, uin
   switch (kind) {
     case SweepKind::warm_point: warm_start_point(a, b, rows[item]); break;
     case SweepKind::warm_manifold: warm_start_manifold(a, b, (*run.manifolds)[item]); break;
-    case SweepKind::friction: solve_friction(a, b, rows, (*run.manifolds)[item]); break;
-    case SweepKind::manifold_normal: solve_manifold_normal(a, b, rows, (*run.manifolds)[item]); break;
-    case SweepKind::rocking: solve_rocking(a, b, rows, (*run.manifolds)[item]); break;
+    case SweepKind::friction: solve_friction(a, b, (*run.manifolds)[item]); break;
+    case SweepKind::manifold_normal: solve_manifold_normal(a, b, (*run.manifolds)[item]); break;
+    case SweepKind::rocking: solve_rocking(a, b, (*run.manifolds)[item]); break;
     case SweepKind::point_normal: solve_normal(a, b, rows[item]); break;
     case SweepKind::point_push: solve_push(a, b, rows[item]); break;
   }

@@ -620,9 +620,9 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
   if (!parallel) {
     if (warm) warm_start(solver_bodies, rows, manifold_rows);
     for (int pass = 0; pass < settings.velocity_iterations; ++pass) {
-      for (const ManifoldRow& m : manifold_rows) solve_friction(solver_bodies[m.a], solver_bodies[m.b], rows, m);
-      for (const ManifoldRow& m : manifold_rows) solve_manifold_normal(solver_bodies[m.a], solver_bodies[m.b], rows, m);
-      for (const ManifoldRow& m : manifold_rows) solve_rocking(solver_bodies[m.a], solver_bodies[m.b], rows, m);
+      for (const ManifoldRow& m : manifold_rows) solve_friction(solver_bodies[m.a], solver_bodies[m.b], m);
+      for (const ManifoldRow& m : manifold_rows) solve_manifold_normal(solver_bodies[m.a], solver_bodies[m.b], m);
+      for (const ManifoldRow& m : manifold_rows) solve_rocking(solver_bodies[m.a], solver_bodies[m.b], m);
       sweep(solver_bodies, rows, pass, [](SolverBody& a, SolverBody& b, const PointRow& row) {
         if (!row.in_resting_face) solve_normal(a, b, row);
       });

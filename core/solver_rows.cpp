@@ -4,16 +4,16 @@ namespace bitstep {
 
 namespace {
 
-Fixed total_normal_impulse(const std::vector<PointRow>& rows, const ManifoldRow& m) {
+Fixed total_normal_impulse(const ManifoldRow& m) {
   Fixed total;
-  for (size_t i = m.first; i < m.first + m.count; ++i) total += rows[i].point->normal_impulse;
+  for (size_t i = 0; i < m.count; ++i) total += point_of(m, i).normal_impulse;
   return total;
 }
 
 // Whether no point of m pulls (every accumulated normal impulse >= 0).
-bool none_pull(const std::vector<PointRow>& rows, const ManifoldRow& m) {
-  for (size_t i = m.first; i < m.first + m.count; ++i) {
-    if (rows[i].point->normal_impulse < Fixed{}) return false;
+bool none_pull(const ManifoldRow& m) {
+  for (size_t i = 0; i < m.count; ++i) {
+    if (point_of(m, i).normal_impulse < Fixed{}) return false;
   }
   return true;
 }
@@ -50,9 +50,9 @@ Fixed solve_disc(SolverBody& a, SolverBody& b, const Part (&rows)[2], Fixed (&im
 // within the static cone |j_t| <= mu_s j_n (j_n the manifold's total normal
 // impulse), else scaled onto the dynamic cone mu_d j_n; the twist likewise
 // with the cone scaled by the points' mean radius; then rolling resistance.
-void solve_friction(SolverBody& a, SolverBody& b, const std::vector<PointRow>& rows, const ManifoldRow& m) {
+void solve_friction(SolverBody& a, SolverBody& b, const ManifoldRow& m) {
   Manifold& manifold = *m.manifold;
-  const Fixed normal = total_normal_impulse(rows, m);
+  const Fixed normal = total_normal_impulse(m);
 
   // mu_s j_n: the tangents' disc radius, the product mu_s * j_n in range.
   const Fixed static_limit =
@@ -79,13 +79,13 @@ void solve_friction(SolverBody& a, SolverBody& b, const std::vector<PointRow>& r
 }
 
 
-void solve_manifold_normal(SolverBody& a, SolverBody& b, std::vector<PointRow>& rows, const ManifoldRow& m) {
+void solve_manifold_normal(SolverBody& a, SolverBody& b, const ManifoldRow& m) {
   if (m.count < 2) return;  // a single point is its own centroid
   const Fixed vn = relative_velocity(a, b, m.normal);
   Fixed share = mul_in_range(m.share_mass, m.velocity_target - vn);
   // Each point's accumulated impulse stays >= 0.
-  for (size_t i = m.first; i < m.first + m.count; ++i) share = max(share, -rows[i].point->normal_impulse);
-  for (size_t i = m.first; i < m.first + m.count; ++i) rows[i].point->normal_impulse += share;
+  for (size_t i = 0; i < m.count; ++i) share = max(share, -point_of(m, i).normal_impulse);
+  for (size_t i = 0; i < m.count; ++i) point_of(m, i).normal_impulse += share;
   // The solver's in-range form (an impulse times 2..4): the bits of *, and
   // an impulse gcc multiplies with one instruction a product (from *'s
   // saturated result it took three).
@@ -94,13 +94,13 @@ void solve_manifold_normal(SolverBody& a, SolverBody& b, std::vector<PointRow>& 
 
 // Drives the relative rocking rate to zero, keeping every point's
 // accumulated normal impulse >= 0 (contacts push, never pull).
-void solve_rocking(SolverBody& a, SolverBody& b, std::vector<PointRow>& rows, const ManifoldRow& m) {
+void solve_rocking(SolverBody& a, SolverBody& b, const ManifoldRow& m) {
   for (const ManifoldRow::Rocking& r : m.rocking) {
     if (!r.active) continue;
     Fixed lambda = -mul_in_range(r.row.mass, relative_spin(a, b, r.row));
     // lambda = 0 changes nothing (each lambda alpha_i rounds to 0) unless a
     // point pulls already, which the bound below would correct.
-    if (lambda == Fixed{} && none_pull(rows, m)) continue;
+    if (lambda == Fixed{} && none_pull(m)) continue;
     // jn_i + lambda alpha_i >= 0 for every point; the bound -jn_i / alpha_i
     // is divided out only for a point that would pull. Unclamped (the
     // usual case), the sums checked are the new impulses as they are.
@@ -108,7 +108,7 @@ void solve_rocking(SolverBody& a, SolverBody& b, std::vector<PointRow>& rows, co
     bool clamped = false;
     for (size_t i = 0; i < m.count; ++i) {
       const Fixed alpha = r.alpha[i];
-      const Fixed jn = rows[m.first + i].point->normal_impulse;
+      const Fixed jn = point_of(m, i).normal_impulse;
       next[i] = jn + mul_in_range(lambda, alpha);
       if (next[i] >= Fixed{}) continue;
       clamped = true;
@@ -116,7 +116,7 @@ void solve_rocking(SolverBody& a, SolverBody& b, std::vector<PointRow>& rows, co
       if (alpha < Fixed{}) lambda = min(lambda, jn / -alpha);
     }
     for (size_t i = 0; i < m.count; ++i) {
-      ContactPoint& p = *rows[m.first + i].point;
+      ContactPoint& p = point_of(m, i);
       p.normal_impulse = clamped ? max(p.normal_impulse + mul_in_range(lambda, r.alpha[i]), Fixed{}) : next[i];
     }
     apply_spin(a, b, r.row, lambda);
@@ -128,9 +128,9 @@ void solve_rocking(SolverBody& a, SolverBody& b, std::vector<PointRow>& rows, co
 void solve_manifold(std::vector<SolverBody>& bodies, std::vector<PointRow>& rows, const ManifoldRow& m, int pass) {
   SolverBody& a = bodies[m.a];
   SolverBody& b = bodies[m.b];
-  solve_friction(a, b, rows, m);
-  solve_manifold_normal(a, b, rows, m);
-  solve_rocking(a, b, rows, m);
+  solve_friction(a, b, m);
+  solve_manifold_normal(a, b, m);
+  solve_rocking(a, b, m);
   for (size_t k = 0; k < m.count; ++k) {
     const PointRow& row = rows[m.first + (pass % 2 == 0 ? k : m.count - 1 - k)];
     solve_normal(a, b, row);

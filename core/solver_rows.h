@@ -113,6 +113,13 @@ struct ManifoldRow {
   uint32_t index = 0, reused_from = none;
 };
 
+// The contact point of m's i-th point row: the rows are built in the
+// manifold's point order (build_rows in solver.cpp, one-sided copies
+// keep it), so it is read from the manifold, without loading the row (a
+// PointRow is ~220 bytes; a resting face's rows are not otherwise read in
+// an iteration).
+inline ContactPoint& point_of(const ManifoldRow& m, size_t i) { return m.manifold->points[i]; }
+
 // Inside the solver no product or sum can leave the Q32.32 range, so they
 // skip the saturation test (mul_in_range, sum_products_in_range; the checked
 // build still faults): the envelope bounds speeds by 500 m/s and 100 rad/s,
@@ -307,11 +314,11 @@ inline void warm_start_manifold(SolverBody& a, SolverBody& b, const ManifoldRow&
 
 // Friction (tangents and twist) at the centroid of a manifold, within the
 // static or dynamic cone of its total normal impulse.
-void solve_friction(SolverBody& a, SolverBody& b, const std::vector<PointRow>& rows, const ManifoldRow& m);
+void solve_friction(SolverBody& a, SolverBody& b, const ManifoldRow& m);
 // The centroid row: equal shares of a normal impulse through the centroid.
-void solve_manifold_normal(SolverBody& a, SolverBody& b, std::vector<PointRow>& rows, const ManifoldRow& m);
+void solve_manifold_normal(SolverBody& a, SolverBody& b, const ManifoldRow& m);
 // The rocking rows: relative rotation about the in-plane axes, no point pulling.
-void solve_rocking(SolverBody& a, SolverBody& b, std::vector<PointRow>& rows, const ManifoldRow& m);
+void solve_rocking(SolverBody& a, SolverBody& b, const ManifoldRow& m);
 // One pass over a manifold: friction, the centroid row, rocking, then its
 // points (in alternating direction with the pass).
 void solve_manifold(std::vector<SolverBody>& bodies, std::vector<PointRow>& rows, const ManifoldRow& m, int pass);
