@@ -255,6 +255,7 @@ struct SolverScratch {
   std::vector<PointRow> rows;
   std::vector<ManifoldRow> manifolds;
   std::vector<SolvedContact> solved;  // the contacts the rows are built for, in order
+  std::vector<uint32_t> free_rows;     // the rows outside a resting face (the iterations' point rows)
   std::vector<PointRow> collision_rows;  // the collision pass's (guendelman), apart from the cached solve's
   std::vector<ManifoldRow> collision_manifolds;
   // The shock step (shock.cpp).
