@@ -11,7 +11,7 @@ set logscale xy
 set format y '10^{%L}'
 set key outside right noenhanced
 set grid
-set label 1 'dt in {1/30 .. 1/240} x iterations in {1, 4, 16}; errors below 1e-12 drawn at 1e-12' at graph 0, graph -0.13 font ',9'
+set label 1 'dt in {1/30 .. 1/240} x iterations in {1, 2, 4, 8, 16, 32}; errors below 1e-12 drawn at 1e-12' at graph 0, graph -0.13 font ',9'
 set bmargin 6
 plot 'wp_light_under_heavy_1000.csv' using (strcol(1) eq 'standard' ? $4 : NaN):(max($5, floor_error)) with points pt 5 ps 1.2 title 'standard', \
      'wp_light_under_heavy_1000.csv' using (strcol(1) eq 'standard+shock' ? $4 : NaN):(max($5, floor_error)) with points pt 6 ps 1.2 title 'standard+shock', \
