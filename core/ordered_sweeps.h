@@ -58,12 +58,17 @@ struct OrderedSweeps {
   // Places below these are waited for.
   static constexpr uint32_t immovable = UINT32_MAX;    // a static or sleeping side
   static constexpr uint32_t no_wait = UINT32_MAX - 1;  // a body of one worker's share alone
-  // Per update, in one-thread order: its item and its two bodies' places.
-  std::vector<uint32_t> item, place_a, place_b;
-  // Per worker, its updates (positions in the lists above) sweep after
-  // sweep; list_end[step * workers + w]: where worker w's updates of the
-  // step end.
-  std::vector<uint32_t> updates_of[max_workers];
+  // One update: its item (a manifold or a point row), its two bodies and
+  // their places.
+  struct Update {
+    uint32_t item, body_a, body_b, place_a, place_b;
+  };
+  // Per worker, its updates in one-thread order, sweep after sweep, each
+  // worker's in one array it reads straight through (an update's record
+  // looked up through an index into shared arrays cost a worker running
+  // every update 40% over the one-thread loops); list_end[step * workers +
+  // w]: where worker w's updates of the step end.
+  std::vector<Update> updates_of[max_workers];
   std::vector<uint32_t> list_end;
   std::vector<uint8_t> manifold_worker, row_worker;  // each manifold's and row's worker
   std::vector<uint32_t> items[5];    // per list (list_of): items in one-thread order
@@ -71,6 +76,11 @@ struct OrderedSweeps {
   static constexpr uint8_t unowned = UINT8_MAX, shared = UINT8_MAX - 1;
   std::vector<uint8_t> owner;        // per slot, while planning: the worker whose share holds it, or shared
   std::vector<SweepStep> steps;      // the caller's, kept to reuse its memory
+  // The plan's inputs as words (plan_inputs), this call's and the last
+  // plan's: the same, the plan stands. plan_shared: the last plan shares the
+  // sweeps (share_out).
+  std::vector<uint32_t> key, last_key;
+  bool plan_shared = false;
   std::vector<uint8_t> movable;      // the caller's: per slot, an awake dynamic body
   std::unique_ptr<std::atomic<uint32_t>[]> progress;  // per slot
   size_t progress_size = 0;
