@@ -125,7 +125,7 @@ void plan_updates(const SweepStep* steps, size_t step_count, int workers, const 
       const uint32_t item = items[steps[s].reversed ? n - 1 - i : i];
       const uint32_t body_a = manifold_items ? manifolds[item].a : rows[item].a;
       const uint32_t body_b = manifold_items ? manifolds[item].b : rows[item].b;
-      // Places in one-thread order: place_a before place_b, as before.
+      // Places are numbered in one-thread order: a's before b's.
       const uint32_t place_a = place_of(body_a);
       const uint32_t place_b = place_of(body_b);
       plan.updates_of[worker_of[item]].push_back({item, body_a, body_b, place_a, place_b});
@@ -153,13 +153,27 @@ void wait_for(const std::atomic<uint32_t>& progress, uint32_t place) {
   }
 }
 
-// A sweep's updates [begin, end) of one worker's list, each on its item:
-// solve(a, b, item). An immovable side is the worker's spare copy of it
-// (with zero inverse mass and inertia the update writes the same values
-// back). The kind is dispatched once per sweep, not once per update.
-template <class Solve>
-void run_updates(OrderedSweeps& plan, std::vector<SolverBody>& bodies, const OrderedSweeps::Update* begin,
-                 const OrderedSweeps::Update* end, Solve solve) {
+// One update of a sweep of this kind on item i.
+template <SweepKind kind>
+void solve_item(SolverBody& a, SolverBody& b, uint32_t i, std::vector<PointRow>& rows,
+                const std::vector<ManifoldRow>& manifolds) {
+  if constexpr (kind == SweepKind::warm_point) warm_start_point(a, b, rows[i]);
+  if constexpr (kind == SweepKind::warm_manifold) warm_start_manifold(a, b, manifolds[i]);
+  if constexpr (kind == SweepKind::friction) solve_friction(a, b, manifolds[i]);
+  if constexpr (kind == SweepKind::manifold_normal) solve_manifold_normal(a, b, manifolds[i]);
+  if constexpr (kind == SweepKind::rocking) solve_rocking(a, b, manifolds[i]);
+  if constexpr (kind == SweepKind::point_normal) solve_normal(a, b, rows[i]);
+  if constexpr (kind == SweepKind::point_push) solve_push(a, b, rows[i]);
+}
+
+// A sweep's updates [begin, end) of one worker's list. An immovable side is
+// the worker's spare copy of it (with zero inverse mass and inertia the
+// update writes the same values back). The kind is a template argument:
+// dispatched once per sweep, not once per update.
+template <SweepKind kind>
+void run_updates(const SweepRun& run, const OrderedSweeps::Update* begin, const OrderedSweeps::Update* end) {
+  OrderedSweeps& plan = *run.plan;
+  std::vector<SolverBody>& bodies = *run.bodies;
   SolverBody spare_a, spare_b;
   for (const OrderedSweeps::Update* u = begin; u != end; ++u) {
     const bool wait_a = u->place_a < OrderedSweeps::no_wait, wait_b = u->place_b < OrderedSweeps::no_wait;
@@ -168,53 +182,31 @@ void run_updates(OrderedSweeps& plan, std::vector<SolverBody>& bodies, const Ord
     const bool movable_a = u->place_a != OrderedSweeps::immovable, movable_b = u->place_b != OrderedSweeps::immovable;
     if (!movable_a) spare_a = bodies[u->body_a];
     if (!movable_b) spare_b = bodies[u->body_b];
-    solve(movable_a ? bodies[u->body_a] : spare_a, movable_b ? bodies[u->body_b] : spare_b, u->item);
+    solve_item<kind>(movable_a ? bodies[u->body_a] : spare_a, movable_b ? bodies[u->body_b] : spare_b, u->item,
+                     *run.rows, *run.manifolds);
     if (wait_a) plan.progress[u->body_a].store(u->place_a + 1, std::memory_order_release);
     if (wait_b) plan.progress[u->body_b].store(u->place_b + 1, std::memory_order_release);
   }
 }
 
 void run_worker(void* context, int worker) {
-  SweepRun& run = *static_cast<SweepRun*>(context);
+  const SweepRun& run = *static_cast<SweepRun*>(context);
   if (worker >= run.workers) return;
-  OrderedSweeps& plan = *run.plan;
-  std::vector<SolverBody>& bodies = *run.bodies;
-  std::vector<PointRow>& rows = *run.rows;
-  const std::vector<ManifoldRow>& manifolds = *run.manifolds;
+  const OrderedSweeps& plan = *run.plan;
   const OrderedSweeps::Update* updates = plan.updates_of[worker].data();
+  const size_t workers = static_cast<size_t>(run.workers);
   for (size_t s = 0; s < run.step_count; ++s) {
-    const size_t at = s * static_cast<size_t>(run.workers) + static_cast<size_t>(worker);
-    const OrderedSweeps::Update* begin = updates + (s == 0 ? 0 : plan.list_end[at - static_cast<size_t>(run.workers)]);
+    const size_t at = s * workers + static_cast<size_t>(worker);
+    const OrderedSweeps::Update* begin = updates + (s == 0 ? 0 : plan.list_end[at - workers]);
     const OrderedSweeps::Update* end = updates + plan.list_end[at];
     switch (run.steps[s].kind) {
-      case SweepKind::warm_point:
-        run_updates(plan, bodies, begin, end,
-                    [&](SolverBody& a, SolverBody& b, uint32_t i) { warm_start_point(a, b, rows[i]); });
-        break;
-      case SweepKind::warm_manifold:
-        run_updates(plan, bodies, begin, end,
-                    [&](SolverBody& a, SolverBody& b, uint32_t i) { warm_start_manifold(a, b, manifolds[i]); });
-        break;
-      case SweepKind::friction:
-        run_updates(plan, bodies, begin, end,
-                    [&](SolverBody& a, SolverBody& b, uint32_t i) { solve_friction(a, b, manifolds[i]); });
-        break;
-      case SweepKind::manifold_normal:
-        run_updates(plan, bodies, begin, end,
-                    [&](SolverBody& a, SolverBody& b, uint32_t i) { solve_manifold_normal(a, b, manifolds[i]); });
-        break;
-      case SweepKind::rocking:
-        run_updates(plan, bodies, begin, end,
-                    [&](SolverBody& a, SolverBody& b, uint32_t i) { solve_rocking(a, b, manifolds[i]); });
-        break;
-      case SweepKind::point_normal:
-        run_updates(plan, bodies, begin, end,
-                    [&](SolverBody& a, SolverBody& b, uint32_t i) { solve_normal(a, b, rows[i]); });
-        break;
-      case SweepKind::point_push:
-        run_updates(plan, bodies, begin, end,
-                    [&](SolverBody& a, SolverBody& b, uint32_t i) { solve_push(a, b, rows[i]); });
-        break;
+      case SweepKind::warm_point: run_updates<SweepKind::warm_point>(run, begin, end); break;
+      case SweepKind::warm_manifold: run_updates<SweepKind::warm_manifold>(run, begin, end); break;
+      case SweepKind::friction: run_updates<SweepKind::friction>(run, begin, end); break;
+      case SweepKind::manifold_normal: run_updates<SweepKind::manifold_normal>(run, begin, end); break;
+      case SweepKind::rocking: run_updates<SweepKind::rocking>(run, begin, end); break;
+      case SweepKind::point_normal: run_updates<SweepKind::point_normal>(run, begin, end); break;
+      case SweepKind::point_push: run_updates<SweepKind::point_push>(run, begin, end); break;
     }
   }
 }
