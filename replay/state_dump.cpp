@@ -1,39 +1,16 @@
 #include "replay/state_dump.h"
 
-#include <initializer_list>
+#include <array>
+#include <type_traits>
 #include <variant>
 
 #include "fixed/decimal.h"
 #include "replay/json_tree.h"
+#include "replay/state_description.h"
 
 namespace bitstep {
 
 namespace {
-
-std::string num(Fixed f) { return to_string(f); }
-std::string list(std::initializer_list<std::string> items) {
-  std::string out = "[";
-  bool first = true;
-  for (const std::string& item : items) {
-    if (!first) out += ", ";
-    out += item;
-    first = false;
-  }
-  out += "]";
-  return out;
-}
-std::string vec(Vec3 v) { return list({num(v.x), num(v.y), num(v.z)}); }
-std::string quat(Quat q) { return list({num(q.w), num(q.x), num(q.y), num(q.z)}); }
-std::string mat(const Mat33& m) { return list({vec(m.rows[0]), vec(m.rows[1]), vec(m.rows[2])}); }
-
-const char* type_name(BodyType type) {
-  switch (type) {
-    case BodyType::static_body: return "static";
-    case BodyType::kinematic: return "kinematic";
-    case BodyType::dynamic: return "dynamic";
-  }
-  return "?";
-}
 
 // The first difference under `a` and `b` (same path), or nullopt.
 std::optional<std::string> first_difference(const json::Node& a, const json::Node& b) {
@@ -55,91 +32,167 @@ std::optional<std::string> first_difference(const json::Node& a, const json::Nod
   return std::nullopt;
 }
 
-}  // namespace
 
-// Appends "key": value pairs of one JSON object.
-struct ObjectWriter {
-  std::string& out;
-  bool first = true;
-  void field(const char* key, const std::string& value) {
-    out += first ? "{\"" : ", \"";
-    out += key;
-    out += "\": ";
-    out += value;
-    first = false;
+// Writes the state description as JSON: one field per line at the top,
+// one line per item of a top-level list, everything deeper inline. A list
+// item is an object of its named fields (opened at the first), or the bare
+// value of an unnamed one.
+class JsonWriter {
+ public:
+  static constexpr bool reading = false;
+
+  std::string finish() {
+    out_ += "\n}\n";
+    return std::move(out_);
   }
-  void close() { out += first ? "{}" : "}"; }
+
+  template <class T>
+  void integer(const char* name, const T& value, int, uint64_t, uint64_t) {
+    key(name);
+    if constexpr (std::is_same_v<T, bool>) {
+      out_ += value ? "true" : "false";
+    } else {
+      out_ += std::to_string(value);
+    }
+  }
+  template <class T>
+  void integers(const char* name, const T& a, const T& b, int, uint64_t) {
+    key(name);
+    out_ += "[";
+    out_ += std::to_string(a);
+    out_ += ", ";
+    out_ += std::to_string(b);
+    out_ += "]";
+  }
+  template <class E, size_t N>
+  void choice(const char* name, const E& value, const std::array<const char*, N>& names, size_t) {
+    key(name);
+    const size_t i = static_cast<size_t>(value);
+    out_ += i < N ? json::quote(names[i]) : std::to_string(i);
+  }
+  template <size_t N>
+  void flags(const char* name, const uint8_t& bits, const std::array<const char*, N>& names) {
+    key(name);
+    out_ += "[";
+    bool first = true;
+    for (size_t i = 0; i < N; ++i) {
+      if ((bits & (1u << i)) == 0) continue;
+      out_ += first ? "" : ", ";
+      out_ += json::quote(names[i]);
+      first = false;
+    }
+    out_ += "]";
+  }
+  void fixed(const char* name, Fixed f) {
+    key(name);
+    out_ += to_string(f);
+  }
+  void fixeds(const char* name, const Fixed* values, size_t n) {
+    key(name);
+    out_ += "[";
+    for (size_t i = 0; i < n; ++i) {
+      out_ += i == 0 ? "" : ", ";
+      out_ += to_string(values[i]);
+    }
+    out_ += "]";
+  }
+  void vec(const char* name, Vec3 v) {
+    const Fixed values[] = {v.x, v.y, v.z};
+    fixeds(name, values, 3);
+  }
+  void quat(const char* name, Quat q) {
+    const Fixed values[] = {q.w, q.x, q.y, q.z};
+    fixeds(name, values, 4);
+  }
+  void mat(const char* name, const Mat33& m) {
+    key(name);
+    out_ += "[";
+    for (size_t r = 0; r < 3; ++r) {
+      out_ += r == 0 ? "" : ", ";
+      vec(nullptr, m.rows[r]);
+    }
+    out_ += "]";
+  }
+  template <class F>
+  void object(const char* name, F&& describe) {
+    key(name);
+    out_ += "{";
+    levels_.push_back({});
+    describe();
+    levels_.pop_back();
+    out_ += "}";
+  }
+  template <class T, class F>
+  void list(const char* name, const std::vector<T>& items, size_t, uint64_t, const char* index_key, F&& describe) {
+    key(name);
+    const bool lines = levels_.size() == 1;  // a top-level list: one item per line
+    out_ += "[";
+    for (size_t i = 0; i < items.size(); ++i) {
+      out_ += lines ? (i == 0 ? "\n    " : ",\n    ") : (i == 0 ? "" : ", ");
+      item([&] { describe(items[i]); }, index_key, i);
+    }
+    out_ += lines && !items.empty() ? "\n  ]" : "]";
+  }
+  template <class F>
+  void items(const char* name, size_t count, F&& describe) {
+    key(name);
+    out_ += "[";
+    for (size_t i = 0; i < count; ++i) {
+      out_ += i == 0 ? "" : ", ";
+      item([&] { describe(i); }, nullptr, i);
+    }
+    out_ += "]";
+  }
+  template <class Test, class Reason>
+  void require(Test&&, Reason&&) {}  // a world's own state holds
+
+ private:
+  struct Level {
+    bool first = true;
+    bool item = false;    // a list item, not yet known to be an object
+    bool opened = false;  // an item whose "{" is written
+  };
+
+  template <class F>
+  void item(F&& describe, const char* index_key, size_t index) {
+    levels_.push_back({true, true, false});
+    if (index_key != nullptr) integer(index_key, index, 0, 0, 0);
+    describe();
+    const bool opened = levels_.back().opened;
+    levels_.pop_back();
+    if (opened) out_ += "}";
+  }
+
+  // The separator and "name": before a value; a list item's first named
+  // field opens its object.
+  void key(const char* name) {
+    Level& level = levels_.back();
+    if (name == nullptr) return;  // a list's bare item
+    if (level.item && !level.opened) {
+      out_ += "{";
+      level.opened = true;
+    }
+    if (levels_.size() == 1) {
+      out_ += level.first ? "\n  " : ",\n  ";
+    } else if (!level.first) {
+      out_ += ", ";
+    }
+    level.first = false;
+    out_ += json::quote(name);
+    out_ += ": ";
+  }
+
+  std::string out_ = "{\n  \"format\": \"bitstep-state\"";
+  std::vector<Level> levels_{Level{false, false, false}};
 };
 
+}  // namespace
+
 std::string dump_state(const World& world) {
-  std::string out = "{\n  \"format\": \"bitstep-state\",\n  \"step\": ";
-  out += std::to_string(world.step_count());
-  out += ",\n  \"bodies\": [";
-  for (size_t i = 0; i < world.bodies().size(); ++i) {
-    const Body& b = world.bodies()[i];
-    out += i == 0 ? "\n    " : ",\n    ";
-    ObjectWriter o{out};
-    o.field("slot", std::to_string(i));
-    o.field("alive", b.alive ? "true" : "false");
-    o.field("generation", std::to_string(b.generation));
-    if (b.alive) {
-      std::string type = "\"";
-      type += type_name(b.type);
-      type += "\"";
-      o.field("type", type);
-      o.field("position", vec(b.pose.position));
-      o.field("orientation", quat(b.pose.orientation));
-      o.field("linear_velocity", vec(b.linear_velocity));
-      o.field("angular_velocity", vec(b.angular_velocity));
-      o.field("force", vec(b.force));
-      o.field("torque", vec(b.torque));
-      o.field("inverse_mass", num(b.inverse_mass));
-      o.field("inverse_inertia_world", mat(b.inverse_inertia_world));
-      o.field("shapes", std::to_string(b.shapes.size()));
-      if (world.settings().sleep_method != SleepMethod::off) {
-        o.field("asleep", b.asleep ? "true" : "false");
-        o.field("sleep_motion", num(b.sleep_motion));
-        o.field("sleepy_steps", std::to_string(b.sleepy_steps));
-        o.field("sleep_reference", "{\"position\": " + vec(b.sleep_reference.position) +
-                                       ", \"orientation\": " + quat(b.sleep_reference.orientation) + "}");
-      }
-    }
-    o.close();
-  }
-  out += "\n  ],\n  \"free_slots\": [";
-  for (size_t i = 0; i < world.free_slots().size(); ++i) {
-    if (i > 0) out += ", ";
-    out += std::to_string(world.free_slots()[i]);
-  }
-  out += "],\n  \"contacts\": [";
-  for (size_t i = 0; i < world.contacts().size(); ++i) {
-    const Contact& c = world.contacts()[i];
-    const Manifold& m = c.manifold;
-    out += i == 0 ? "\n    " : ",\n    ";
-    ObjectWriter o{out};
-    o.field("bodies", list({std::to_string(c.key.body_a), std::to_string(c.key.body_b)}));
-    o.field("shapes", list({std::to_string(c.key.shape_a), std::to_string(c.key.shape_b)}));
-    o.field("normal", vec(m.normal));
-    o.field("friction_impulse", list({num(m.friction_impulse[0]), num(m.friction_impulse[1])}));
-    o.field("twist_impulse", num(m.twist_impulse));
-    o.field("rolling_impulse", list({num(m.rolling_impulse[0]), num(m.rolling_impulse[1])}));
-    std::string points = "[";
-    for (int k = 0; k < m.point_count; ++k) {
-      const ContactPoint& p = m.points[static_cast<size_t>(k)];
-      if (k > 0) points += ", ";
-      ObjectWriter point{points};
-      point.field("feature", std::to_string(p.feature));
-      point.field("position", vec(p.position));
-      point.field("depth", num(p.depth));
-      point.field("normal_impulse", num(p.normal_impulse));
-      point.close();
-    }
-    points += "]";
-    o.field("points", points);
-    o.close();
-  }
-  out += "\n  ]\n}\n";
-  return out;
+  const uint64_t step = world.step_count();
+  JsonWriter writer;
+  describe_state(writer, StateParts<false>{step, world.settings(), world.bodies(), world.free_slots(), world.contacts()});
+  return writer.finish();
 }
 
 DumpDifference diff_dumps(const std::string& a, const std::string& b) {

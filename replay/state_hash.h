@@ -9,11 +9,9 @@
 
 namespace bitstep {
 
-// Appends the canonical bytes of everything that influences the future: the
-// step counter, the settings, every body slot (alive, generation, type, pose, velocities,
-// pending forces, mass properties, material, damping, shapes), the free-slot
-// list, and every contact (key, normal, points with feature ids, positions,
-// depths and accumulated impulses, which warm-start the next step).
+// Appends the canonical bytes of everything that influences the future
+// (describe_state in state_description.h: the step counter, the settings,
+// every body slot, the free-slot list, every contact).
 void serialize_state(const World& world, std::vector<uint8_t>& out);
 
 uint64_t state_hash(const World& world);

@@ -325,7 +325,7 @@ TEST_CASE("independence: key order and number spelling do not change the chain, 
       std::string state = dump_state(world);
       // The first three bodies and every contact: cut the far body's entry.
       const size_t far_entry = state.find("{\"slot\": 3,");
-      if (far_entry != std::string::npos) state.erase(far_entry, state.find('}', far_entry) + 1 - far_entry);
+      if (far_entry != std::string::npos) state.erase(far_entry, state.find('\n', far_entry) - far_entry);
       dumps.push_back(state);
     }
     return hashes;

@@ -1,0 +1,230 @@
+// The world's state, described once: every field that influences the
+// future, in its canonical order, with its name. Three visitors walk this
+// one description: state_hash.cpp writes it as little-endian bytes (the
+// state hash, and the snapshot's payload), snapshot.cpp reads those bytes
+// back, and state_dump.cpp writes it as exact JSON for `verify --dump-at`
+// and `diff`. A field added here is hashed, saved, restored and dumped at
+// once: none can be hashed and not dumped, and `diff` can name every
+// desync the hash sees (tests/replay/state_description_tests.cpp flips
+// every byte of an image to show it).
+//
+// The bytes: integers unsigned little-endian of the width given, a Fixed as
+// its raw int64, a vector x y z, a quaternion w x y z, a matrix row by row,
+// a list as its count (u32) then its items; no padding. What a visitor may
+// be asked (V is the visitor; `name` is the JSON key, null for a list's bare
+// items):
+//   V::reading                               true for the reader, which fills the state
+//   integer(name, value, bytes, lo, hi)      an integer (or a count) in lo..hi
+//   choice(name, value, names, first)        an enum as one byte, first..names.size()-1
+//   flags(name, bits, names)                 a byte of named bits
+//   fixed / vec / quat / mat(name, value)
+//   fixeds(name, values, n)                  n Fixed as one array
+//   integers(name, a, b, bytes, hi)          two integers in 0..hi as one array
+//   object(name, describe)                   a group of fields (a JSON object; no bytes of its own)
+//   list(name, items, item_bytes, hi, index_key, describe(item))
+//                                            a counted vector; the reader refuses a count
+//                                            above hi or above what the bytes left could hold
+//   items(name, count, describe(i))          `count` items whose count was given before
+//   require(test, reason)                    the reader refuses a state where test() is false
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "core/body.h"
+#include "core/contact.h"
+#include "core/envelope.h"
+#include "core/settings.h"
+
+namespace bitstep {
+
+// The parts of a world's state: references to a world's own (const) for
+// writing, to the pieces a world will be made from for reading.
+template <bool Reading>
+struct StateParts {
+  template <class T>
+  using Ref = std::conditional_t<Reading, T&, const T&>;
+  Ref<uint64_t> step_count;
+  Ref<Settings> settings;
+  Ref<std::vector<Body>> bodies;
+  Ref<std::vector<uint32_t>> free_slots;
+  Ref<std::vector<Contact>> contacts;
+};
+
+namespace state_description {
+
+inline constexpr uint64_t max_iterations = 1000;  // as the scene format
+inline constexpr std::array<const char*, 5> setting_flags = {"baumgarte", "warm_starting", "shock_propagation",
+                                                              "sleep", "guendelman"};
+inline constexpr std::array<const char*, 3> sleep_methods = {"off", "motion", "still"};
+inline constexpr std::array<const char*, 3> body_types = {"static", "kinematic", "dynamic"};
+inline constexpr std::array<const char*, 4> shape_types = {"plane", "box", "capsule", "sphere"};
+
+template <class V, class S>
+void describe_settings(V& v, S& s) {
+  v.fixed("dt", s.dt);
+  v.vec("gravity", s.gravity);
+  v.integer("velocity_iterations", s.velocity_iterations, 4, 1, max_iterations);
+  v.integer("position_iterations", s.position_iterations, 4, 0, max_iterations);
+  v.fixed("penetration_slop", s.penetration_slop);
+  v.fixed("split_impulse_factor", s.split_impulse_factor);
+  v.fixed("max_push_out_speed", s.max_push_out_speed);
+  v.fixed("baumgarte_factor", s.baumgarte_factor);
+  v.fixed("restitution_threshold", s.restitution_threshold);
+  v.fixed("speculative_distance", s.speculative_distance);
+  v.fixed("max_linear_speed", s.max_linear_speed);
+  v.fixed("max_angular_speed", s.max_angular_speed);
+  // Five switches in one byte. Sleep's block follows only when it is on
+  // (bit 8), so a world without sleep has the bytes it had before sleep
+  // existed; bit 16: the guendelman pipeline.
+  uint8_t bits = 0;
+  if constexpr (!V::reading) {
+    bits = static_cast<uint8_t>((s.baumgarte ? 1 : 0) | (s.warm_starting ? 2 : 0) | (s.shock_propagation ? 4 : 0) |
+                                (s.sleep_method != SleepMethod::off ? 8 : 0) |
+                                (s.pipeline == Pipeline::guendelman ? 16 : 0));
+  }
+  v.flags("flags", bits, setting_flags);
+  if constexpr (V::reading) {
+    s.baumgarte = (bits & 1) != 0;
+    s.warm_starting = (bits & 2) != 0;
+    s.shock_propagation = (bits & 4) != 0;
+    s.pipeline = (bits & 16) != 0 ? Pipeline::guendelman : Pipeline::standard;
+  }
+  v.integer("shock_iterations", s.shock_iterations, 4, 1, max_iterations);
+  v.require([&] { return setting_outside_envelope(s) == nullptr; },
+            [&] { return std::string(setting_outside_envelope(s)) + " outside the world envelope"; });
+  if ((bits & 8) != 0) {
+    v.choice("sleep_method", s.sleep_method, sleep_methods, 1);
+    v.fixed("sleep_epsilon", s.sleep_epsilon);
+    v.fixed("sleep_bias", s.sleep_bias);
+    v.fixed("sleep_min_time", s.sleep_min_time);
+    v.fixed("sleep_time", s.sleep_time);
+    v.fixed("sleep_linear_tolerance", s.sleep_linear_tolerance);
+    v.fixed("sleep_angular_tolerance", s.sleep_angular_tolerance);
+  }
+  v.require([&] { return s.dt > Fixed{}; }, [] { return std::string("dt not positive"); });
+}
+
+template <class V, class Sh>
+void describe_shape(V& v, Sh& shape) {
+  v.choice("type", shape.type, shape_types, 0);
+  v.vec("half_extents", shape.half_extents);
+  v.fixed("radius", shape.radius);
+  v.fixed("half_height", shape.half_height);
+  v.vec("position", shape.local.position);
+  v.quat("orientation", shape.local.orientation);
+}
+
+template <class V, class B>
+void describe_body(V& v, B& body, bool sleep) {
+  v.integer("alive", body.alive, 1, 0, 1);
+  v.integer("generation", body.generation, 4, 0, UINT32_MAX);
+  if (!body.alive) return;
+  v.choice("type", body.type, body_types, 0);
+  v.vec("position", body.pose.position);
+  v.quat("orientation", body.pose.orientation);
+  v.vec("linear_velocity", body.linear_velocity);
+  v.vec("angular_velocity", body.angular_velocity);
+  v.vec("force", body.force);
+  v.vec("torque", body.torque);
+  // What the body is made of (a spawned body is part of the state too).
+  v.fixed("inverse_mass", body.inverse_mass);
+  v.mat("inertia_local", body.inertia_local);
+  v.mat("inverse_inertia_local", body.inverse_inertia_local);
+  // Refreshed at the start of a step, from the pose before it moved: an
+  // impulse applied between steps uses this one.
+  v.mat("inverse_inertia_world", body.inverse_inertia_world);
+  v.object("material", [&] {
+    v.fixed("static_friction", body.material.static_friction);
+    v.fixed("dynamic_friction", body.material.dynamic_friction);
+    v.fixed("restitution", body.material.restitution);
+    v.fixed("rolling_resistance", body.material.rolling_resistance);
+  });
+  v.fixed("linear_damping", body.linear_damping);
+  v.fixed("angular_damping", body.angular_damping);
+  if (sleep) {
+    v.integer("asleep", body.asleep, 1, 0, 1);
+    v.require([&] { return !body.asleep || body.type == BodyType::dynamic; },
+              [] { return std::string("only a dynamic body sleeps"); });
+    v.fixed("sleep_motion", body.sleep_motion);
+    v.integer("sleepy_steps", body.sleepy_steps, 4, 0, UINT32_MAX);
+    v.object("sleep_reference", [&] {
+      v.vec("position", body.sleep_reference.position);
+      v.quat("orientation", body.sleep_reference.orientation);
+    });
+  }
+  constexpr size_t shape_bytes = 1 + 8 * 12;
+  v.list("shapes", body.shapes, shape_bytes, UINT16_MAX, nullptr, [&](auto& shape) { describe_shape(v, shape); });
+  v.require([&] { return !body.shapes.empty(); }, [] { return std::string("a body needs 1..65535 shapes"); });
+}
+
+template <class V, class C, class Bodies, class Before>
+void describe_contact(V& v, C& c, const Bodies& bodies, Before* before) {
+  v.integers("bodies", c.key.body_a, c.key.body_b, 4, UINT32_MAX);
+  v.integers("shapes", c.key.shape_a, c.key.shape_b, 4, UINT16_MAX);
+  v.require(
+      [&] {
+        const ContactKey& k = c.key;
+        return k.body_a < k.body_b && k.body_b < bodies.size() && bodies[k.body_a].alive && bodies[k.body_b].alive &&
+               k.shape_a < bodies[k.body_a].shapes.size() && k.shape_b < bodies[k.body_b].shapes.size();
+      },
+      [] { return std::string("a contact refers to a body or shape that does not exist"); });
+  v.require([&] { return before == nullptr || before->key < c.key; },
+            [] { return std::string("contacts out of order"); });
+  v.integer("point_count", c.manifold.point_count, 1, 0, max_manifold_points);
+  v.vec("normal", c.manifold.normal);
+  v.fixeds("friction_impulse", c.manifold.friction_impulse, 2);
+  v.fixed("twist_impulse", c.manifold.twist_impulse);
+  v.fixeds("rolling_impulse", c.manifold.rolling_impulse, 2);
+  v.items("points", static_cast<size_t>(c.manifold.point_count), [&](size_t i) {
+    auto& p = c.manifold.points[i];
+    v.integer("feature", p.feature, 4, 0, UINT32_MAX);
+    v.vec("position", p.position);  // warm starting matches old points by position too
+    v.fixed("depth", p.depth);
+    v.fixed("normal_impulse", p.normal_impulse);
+  });
+}
+
+}  // namespace state_description
+
+// Everything that influences the future: the step counter, the settings,
+// every body slot (alive, generation, type, pose, velocities, pending
+// forces, mass properties, material, damping, sleep, shapes), the free-slot
+// list, and every contact (key, normal, points with feature ids, positions,
+// depths and accumulated impulses, which warm-start the next step).
+template <class V, bool Reading>
+void describe_state(V& v, const StateParts<Reading>& state) {
+  using namespace state_description;
+  v.integer("step", state.step_count, 8, 0, UINT64_MAX);
+  v.object("settings", [&] { describe_settings(v, state.settings); });
+  const bool sleep = state.settings.sleep_method != SleepMethod::off;
+  constexpr size_t body_bytes = 5;  // a dead slot: alive, generation
+  v.list("bodies", state.bodies, body_bytes, UINT32_MAX, "slot", [&](auto& body) { describe_body(v, body, sleep); });
+  // Free slots: exactly the dead slots, each once.
+  std::vector<uint8_t> listed;
+  if constexpr (V::reading) listed.assign(state.bodies.size(), 0);
+  v.list("free_slots", state.free_slots, 4, UINT32_MAX, nullptr, [&](auto& slot) {
+    v.integer(nullptr, slot, 4, 0, UINT32_MAX);
+    if constexpr (V::reading) {
+      v.require([&] { return slot < state.bodies.size() && !state.bodies[slot].alive && listed[slot]++ == 0; },
+                [] { return std::string("free slot list does not match the dead slots"); });
+    }
+  });
+  if constexpr (V::reading) {
+    for (size_t i = 0; i < state.bodies.size(); ++i) {
+      v.require([&] { return state.bodies[i].alive || listed[i] != 0; },
+                [] { return std::string("free slot list does not match the dead slots"); });
+    }
+  }
+  // Contacts: between live bodies and existing shapes, strictly in key order.
+  constexpr size_t contact_bytes = 4 * 4 + 1;
+  v.list("contacts", state.contacts, contact_bytes, UINT32_MAX, nullptr, [&](auto& contact) {
+    const size_t i = static_cast<size_t>(&contact - state.contacts.data());
+    describe_contact(v, contact, state.bodies, i == 0 ? nullptr : &contact - 1);
+  });
+}
+
+}  // namespace bitstep

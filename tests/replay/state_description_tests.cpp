@@ -1,0 +1,113 @@
+// The state is described once (replay/state_description.h): whatever the
+// hash and the snapshot hold, the dump shows, so `diff` names every desync.
+#include <catch2/catch.hpp>
+
+#include <xxhash.h>
+
+#include <algorithm>
+#include <set>
+#include <string>
+
+#include "replay/snapshot.h"
+#include "replay/state_dump.h"
+#include "replay/state_hash.h"
+#include "tests/replay/test_scenes.h"
+
+using namespace bitstep;
+
+namespace {
+
+constexpr size_t header_bytes = 8 + 4 + 8;
+
+// The image with its trailing checksum made right again.
+void reseal(std::vector<uint8_t>& image) {
+  const size_t body_end = image.size() - 8;
+  const uint64_t sum = XXH3_64bits(image.data(), body_end);
+  for (int i = 0; i < 8; ++i) image[body_end + static_cast<size_t>(i)] = static_cast<uint8_t>(sum >> (8 * i));
+}
+
+// "$.bodies[7].linear_velocity[1]: 1 vs 2" -> "$.bodies[].linear_velocity[]".
+std::string field_of(const std::string& difference) {
+  std::string path = difference.substr(0, difference.find(':'));
+  std::string out;
+  for (size_t i = 0; i < path.size(); ++i) {
+    out += path[i];
+    if (path[i] == '[') {
+      while (i + 1 < path.size() && path[i + 1] != ']') ++i;
+    }
+  }
+  return out;
+}
+
+// A small world with every kind of part: a static ground, a stack of two
+// boxes, a sphere, a capsule and a two-box compound, materials of their own.
+const char* const small_scene = R"({"format": "bitstep-scene", "version": 1,
+  "materials": {"m": {"static_friction": 0.6, "dynamic_friction": 0.4, "restitution": 0.1, "rolling_resistance": 0.01}},
+  "bodies": [
+    {"type": "static", "position": [0, -1, 0], "shapes": [{"type": "box", "half_extents": [20, 1, 20]}]},
+    {"position": [0, 0.5, 0], "material": "m", "shapes": [{"type": "box", "half_extents": [0.5, 0.5, 0.5]}]},
+    {"position": [0.1, 1.5, 0], "angular_damping": 0.1, "shapes": [{"type": "box", "half_extents": [0.5, 0.5, 0.5]}]},
+    {"position": [3, 0.5, 0], "velocity": [1, 0, 0], "shapes": [{"type": "sphere", "radius": 0.5}]},
+    {"position": [-3, 0.5, 0], "shapes": [{"type": "capsule", "radius": 0.5, "half_height": 0.5}]},
+    {"position": [0, 0.5, 3], "linear_damping": 0.05, "shapes": [{"type": "box", "half_extents": [0.5, 0.5, 0.5]},
+      {"type": "box", "half_extents": [0.25, 0.25, 0.25], "position": [0.75, 0, 0]}]},
+    {"position": [6, 0.5, 6], "shapes": [{"type": "box", "half_extents": [0.5, 0.5, 0.5]}]}]})";
+
+}  // namespace
+
+TEST_CASE("every byte of the state is in the dump: flipped, it is restored and dumped differently or refused",
+          "[snapshot][dump]") {
+  for (const bool sleep : {false, true}) {
+    INFO("sleep " << sleep);
+    auto parsed = parse_scene(small_scene, "small.json");
+    if (const SceneError* error = std::get_if<SceneError>(&parsed)) FAIL(error->message());
+    Scene scene = std::get<Scene>(parsed);
+    // With sleep, the sleep block of the settings and of every body.
+    if (sleep) scene.settings.sleep_method = SleepMethod::motion;
+    World world(scene.settings);
+    std::string reason;
+    REQUIRE(build_world(scene, world, reason));
+    for (int i = 0; i < 20; ++i) world.step();
+    REQUIRE(world.remove_body(BodyId{6, 0}));  // a dead slot in the free list
+    world.step();
+    REQUIRE(world.contacts().size() >= 5);
+    const std::vector<uint8_t> image = snapshot(world);
+    const std::string dump = dump_state(world);
+    const uint64_t hash = state_hash(world);
+    size_t accepted = 0, refused = 0;
+    std::set<std::string> fields;
+    for (size_t at = header_bytes; at + 8 < image.size(); ++at) {
+      {
+        std::vector<uint8_t> flipped = image;
+        flipped[at] ^= 1;
+        reseal(flipped);
+        World restored;
+        if (restore(flipped, restored).has_value()) {
+          ++refused;
+          continue;
+        }
+        ++accepted;
+        INFO("payload byte " << at - header_bytes);
+        REQUIRE(state_hash(restored) != hash);
+        const DumpDifference d = diff_dumps(dump, dump_state(restored));
+        REQUIRE(d.readable);
+        REQUIRE(d.first.has_value());
+        fields.insert(field_of(*d.first));
+      }
+    }
+    INFO("accepted " << accepted << ", refused " << refused);
+    // Most flips land in a value (a coordinate, an impulse) and restore;
+    // those refused broke a count, a flag or an order.
+    CHECK(accepted > 9 * refused);
+    // Among them, every field the dump used to leave out.
+    for (const char* field : {"$.settings.dt", "$.settings.flags", "$.settings.shock_iterations", "$.bodies[].inertia_local[][]",
+                              "$.bodies[].inverse_inertia_local[][]", "$.bodies[].material.rolling_resistance",
+                              "$.bodies[].linear_damping", "$.bodies[].shapes[].half_extents[]",
+                              "$.bodies[].shapes[].orientation[]", "$.contacts[].points[].feature"}) {
+      INFO(field);
+      CHECK(std::any_of(fields.begin(), fields.end(), [&](const std::string& f) { return f.rfind(field, 0) == 0; }));
+    }
+    if (sleep) CHECK(fields.count("$.settings.sleep_epsilon") == 1);
+  }
+}
+
