@@ -118,12 +118,15 @@ void integrate_velocities(const Settings& settings, std::vector<Body>& bodies, I
 
 void integrate_positions(const Settings& settings, std::vector<Body>& bodies, const PushVelocities& push,
                          const std::vector<BodyRates>& start_velocities, const std::vector<Contact>& contacts,
-                         std::vector<uint8_t>& touching) {
+                         const std::vector<Joint>& joints, std::vector<uint8_t>& touching) {
   const Fixed dt = settings.dt;
   touching.assign(bodies.size(), 0);
   for (const Contact& c : contacts) {
     if (c.manifold.point_count == 0) continue;
     touching[c.key.body_a] = touching[c.key.body_b] = 1;
+  }
+  for (const Joint& j : joints) {
+    if (j.alive) touching[j.body_a] = touching[j.body_b] = 1;
   }
   for (size_t i = 0; i < bodies.size(); ++i) {
     Body& body = bodies[i];

@@ -22,7 +22,7 @@ void unite(std::vector<uint32_t>& parent, uint32_t a, uint32_t b) {
 }
 
 void build_islands(const std::vector<Body>& bodies, const std::vector<Contact>& contacts,
-                   Islands& islands) {
+                   const std::vector<Joint>& joints, Islands& islands) {
   const auto n = static_cast<uint32_t>(bodies.size());
   auto dynamic = [&](uint32_t i) { return bodies[i].alive && bodies[i].type == BodyType::dynamic; };
   std::vector<uint32_t>& parent = islands.parent;
@@ -32,6 +32,9 @@ void build_islands(const std::vector<Body>& bodies, const std::vector<Contact>& 
     if (dynamic(c.key.body_a) && dynamic(c.key.body_b) && touches(c.manifold)) {
       unite(parent, c.key.body_a, c.key.body_b);
     }
+  }
+  for (const Joint& j : joints) {
+    if (j.alive && dynamic(j.body_a) && dynamic(j.body_b)) unite(parent, j.body_a, j.body_b);
   }
   // Number the islands by their root (lowest slot), then list members by
   // counting sort: both in slot order.

@@ -1,5 +1,5 @@
-// Islands: the groups of dynamic bodies joined by touching contacts (and,
-// later, joints). An island sleeps and wakes as one (issue 5). Static
+// Islands: the groups of dynamic bodies joined by touching contacts and
+// joints. An island sleeps and wakes as one (issue 5). Static
 // bodies never join: two stacks on one ground are two islands.
 #pragma once
 
@@ -8,6 +8,7 @@
 
 #include "core/body.h"
 #include "core/contact.h"
+#include "core/joint.h"
 
 namespace bitstep {
 
@@ -35,11 +36,12 @@ struct Islands {
 uint32_t find_root(std::vector<uint32_t>& parent, uint32_t i);
 void unite(std::vector<uint32_t>& parent, uint32_t a, uint32_t b);
 
-// Builds the islands from the contacts that touch (manifold.h: a point
-// within touch_tolerance) joins its two bodies when both are dynamic.
+// Builds the islands: a contact that touches (manifold.h: a point within
+// touch_tolerance), or a live joint, joins its two bodies when both are
+// dynamic (waking one link of a chain wakes the chain).
 // Deterministic: the result depends on slots and contacts only, never on
 // memory addresses or iteration over unordered containers.
 void build_islands(const std::vector<Body>& bodies, const std::vector<Contact>& contacts,
-                   Islands& islands);
+                   const std::vector<Joint>& joints, Islands& islands);
 
 }  // namespace bitstep

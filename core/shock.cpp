@@ -369,9 +369,14 @@ void settle_unconverged_cluster(const std::vector<Body>& bodies, const std::vect
 }
 
 void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, std::vector<Contact>& contacts,
-                     SolverScratch& scratch) {
+                     const std::vector<JointRow>& joint_rows, SolverScratch& scratch) {
   if (scratch.manifolds.empty()) return;  // nothing awake touches anything
   shock_levels(bodies, contacts, settings.gravity, scratch.levels);
+  for (const JointRow& row : joint_rows) {
+    for (const uint32_t body : {row.a, row.b}) {
+      if (is_awake_dynamic(bodies[body])) scratch.levels.rank[body] = not_supported;
+    }
+  }
   const std::vector<uint32_t>& level = scratch.levels.rank;
   order_manifolds(settings, scratch.levels, scratch.manifolds, scratch.order, scratch.order_workspace);
   group_supports(bodies.size(), level, scratch.manifolds, scratch.order, scratch.supports);

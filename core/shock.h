@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/contact.h"
+#include "core/joint_solver.h"
 #include "core/solver_rows.h"
 
 namespace bitstep {
@@ -24,8 +25,12 @@ namespace bitstep {
 // where they do not), after which its bodies are immovable; last, the
 // islands the iterations held where a cluster did not converge get the
 // iterations' velocities back (shock_groups.h).
+// A body held by a joint is left as the iterations left it (never ranked):
+// the shock step solves contacts alone, and freezing one link of a chain
+// or a ragdoll against its support would let the next link tear the joint
+// or be frozen by it.
 void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, std::vector<Contact>& contacts,
-                     SolverScratch& scratch);
+                     const std::vector<JointRow>& joint_rows, SolverScratch& scratch);
 
 // The phases, exposed for their tests.
 

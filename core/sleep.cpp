@@ -114,9 +114,9 @@ void reset_sleep(const Settings& settings, Body& body) {
 }
 
 int wake_islands(const Settings& settings, std::vector<Body>& bodies, const std::vector<Contact>& contacts,
-                 SleepScratch& scratch, bool forces_done) {
+                 const std::vector<Joint>& joints, SleepScratch& scratch, bool forces_done) {
   Islands& islands = scratch.islands;
-  build_islands(bodies, contacts, islands);
+  build_islands(bodies, contacts, joints, islands);
   for (Body& body : bodies) {
     if (body.asleep && body.sleepy_steps == 0) body.sleepy_steps = 1;  // created asleep: its contacts are found now
   }
@@ -140,6 +140,18 @@ int wake_islands(const Settings& settings, std::vector<Body>& bodies, const std:
     const Vec3 n = c.manifold.normal;  // from a to b
     if (b.asleep && wakes_on_touch(settings, a, c.manifold, n)) flags[island_b] |= island_touched;
     if (a.asleep && wakes_on_touch(settings, b, c.manifold, -n)) flags[island_a] |= island_touched;
+  }
+  // Hung from something that does not move (a chain from a static bar).
+  for (const Joint& j : joints) {
+    if (!j.alive) continue;
+    const Body& a = bodies[j.body_a];
+    const Body& b = bodies[j.body_b];
+    if (a.type != BodyType::dynamic && !moves(a) && islands.island_of[j.body_b] != no_island) {
+      flags[islands.island_of[j.body_b]] |= island_supported;
+    }
+    if (b.type != BodyType::dynamic && !moves(b) && islands.island_of[j.body_a] != no_island) {
+      flags[islands.island_of[j.body_a]] |= island_supported;
+    }
   }
   int woken = 0;
   for (size_t k = 0; k < islands.count(); ++k) {
@@ -180,12 +192,12 @@ void sleep_islands(const Settings& settings, std::vector<Body>& bodies, SleepScr
 }
 
 void wake_islands_of(const Settings& settings, std::vector<Body>& bodies, const std::vector<Contact>& contacts,
-                     const std::vector<uint32_t>& slots) {
+                     const std::vector<Joint>& joints, const std::vector<uint32_t>& slots) {
   bool any = false;
   for (const uint32_t slot : slots) any = any || (bodies[slot].alive && bodies[slot].asleep);
   if (!any) return;
   Islands islands;
-  build_islands(bodies, contacts, islands);
+  build_islands(bodies, contacts, joints, islands);
   for (const uint32_t slot : slots) {
     const uint32_t k = islands.island_of[slot];
     if (k == no_island) continue;

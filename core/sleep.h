@@ -25,6 +25,7 @@
 
 #include "core/body.h"
 #include "core/contact.h"
+#include "core/joint.h"
 #include "core/islands.h"
 
 namespace bitstep {
@@ -43,6 +44,7 @@ void reset_sleep(const Settings& settings, Body& body);
 // step's forces when the others already have (`forces_done`: they skipped
 // integrate_velocities). Returns the number woken.
 int wake_islands(const Settings& settings, std::vector<Body>& bodies, const std::vector<Contact>& contacts,
+                 const std::vector<Joint>& joints,
                  SleepScratch& scratch, bool forces_done = true);
 
 // After the positions: updates each awake body's measure and puts to sleep
@@ -52,6 +54,7 @@ void sleep_islands(const Settings& settings, std::vector<Body>& bodies, SleepScr
 // Wakes the sleeping bodies of the island holding each slot in `slots`
 // (an input reached them, or their support was removed).
 void wake_islands_of(const Settings& settings, std::vector<Body>& bodies, const std::vector<Contact>& contacts,
+                     const std::vector<Joint>& joints,
                      const std::vector<uint32_t>& slots);
 
 }  // namespace bitstep

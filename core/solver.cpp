@@ -27,40 +27,6 @@ void tangent_basis(Vec3 n, Vec3& t1, Vec3& t2) {
   t2 = cross(n, t1);
 }
 
-// Whether a body does not move in the solve (static, kinematic, asleep):
-// zero inverse mass and inertia, so its products in a row are all zero.
-bool immovable(const SolverBody& body) { return body.inverse_mass == Fixed{} && body.inverse_inertia == Mat33{}; }
-
-// d / m, I^-1 (r x d) and (r x d) . I^-1 (r x d) of one body: zero products
-// for an immovable one, not formed.
-struct BodyPart {
-  Vec3 linear, turn;
-  Fixed angular_mass;
-};
-BodyPart body_part(const SolverBody& body, Vec3 arm, Vec3 d) {
-  if (immovable(body)) return {};
-  const Vec3 turn = body.inverse_inertia * arm;
-  return {d * body.inverse_mass, turn, dot(arm, turn)};
-}
-
-Jacobian make_jacobian(const SolverBody& a, const SolverBody& b, Vec3 ra, Vec3 rb, Vec3 d) {
-  const Vec3 arm_a = cross(ra, d), arm_b = cross(rb, d);
-  const BodyPart part_a = body_part(a, arm_a, d), part_b = body_part(b, arm_b, d);
-  Jacobian j{d, arm_a, arm_b, part_a.linear, part_b.linear, part_a.turn, part_b.turn, {}};
-  // J M^-1 J^T = 1/m_a + 1/m_b + (r_a x d) . I_a^-1 (r_a x d) + (r_b x d) . I_b^-1 (r_b x d)
-  const Fixed k = a.inverse_mass + b.inverse_mass + part_a.angular_mass + part_b.angular_mass;
-  j.mass = k > Fixed{} ? Fixed::one() / k : Fixed{};
-  return j;
-}
-
-// The angular row (w_b - w_a) . n.
-AngularPart make_twist(const SolverBody& a, const SolverBody& b, Vec3 n) {
-  AngularPart j{n, a.inverse_inertia * n, b.inverse_inertia * n, {}};
-  const Fixed k = dot(n, j.turn_a) + dot(n, j.turn_b);
-  j.mass = k > Fixed{} ? Fixed::one() / k : Fixed{};
-  return j;
-}
-
 // A rocking row about the in-plane axis e of a manifold with centroid c: the
 // point impulses lambda alpha_i n, alpha_i = ((d_i x n) . e) / S with
 // d_i = p_i - c and S = sum ((d_i x n) . e)^2, add up to no force (sum d_i = 0)
@@ -559,7 +525,7 @@ void write_velocities(const std::vector<SolverBody>& solver_bodies, std::vector<
 }  // namespace
 
 void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::vector<Contact>& contacts,
-                    PushVelocities& push, SolverScratch& scratch, SolvePass kind, Executor* executor) {
+                    JointSet joints, PushVelocities& push, SolverScratch& scratch, SolvePass kind, Executor* executor) {
   std::vector<SolverBody>& solver_bodies = scratch.bodies;
   gather_bodies(bodies, solver_bodies);
   if (kind == SolvePass::collision) save_impulses(contacts, scratch.saved_impulses);
@@ -603,7 +569,15 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
     scratch.rows_from_cached_solve = true;
   }
   const bool warm = settings.warm_starting && kind != SolvePass::collision;
+  std::vector<JointRow>& joint_rows = joints.rows;
+  joint_rows.clear();
+  if (kind != SolvePass::collision) prepare_joint_rows(settings, bodies, joints.joints, solver_bodies, joint_rows, joints.tree);
   if (!warm) {
+    for (JointRow& row : joint_rows) {
+      Joint& joint = *row.joint;
+      joint.point_impulse = Vec3{};
+      joint.distance_impulse = joint.limit_impulse = joint.hinge_impulse[0] = joint.hinge_impulse[1] = Fixed{};
+    }
     for (const PointRow& row : rows) row.point->normal_impulse = Fixed{};
     for (const ManifoldRow& m : manifold_rows) {
       m.manifold->friction_impulse[0] = m.manifold->friction_impulse[1] = m.manifold->twist_impulse = Fixed{};
@@ -613,7 +587,7 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
   // The warm start and the iterations: the same sweeps, in the same order
   // for every body, on the executor's workers (ordered_sweeps.h) where there
   // is enough to share.
-  bool parallel = executor && executor->workers() > 1 &&
+  bool parallel = executor && executor->workers() > 1 && joint_rows.empty() &&
                   manifold_rows.size() >= min_parallel_manifolds * static_cast<size_t>(executor->workers());
   if (parallel) {
     std::vector<SweepStep>& steps = scratch.sweeps.steps;
@@ -631,6 +605,7 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
     parallel = run_ordered_sweeps(*executor, steps, movable, solver_bodies, rows, manifold_rows, scratch.sweeps);
   }
   if (!parallel) {
+    if (warm) warm_start_joints(solver_bodies, joint_rows);
     if (warm) warm_start(solver_bodies, rows, manifold_rows);
     std::vector<uint32_t>& free_rows = scratch.free_rows;
     free_rows.clear();
@@ -638,6 +613,7 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
       if (!rows[i].in_resting_face) free_rows.push_back(i);
     }
     for (int pass = 0; pass < settings.velocity_iterations; ++pass) {
+      solve_joints(solver_bodies, joint_rows, joints.tree);
       for (const ManifoldRow& m : manifold_rows) solve_friction(solver_bodies[m.a], solver_bodies[m.b], m);
       for (const ManifoldRow& m : manifold_rows) solve_manifold_normal(solver_bodies[m.a], solver_bodies[m.b], m);
       for (const ManifoldRow& m : manifold_rows) solve_rocking(solver_bodies[m.a], solver_bodies[m.b], m);
@@ -649,19 +625,23 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
     write_velocities(solver_bodies, bodies);
     return;
   }
-  if (settings.shock_propagation) propagate_shock(settings, bodies, contacts, scratch);
+  if (settings.shock_propagation) propagate_shock(settings, bodies, contacts, joint_rows, scratch);
   // Position passes. When no row asks for a push (no overlap beyond the
   // slop, no impact's displacement), every row computes a zero impulse from
   // zero push velocities: skipping the passes gives the same bits.
   const bool anything_to_push =
-      std::any_of(rows.begin(), rows.end(), [](const PointRow& row) { return row.push_target != Fixed{}; });
+      std::any_of(rows.begin(), rows.end(), [](const PointRow& row) { return row.push_target != Fixed{}; }) ||
+      joints_to_push(joint_rows);
   if (!settings.baumgarte && anything_to_push) {
     std::vector<SweepStep>& steps = scratch.sweeps.steps;
     steps.clear();
     for (int pass = 0; pass < settings.position_iterations; ++pass) steps.push_back({SweepKind::point_push, pass % 2 == 1});
     if (!parallel ||
         !run_ordered_sweeps(*executor, steps, scratch.sweeps.movable, solver_bodies, rows, manifold_rows, scratch.sweeps)) {
-      for (int pass = 0; pass < settings.position_iterations; ++pass) sweep(solver_bodies, rows, pass, solve_push);
+      for (int pass = 0; pass < settings.position_iterations; ++pass) {
+        push_joints(solver_bodies, joint_rows, joints.tree);
+        sweep(solver_bodies, rows, pass, solve_push);
+      }
     }
   }
   push.linear.assign(bodies.size(), Vec3{});

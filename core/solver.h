@@ -10,6 +10,7 @@
 #include "core/body.h"
 #include "core/contact.h"
 #include "core/executor.h"
+#include "core/joint_solver.h"
 #include "core/solver_rows.h"
 
 namespace bitstep {
@@ -29,10 +30,20 @@ enum class SolvePass : uint8_t {
   contact,    // guendelman: inelastic after the forces, split impulse, shock step
 };
 
+// The joints to solve with the contacts, and their rows' workspace.
+struct JointSet {
+  std::vector<Joint>& joints;
+  std::vector<JointRow>& rows;
+  JointTree& tree;
+};
+
 // `executor` (null: the caller's thread alone) spreads the iterations and
-// position passes over its workers; the result is the same bits.
+// position passes over its workers; the result is the same bits. Joints
+// take part in the standard and contact passes (not in the guendelman
+// collision pass, whose restitution acts on contacts alone); with joints
+// the sweeps stay on the caller's thread.
 void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::vector<Contact>& contacts,
-                    PushVelocities& push, SolverScratch& scratch, SolvePass pass = SolvePass::standard,
-                    Executor* executor = nullptr);
+                    JointSet joints, PushVelocities& push, SolverScratch& scratch,
+                    SolvePass pass = SolvePass::standard, Executor* executor = nullptr);
 
 }  // namespace bitstep

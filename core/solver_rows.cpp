@@ -44,7 +44,42 @@ Fixed solve_disc(SolverBody& a, SolverBody& b, const Part (&rows)[2], Fixed (&im
   return limit;
 }
 
+// d / m, I^-1 (r x d) and (r x d) . I^-1 (r x d) of one body: zero products
+// for an immovable one, not formed.
+struct BodyPart {
+  Vec3 linear, turn;
+  Fixed angular_mass;
+};
+BodyPart body_part(const SolverBody& body, Vec3 arm, Vec3 d) {
+  if (body.inverse_mass == Fixed{} && body.inverse_inertia == Mat33{}) return {};
+  const Vec3 turn = body.inverse_inertia * arm;
+  return {d * body.inverse_mass, turn, dot(arm, turn)};
+}
+
 }  // namespace
+
+// Whether a body does not move in the solve (static, kinematic, asleep):
+// zero inverse mass and inertia, so its products in a row are all zero.
+bool immovable(const SolverBody& body) { return body.inverse_mass == Fixed{} && body.inverse_inertia == Mat33{}; }
+
+Jacobian make_jacobian(const SolverBody& a, const SolverBody& b, Vec3 ra, Vec3 rb, Vec3 d) {
+  const Vec3 arm_a = cross(ra, d), arm_b = cross(rb, d);
+  const BodyPart part_a = body_part(a, arm_a, d), part_b = body_part(b, arm_b, d);
+  Jacobian j{d, arm_a, arm_b, part_a.linear, part_b.linear, part_a.turn, part_b.turn, {}};
+  // J M^-1 J^T = 1/m_a + 1/m_b + (r_a x d) . I_a^-1 (r_a x d) + (r_b x d) . I_b^-1 (r_b x d)
+  const Fixed k = a.inverse_mass + b.inverse_mass + part_a.angular_mass + part_b.angular_mass;
+  j.mass = k > Fixed{} ? Fixed::one() / k : Fixed{};
+  return j;
+}
+
+// The angular row (w_b - w_a) . n.
+AngularPart make_twist(const SolverBody& a, const SolverBody& b, Vec3 n) {
+  AngularPart j{n, a.inverse_inertia * n, b.inverse_inertia * n, {}};
+  const Fixed k = dot(n, j.turn_a) + dot(n, j.turn_b);
+  j.mass = k > Fixed{} ? Fixed::one() / k : Fixed{};
+  return j;
+}
+
 
 // Friction at the centroid: the impulse that stops sliding is kept while
 // within the static cone |j_t| <= mu_s j_n (j_n the manifold's total normal

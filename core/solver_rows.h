@@ -58,6 +58,15 @@ struct AngularPart {
   Fixed mass;           // 1 / (u . I_a^-1 u + u . I_b^-1 u), kg m^2
 };
 
+// Whether a body does not move in the solve (static, kinematic, asleep):
+// zero inverse mass and inertia, so its products in a row are all zero.
+bool immovable(const SolverBody& body);
+// The row along unit d between points at arms r_a, r_b from the bodies'
+// centres of mass (a contact normal or tangent, a joint axis).
+Jacobian make_jacobian(const SolverBody& a, const SolverBody& b, Vec3 ra, Vec3 rb, Vec3 d);
+// The angular row (w_b - w_a) . n about unit n.
+AngularPart make_twist(const SolverBody& a, const SolverBody& b, Vec3 n);
+
 // One contact point as a constraint: a normal row (n from a to b) asking
 // J v >= velocity_target with impulse >= 0.
 struct PointRow {

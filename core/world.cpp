@@ -1,5 +1,7 @@
 #include "core/world.h"
 
+#include <algorithm>
+
 #include "core/broadphase.h"
 #include "core/contact_update.h"
 #include "core/integrate.h"
@@ -33,6 +35,8 @@ Fixed body_radius(const Body& body) {
 
 // a + b for non-negative a, b, at most Fixed::max() (2^31 J): a report,
 // not state; computed so that no operation leaves the range (checked build).
+constexpr Fixed pi = Fixed::from_raw(0x3243F6A89);  // rounded to Q32.32
+
 Fixed capped_sum(Fixed a, Fixed b) { return a > Fixed::max() - b ? Fixed::max() : a + b; }
 
 // 1/2 m v^2 + 1/2 w . I w (J, the rotational part in body axes), at most
@@ -57,12 +61,15 @@ Fixed kinetic_energy(const Body& body) {
 World::World(const Settings& settings) : settings_(settings) {}
 
 World World::from_state(const Settings& settings, uint64_t step_count, std::vector<Body> bodies,
-                        std::vector<uint32_t> free_slots, std::vector<Contact> contacts) {
+                        std::vector<uint32_t> free_slots, std::vector<Contact> contacts, std::vector<Joint> joints,
+                        std::vector<uint32_t> free_joint_slots) {
   World world(settings);
   world.step_count_ = step_count;
   world.bodies_ = std::move(bodies);
   world.free_slots_ = std::move(free_slots);
   world.contacts_ = std::move(contacts);
+  world.joints_ = std::move(joints);
+  world.free_joint_slots_ = std::move(free_joint_slots);
   return world;
 }
 
@@ -141,6 +148,11 @@ void World::set_contact_reuse(bool on) {
 
 bool World::remove_body(BodyId id) {
   if (!is_alive(id)) return false;
+  for (uint32_t j = 0; j < joints_.size(); ++j) {
+    if (joints_[j].alive && (joints_[j].body_a == id.index || joints_[j].body_b == id.index)) {
+      remove_joint({j, joints_[j].generation});
+    }
+  }
   Body& body = bodies_[id.index];
   body.alive = false;
   body.shapes.clear();
@@ -155,6 +167,104 @@ bool World::remove_body(BodyId id) {
   }
   // Contacts of the removed body go now, so a new body in this slot does not inherit them.
   std::erase_if(contacts_, [&](const Contact& c) { return c.key.body_a == id.index || c.key.body_b == id.index; });
+  wake_islands_of(touched);
+  return true;
+}
+
+JointResult World::create_joint(const JointDef& def) {
+  JointResult result;
+  const auto reach_error = [&](const char* field, BodyId body, Vec3 anchor) -> std::string {
+    // Within twice the body's reach and 1 m more: a joint's arms then stay
+    // within the envelope's arms, which bound every solver product.
+    const Body& b = bodies_[body.index];
+    if (length(anchor - b.pose.position) > 2.0_fx * body_radius(b) + 1.0_fx) {
+      return std::string(field) + ": farther from the body than twice its reach and 1 m";
+    }
+    return {};
+  };
+  if (!is_alive(def.body_a)) {
+    result.error = "body_a: not a live body";
+  } else if (!is_alive(def.body_b)) {
+    result.error = "body_b: not a live body";
+  } else if (def.body_a.index == def.body_b.index) {
+    result.error = "body_b: the same body as body_a";
+  } else if (bodies_[def.body_a.index].type != BodyType::dynamic && bodies_[def.body_b.index].type != BodyType::dynamic) {
+    result.error = "body_b: neither body is dynamic";
+  } else if (def.type == JointType::hinge && length(def.axis) < 0.001_fx) {
+    result.error = "axis: shorter than 0.001";
+  } else if (def.limited && (def.lower_angle < -pi || def.lower_angle > Fixed{} || def.upper_angle < Fixed{} ||
+                             def.upper_angle > pi)) {
+    result.error = "limits: lower must be within -180..0 degrees and upper within 0..180";
+  } else if (def.length < Fixed{} || def.length > 1000.0_fx) {
+    result.error = "length: outside 0..1000 m";
+  } else if (def.break_impulse < Fixed{}) {
+    result.error = "break_impulse: negative";
+  } else {
+    const Vec3 anchor_b = def.type == JointType::max_distance ? def.anchor_b : def.anchor_a;
+    result.error = reach_error("anchor_a", def.body_a, def.anchor_a);
+    if (result.error.empty()) result.error = reach_error(def.type == JointType::max_distance ? "anchor_b" : "anchor_a", def.body_b, anchor_b);
+  }
+  if (!result.ok()) return result;
+
+  const Body& a = bodies_[def.body_a.index];
+  const Body& b = bodies_[def.body_b.index];
+  Joint joint;
+  joint.alive = true;
+  joint.type = def.type;
+  joint.body_a = def.body_a.index;
+  joint.body_b = def.body_b.index;
+  const Vec3 anchor_b = def.type == JointType::max_distance ? def.anchor_b : def.anchor_a;
+  joint.local_anchor_a = a.pose.apply_inverse(def.anchor_a);
+  joint.local_anchor_b = b.pose.apply_inverse(anchor_b);
+  joint.length = def.length == Fixed{} ? length(anchor_b - def.anchor_a) : def.length;
+  if (def.type == JointType::hinge) {
+    const Vec3 axis = normalize(def.axis);
+    // A unit vector normal to the axis: the angle is measured between its
+    // two bodies' copies, equal now.
+    const Vec3 other = abs(axis.x) < 0.5_fx ? Vec3{Fixed::one(), Fixed{}, Fixed{}} : Vec3{Fixed{}, Fixed::one(), Fixed{}};
+    const Vec3 reference = normalize(cross(axis, other));
+    joint.local_axis_a = rotate_inverse(a.pose.orientation, axis);
+    joint.local_axis_b = rotate_inverse(b.pose.orientation, axis);
+    joint.local_reference_a = rotate_inverse(a.pose.orientation, reference);
+    joint.local_reference_b = rotate_inverse(b.pose.orientation, reference);
+  }
+  joint.limited = def.type == JointType::hinge && def.limited;
+  if (joint.limited) {
+    joint.lower_angle = def.lower_angle;
+    joint.upper_angle = def.upper_angle;
+  }
+  joint.break_impulse = def.break_impulse;
+  uint32_t index;
+  if (!free_joint_slots_.empty()) {
+    index = free_joint_slots_.back();
+    free_joint_slots_.pop_back();
+    joint.generation = joints_[index].generation + 1;
+    joints_[index] = joint;
+  } else {
+    index = static_cast<uint32_t>(joints_.size());
+    joints_.push_back(joint);
+  }
+  result.id = {index, joints_[index].generation};
+  wake_islands_of({def.body_a.index, def.body_b.index});
+  return result;
+}
+
+bool World::is_alive(JointId id) const {
+  return id.index < joints_.size() && joints_[id.index].alive && joints_[id.index].generation == id.generation;
+}
+
+bool World::remove_joint(JointId id) {
+  if (!is_alive(id)) return false;
+  Joint& joint = joints_[id.index];
+  const uint32_t a = joint.body_a, b = joint.body_b;
+  const uint32_t generation = joint.generation;
+  joint = Joint{};  // a dead slot holds nothing but its generation (the state hashes no more)
+  joint.generation = generation;
+  free_joint_slots_.push_back(id.index);
+  std::vector<uint32_t> touched;
+  for (uint32_t slot : {a, b}) {
+    if (bodies_[slot].alive && bodies_[slot].asleep) touched.push_back(slot);
+  }
   wake_islands_of(touched);
   return true;
 }
@@ -193,7 +303,7 @@ void World::wake_if_asleep(uint32_t slot) {
 
 void World::wake_islands_of(const std::vector<uint32_t>& slots) {
   if (settings_.sleep_method == SleepMethod::off) return;
-  bitstep::wake_islands_of(settings_, bodies_, contacts_, slots);
+  bitstep::wake_islands_of(settings_, bodies_, contacts_, joints_, slots);
 }
 
 void World::step() {
@@ -205,15 +315,20 @@ void World::step() {
   } else {
     step_standard();
   }
-  bitstep::integrate_positions(settings_, bodies_, push_, solver_scratch_.start_velocities, contacts_, touching_);
+  bitstep::integrate_positions(settings_, bodies_, push_, solver_scratch_.start_velocities, contacts_, joints_, touching_);
   if (settings_.sleep_method != SleepMethod::off) sleep_islands(settings_, bodies_, sleep_scratch_);
+  // Joints whose impulse this step went past their break_impulse: gone
+  // before the next step (their bodies wake, as any removal's).
+  for (uint32_t j = 0; j < joints_.size(); ++j) {
+    if (joints_[j].alive && over_break_impulse(joints_[j])) remove_joint({j, joints_[j].generation});
+  }
   ++step_count_;
 }
 
 void World::step_standard() {
   bitstep::integrate_velocities(settings_, bodies_, &inertia_cache_);
   find_contacts();
-  if (settings_.sleep_method != SleepMethod::off) wake_islands(settings_, bodies_, contacts_, sleep_scratch_);
+  if (settings_.sleep_method != SleepMethod::off) wake_islands(settings_, bodies_, contacts_, joints_, sleep_scratch_);
   solve_contacts();
 }
 
@@ -257,10 +372,10 @@ void World::step_guendelman() {
     refresh_inverse_inertia(body);  // of the pose the step starts from
   }
   move_contacts_back();
-  if (settings_.sleep_method != SleepMethod::off) wake_islands(settings_, bodies_, contacts_, sleep_scratch_, false);
-  bitstep::solve_contacts(settings_, bodies_, contacts_, push_, solver_scratch_, SolvePass::collision, executor_);
+  if (settings_.sleep_method != SleepMethod::off) wake_islands(settings_, bodies_, contacts_, joints_, sleep_scratch_, false);
+  bitstep::solve_contacts(settings_, bodies_, contacts_, {joints_, joint_rows_, joint_tree_}, push_, solver_scratch_, SolvePass::collision, executor_);
   bitstep::integrate_velocities(settings_, bodies_);
-  bitstep::solve_contacts(settings_, bodies_, contacts_, push_, solver_scratch_, SolvePass::contact, executor_);
+  bitstep::solve_contacts(settings_, bodies_, contacts_, {joints_, joint_rows_, joint_tree_}, push_, solver_scratch_, SolvePass::contact, executor_);
 }
 
 // Whether a body's motion this step (its centre's, and its farthest point's
@@ -349,11 +464,30 @@ void World::find_contacts() {
     proxies_.push_back({i, extent.bounds.expanded(margin), needs_contacts(body)});
   }
   find_pairs(proxies_, pairs_, broadphase_scratch_);
-  update_contacts(bodies_, pairs_, settings_, turn_speed_, contacts_, previous_contacts_, narrowphase_cache_);
+  update_contacts(bodies_, pairs_without_joined(), settings_, turn_speed_, contacts_, previous_contacts_,
+                  narrowphase_cache_);
+}
+
+// Two bodies joined by a joint do not collide (a chain's links meet at
+// their joints; Box2D's collideConnected off). The broadphase keeps its
+// pairs for reuse, so they are filtered into a copy, and only when there
+// are joints.
+const std::vector<BodyPair>& World::pairs_without_joined() {
+  joined_.clear();
+  for (const Joint& j : joints_) {
+    if (j.alive) joined_.push_back({std::min(j.body_a, j.body_b), std::max(j.body_a, j.body_b)});
+  }
+  if (joined_.empty()) return pairs_;
+  std::sort(joined_.begin(), joined_.end());
+  contact_pairs_.clear();
+  for (const BodyPair& pair : pairs_) {
+    if (!std::binary_search(joined_.begin(), joined_.end(), pair)) contact_pairs_.push_back(pair);
+  }
+  return contact_pairs_;
 }
 
 void World::solve_contacts() {
-  bitstep::solve_contacts(settings_, bodies_, contacts_, push_, solver_scratch_, SolvePass::standard, executor_);
+  bitstep::solve_contacts(settings_, bodies_, contacts_, {joints_, joint_rows_, joint_tree_}, push_, solver_scratch_, SolvePass::standard, executor_);
 }
 
 StepStats World::stats() const {

@@ -10,6 +10,7 @@
 #include "core/contact_update.h"
 #include "core/envelope.h"
 #include "core/integrate.h"
+#include "core/joint.h"
 #include "core/settings.h"
 #include "core/sleep.h"
 #include "core/solver.h"
@@ -31,6 +32,12 @@ struct CreateResult {
   bool ok() const { return error.ok(); }
 };
 
+struct JointResult {
+  JointId id;
+  std::string error;  // "body_b: not a live body", "axis: shorter than 0.001", ...; empty on success
+  bool ok() const { return error.empty(); }
+};
+
 class World {
  public:
   explicit World(const Settings& settings = {});
@@ -38,12 +45,22 @@ class World {
   // A world continuing from a saved state (replay/snapshot.cpp): the caller
   // has checked that contacts and free slots refer to existing slots.
   static World from_state(const Settings& settings, uint64_t step_count, std::vector<Body> bodies,
-                          std::vector<uint32_t> free_slots, std::vector<Contact> contacts);
+                          std::vector<uint32_t> free_slots, std::vector<Contact> contacts,
+                          std::vector<Joint> joints = {}, std::vector<uint32_t> free_joint_slots = {});
 
   // Validates the definition against the world envelope first; on error the
   // world is unchanged.
   CreateResult create_body(const BodyDef& def);
+  // Removes the body and every joint attached to it.
   bool remove_body(BodyId id);
+
+  // Joins two bodies (core/joint.h): checked first (live, different bodies,
+  // one of them dynamic, anchors within reach of the bodies, a usable axis
+  // and limits); on error the world is unchanged. Wakes both bodies' islands.
+  JointResult create_joint(const JointDef& def);
+  // Removes the joint and wakes its bodies (a chain whose holder is cut falls).
+  bool remove_joint(JointId id);
+  bool is_alive(JointId id) const;
 
   void step();
 
@@ -67,6 +84,10 @@ class World {
   const std::vector<Contact>& contacts() const { return contacts_; }
   // Removed slots, reused last-in first-out (state: it decides where the next body goes).
   const std::vector<uint32_t>& free_slots() const { return free_slots_; }
+  // Joint slots in creation order (dead ones alive == false), and the
+  // removed slots, reused last-in first-out (state, as the bodies').
+  const std::vector<Joint>& joints() const { return joints_; }
+  const std::vector<uint32_t>& free_joint_slots() const { return free_joint_slots_; }
   StepStats stats() const;
 
   // Exact reuse of last step's broadphase pairs where no body's bounds or
@@ -96,6 +117,7 @@ class World {
   void step_standard();
   void step_guendelman();
   void find_contacts();
+  const std::vector<BodyPair>& pairs_without_joined();
   void solve_contacts();
   void wake_islands_of(const std::vector<uint32_t>& slots);
   void wake_if_asleep(uint32_t slot);
@@ -107,9 +129,12 @@ class World {
   std::vector<Body> bodies_;
   std::vector<uint32_t> free_slots_;  // removed slots, reused last-in first-out
   std::vector<Contact> contacts_;     // sorted by (body a, body b, shape a, shape b)
+  std::vector<Joint> joints_;
+  std::vector<uint32_t> free_joint_slots_;
   // Per-step scratch, kept to reuse its memory (not state: rebuilt every step).
   std::vector<BroadphaseProxy> proxies_;
   std::vector<BodyPair> pairs_;
+  std::vector<BodyPair> joined_, contact_pairs_;  // pairs_without_joined's
   BroadphaseScratch broadphase_scratch_;
   std::vector<Contact> previous_contacts_;  // workspace of update_contacts
   std::vector<Fixed> turn_speed_;           // per slot: |w| times the body's reach (m/s), this step
@@ -128,6 +153,8 @@ class World {
   InertiaCache inertia_cache_;              // the standard pipeline's velocity integration
   PushVelocities push_;
   SolverScratch solver_scratch_;
+  std::vector<JointRow> joint_rows_;
+  JointTree joint_tree_;
   Executor* executor_ = nullptr;
   std::vector<uint8_t> touching_;
   SleepScratch sleep_scratch_;

@@ -92,6 +92,10 @@ class ByteReader {
   void require(Test&& test, Reason&& reason) {
     if (!test()) fail(reason());
   }
+  template <class F>
+  void trailing(bool, F&& describe) {
+    if (!done()) describe();
+  }
 
   bool done() const { return at_ == bytes_.size(); }
   [[noreturn]] void fail(const std::string& reason) const {
@@ -122,9 +126,12 @@ World read_world(std::span<const uint8_t> payload) {
   std::vector<Body> bodies;
   std::vector<uint32_t> free_slots;
   std::vector<Contact> contacts;
-  describe_state(r, StateParts<true>{step_count, settings, bodies, free_slots, contacts});
+  std::vector<Joint> joints;
+  std::vector<uint32_t> free_joint_slots;
+  describe_state(r, StateParts<true>{step_count, settings, bodies, free_slots, contacts, joints, free_joint_slots});
   if (!r.done()) r.fail("bytes left after the state");
-  return World::from_state(settings, step_count, std::move(bodies), std::move(free_slots), std::move(contacts));
+  return World::from_state(settings, step_count, std::move(bodies), std::move(free_slots), std::move(contacts),
+                           std::move(joints), std::move(free_joint_slots));
 }
 
 }  // namespace

@@ -26,6 +26,8 @@
 //                                            above hi or above what the bytes left could hold
 //   items(name, count, describe(i))          `count` items whose count was given before
 //   require(test, reason)                    the reader refuses a state where test() is false
+//   trailing(present, describe)              a block at the end that the writer writes when
+//                                            `present` and the reader reads when bytes are left
 #pragma once
 
 #include <array>
@@ -37,6 +39,7 @@
 #include "core/body.h"
 #include "core/contact.h"
 #include "core/envelope.h"
+#include "core/joint.h"
 #include "core/settings.h"
 
 namespace bitstep {
@@ -52,6 +55,8 @@ struct StateParts {
   Ref<std::vector<Body>> bodies;
   Ref<std::vector<uint32_t>> free_slots;
   Ref<std::vector<Contact>> contacts;
+  Ref<std::vector<Joint>> joints;
+  Ref<std::vector<uint32_t>> free_joint_slots;
 };
 
 namespace state_description {
@@ -62,6 +67,7 @@ inline constexpr std::array<const char*, 5> setting_flags = {"baumgarte", "warm_
 inline constexpr std::array<const char*, 3> sleep_methods = {"off", "motion", "still"};
 inline constexpr std::array<const char*, 3> body_types = {"static", "kinematic", "dynamic"};
 inline constexpr std::array<const char*, 4> shape_types = {"plane", "box", "capsule", "sphere"};
+inline constexpr std::array<const char*, 3> joint_types = {"point", "max_distance", "hinge"};
 
 template <class V, class S>
 void describe_settings(V& v, S& s) {
@@ -188,13 +194,66 @@ void describe_contact(V& v, C& c, const Bodies& bodies, Before* before) {
   });
 }
 
+template <class V, class J, class Bodies>
+void describe_joint(V& v, J& joint, const Bodies& bodies) {
+  v.integer("alive", joint.alive, 1, 0, 1);
+  v.integer("generation", joint.generation, 4, 0, UINT32_MAX);
+  if (!joint.alive) return;
+  v.choice("type", joint.type, joint_types, 0);
+  v.integers("bodies", joint.body_a, joint.body_b, 4, UINT32_MAX);
+  v.require(
+      [&] {
+        return joint.body_a != joint.body_b && joint.body_a < bodies.size() && joint.body_b < bodies.size() &&
+               bodies[joint.body_a].alive && bodies[joint.body_b].alive;
+      },
+      [] { return std::string("a joint refers to a body that does not exist"); });
+  v.vec("local_anchor_a", joint.local_anchor_a);
+  v.vec("local_anchor_b", joint.local_anchor_b);
+  v.vec("local_axis_a", joint.local_axis_a);
+  v.vec("local_axis_b", joint.local_axis_b);
+  v.vec("local_reference_a", joint.local_reference_a);
+  v.vec("local_reference_b", joint.local_reference_b);
+  v.fixed("length", joint.length);
+  v.integer("limited", joint.limited, 1, 0, 1);
+  v.fixed("lower_angle", joint.lower_angle);
+  v.fixed("upper_angle", joint.upper_angle);
+  v.fixed("break_impulse", joint.break_impulse);
+  // The impulses accumulated last step, which warm-start the next.
+  v.vec("point_impulse", joint.point_impulse);
+  v.fixed("distance_impulse", joint.distance_impulse);
+  v.fixeds("hinge_impulse", joint.hinge_impulse, 2);
+  v.fixed("limit_impulse", joint.limit_impulse);
+}
+
+// A list of the dead slots of `items`, each once (free_slots, free_joint_slots).
+template <class V, class Slots, class Items>
+void describe_free_slots(V& v, const char* name, Slots& slots, const Items& items) {
+  std::vector<uint8_t> listed;
+  if constexpr (V::reading) listed.assign(items.size(), 0);
+  v.list(name, slots, 4, UINT32_MAX, nullptr, [&](auto& slot) {
+    v.integer(nullptr, slot, 4, 0, UINT32_MAX);
+    if constexpr (V::reading) {
+      v.require([&] { return slot < items.size() && !items[slot].alive && listed[slot]++ == 0; },
+                [&] { return std::string(name) + " do not match the dead slots"; });
+    }
+  });
+  if constexpr (V::reading) {
+    for (size_t i = 0; i < items.size(); ++i) {
+      v.require([&] { return items[i].alive || listed[i] != 0; },
+                [&] { return std::string(name) + " do not match the dead slots"; });
+    }
+  }
+}
+
 }  // namespace state_description
 
 // Everything that influences the future: the step counter, the settings,
 // every body slot (alive, generation, type, pose, velocities, pending
 // forces, mass properties, material, damping, sleep, shapes), the free-slot
-// list, and every contact (key, normal, points with feature ids, positions,
-// depths and accumulated impulses, which warm-start the next step).
+// list, every contact (key, normal, points with feature ids, positions,
+// depths and accumulated impulses, which warm-start the next step), and
+// every joint slot (bodies, frames, limits, accumulated impulses) with the
+// free joint slots.
 template <class V, bool Reading>
 void describe_state(V& v, const StateParts<Reading>& state) {
   using namespace state_description;
@@ -204,26 +263,20 @@ void describe_state(V& v, const StateParts<Reading>& state) {
   constexpr size_t body_bytes = 5;  // a dead slot: alive, generation
   v.list("bodies", state.bodies, body_bytes, UINT32_MAX, "slot", [&](auto& body) { describe_body(v, body, sleep); });
   // Free slots: exactly the dead slots, each once.
-  std::vector<uint8_t> listed;
-  if constexpr (V::reading) listed.assign(state.bodies.size(), 0);
-  v.list("free_slots", state.free_slots, 4, UINT32_MAX, nullptr, [&](auto& slot) {
-    v.integer(nullptr, slot, 4, 0, UINT32_MAX);
-    if constexpr (V::reading) {
-      v.require([&] { return slot < state.bodies.size() && !state.bodies[slot].alive && listed[slot]++ == 0; },
-                [] { return std::string("free slot list does not match the dead slots"); });
-    }
-  });
-  if constexpr (V::reading) {
-    for (size_t i = 0; i < state.bodies.size(); ++i) {
-      v.require([&] { return state.bodies[i].alive || listed[i] != 0; },
-                [] { return std::string("free slot list does not match the dead slots"); });
-    }
-  }
+  describe_free_slots(v, "free_slots", state.free_slots, state.bodies);
   // Contacts: between live bodies and existing shapes, strictly in key order.
   constexpr size_t contact_bytes = 4 * 4 + 1;
   v.list("contacts", state.contacts, contact_bytes, UINT32_MAX, nullptr, [&](auto& contact) {
     const size_t i = static_cast<size_t>(&contact - state.contacts.data());
     describe_contact(v, contact, state.bodies, i == 0 ? nullptr : &contact - 1);
+  });
+  // Joints last, and only in a world that has had one: a world without
+  // has the bytes (and the hash) it had before joints existed.
+  constexpr size_t joint_bytes = 5;  // a dead slot: alive, generation
+  v.trailing(!state.joints.empty() || !state.free_joint_slots.empty(), [&] {
+    v.list("joints", state.joints, joint_bytes, UINT32_MAX, "slot",
+           [&](auto& joint) { describe_joint(v, joint, state.bodies); });
+    describe_free_slots(v, "free_joint_slots", state.free_joint_slots, state.joints);
   });
 }
 

@@ -66,6 +66,10 @@ struct ByteWriter {
   }
   template <class Test, class Reason>
   void require(Test&&, Reason&&) {}  // a world's own state holds
+  template <class F>
+  void trailing(bool present, F&& describe) {
+    if (present) describe();
+  }
 };
 
 }  // namespace
@@ -73,7 +77,8 @@ struct ByteWriter {
 void serialize_state(const World& world, std::vector<uint8_t>& out) {
   const uint64_t step = world.step_count();
   ByteWriter writer{out};
-  describe_state(writer, StateParts<false>{step, world.settings(), world.bodies(), world.free_slots(), world.contacts()});
+  describe_state(writer, StateParts<false>{step, world.settings(), world.bodies(), world.free_slots(), world.contacts(),
+                                             world.joints(), world.free_joint_slots()});
 }
 
 uint64_t state_hash(const World& world) {

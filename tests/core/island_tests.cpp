@@ -19,7 +19,7 @@ std::vector<BodyId> add_column(TestWorld& t, Fixed x, int count) {
 
 Islands islands_of(const TestWorld& t) {
   Islands islands;
-  build_islands(t.world.bodies(), t.world.contacts(), islands);
+  build_islands(t.world.bodies(), t.world.contacts(), t.world.joints(), islands);
   return islands;
 }
 

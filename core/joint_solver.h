@@ -1,0 +1,80 @@
+// The joints' rows in a solve (core/joint.h), made of the same constraint
+// parts as the contacts' (solver_rows.h): built once per solve, warm-started
+// with last step's impulses, solved before the contacts in every velocity
+// iteration, and their drift pushed out in the position passes (the split
+// impulse: pseudo-velocities that move the bodies but add no momentum), or
+// by a Baumgarte bias when the scene asks for it. Internal to core/.
+#pragma once
+
+#include <vector>
+
+#include "core/joint.h"
+#include "core/joint_tree.h"
+#include "core/settings.h"
+#include "core/solver_rows.h"
+
+namespace bitstep {
+
+// One joint in a solve. Point and hinge joints: a 3x3 block keeps the two
+// anchors together (after Jolt's PointConstraintPart: the impulse that
+// stops their relative velocity in all three directions at once, through
+// K^-1, K = (1/m_a + 1/m_b) 1 - [r_a]x I_a^-1 [r_a]x - [r_b]x I_b^-1 [r_b]x).
+// Hinge: two angular parts about axes normal to a's hinge axis keep b's
+// axis on it, and a limit row about the axis. Rope: one axis part along the
+// anchors' line, pulling only.
+struct JointRow {
+  uint32_t a = 0, b = 0;
+  Joint* joint = nullptr;
+  Vec3 ra, rb;              // m: the anchors from the centres of mass, world frame
+  Mat33 point_k;            // K
+  Mat33 point_mass;         // K^-1
+  Vec3 point_target;        // m/s: Baumgarte's bias (zero with the split impulse)
+  Vec3 point_push_target;   // m/s: the split impulse's rate toward closing the gap
+  Jacobian rope;            // max_distance: along the line from a's anchor to b's
+  Fixed rope_target;        // m/s: the closing rate the rope allows (its slack over dt) or asks
+  Fixed rope_push_target;
+  bool rope_active = false;
+  // Hinge: angular rows (w_b - w_a) . p_k, p_k normal to the axis, and the
+  // limit's about the axis. Each goes with the point impulse that keeps
+  // the anchors' rate as it was (`anchor`, per unit of its impulse) and
+  // has the effective mass of the pair (`mass`, below the part's own), so
+  // turning a body about the hinge does not pull the anchors apart: an
+  // arm's limit row alone took the arm's inertia about its centre, the
+  // point row then turned it about the pivot, and under a 1,000 N m torque
+  // the two passed the arm back and forth 11 degrees past its limit.
+  AngularPart hinge[2];
+  Vec3 hinge_anchor[2];
+  Fixed hinge_mass[2];
+  Fixed hinge_target[2], hinge_push_target[2];
+  AngularPart limit;        // (w_b - w_a) . axis
+  Vec3 limit_anchor;
+  Fixed limit_mass;
+  Fixed limit_target, limit_push_target;
+  int limit_side = 0;       // +1: at the lower limit (impulse >= 0), -1: at the upper (<= 0), 0: none
+  // Split impulses, this solve's only.
+  Vec3 point_push_impulse;
+  Fixed rope_push_impulse, hinge_push_impulse[2], limit_push_impulse;
+};
+
+// Rows for every live joint with an awake dynamic body, in joint order,
+// and their point blocks' tree factorised (joint_tree.h).
+void prepare_joint_rows(const Settings& settings, const std::vector<Body>& bodies, std::vector<Joint>& joints,
+                        const std::vector<SolverBody>& solver_bodies, std::vector<JointRow>& rows, JointTree& tree);
+void warm_start_joints(std::vector<SolverBody>& bodies, const std::vector<JointRow>& rows);
+// One velocity iteration over the joints: ropes, limits and hinge axes
+// row by row, then every point block at once (the tree solve), or block by
+// block where the joints close a loop.
+void solve_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree);
+// One position pass over the joints (on the push rates). Whether any row
+// has something to push.
+void push_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree);
+bool joints_to_push(const std::vector<JointRow>& rows);
+
+// The angle of b's reference vector about the hinge axis, from a's (rad,
+// -pi..pi): 0 at creation.
+Fixed hinge_angle(const Joint& joint, const Body& a, const Body& b);
+
+// Whether the joint's impulse this step went past its break_impulse.
+bool over_break_impulse(const Joint& joint);
+
+}  // namespace bitstep

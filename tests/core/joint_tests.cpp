@@ -1,0 +1,313 @@
+// Joints against analytic answers: pendulum periods, chain stretch, limits.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "core/joint_solver.h"
+#include "fixed/decimal.h"
+#include "tests/core/test_world.h"
+#include "tests/test_support.h"
+
+using namespace bitstep;
+using bitstep::test::TestWorld;
+using bitstep::test::to_double;
+
+namespace {
+
+constexpr double g = 9.81;
+constexpr double pi = 3.14159265358979323846;
+
+// A static anchor block at `position` (it touches nothing).
+BodyId add_anchor(TestWorld& t, Vec3 position) {
+  BodyDef def;
+  def.type = BodyType::static_body;
+  def.pose.position = position;
+  def.shapes.push_back({ShapeType::box, {0.05_fx, 0.05_fx, 0.05_fx}, {}, {}, {}});
+  return t.world.create_body(def).id;
+}
+
+BodyId add_ball(TestWorld& t, Vec3 position, Fixed radius, Fixed mass) {
+  BodyDef def;
+  def.pose.position = position;
+  def.shapes.push_back({ShapeType::sphere, {}, radius, {}, {}});
+  def.mass = mass;
+  return t.world.create_body(def).id;
+}
+
+JointId join(TestWorld& t, JointType type, BodyId a, BodyId b, Vec3 anchor) {
+  JointDef def;
+  def.type = type;
+  def.body_a = a;
+  def.body_b = b;
+  def.anchor_a = anchor;
+  def.axis = {Fixed{}, Fixed{}, Fixed::one()};
+  const JointResult made = t.world.create_joint(def);
+  REQUIRE(made.ok());
+  return made.id;
+}
+
+// The period of a swing about the anchor (s): the mean time between
+// downward crossings of x = x_anchor, over `seconds`.
+double measured_period(TestWorld& t, BodyId bob, double anchor_x, double seconds) {
+  const double dt = to_double(t.world.settings().dt);
+  std::vector<double> crossings;
+  double last = to_double(t.body(bob).pose.position.x) - anchor_x;
+  const int steps = static_cast<int>(seconds / dt);
+  for (int i = 1; i <= steps; ++i) {
+    t.world.step();
+    const double x = to_double(t.body(bob).pose.position.x) - anchor_x;
+    if (last > 0 && x <= 0) crossings.push_back((i - 1 + last / (last - x)) * dt);  // linear between steps
+    last = x;
+  }
+  REQUIRE(crossings.size() >= 3);
+  return (crossings.back() - crossings.front()) / static_cast<double>(crossings.size() - 1);
+}
+
+}  // namespace
+
+TEST_CASE("a point-joint pendulum swings with the small-angle period 2 pi sqrt(I / (m g L)) within 1%",
+          "[joint][pendulum]") {
+  TestWorld t;
+  const BodyId anchor = add_anchor(t, {Fixed{}, 5.0_fx, Fixed{}});
+  // A 1 kg ball of radius 0.05 m, 1 m below the pivot, let go 5 degrees out.
+  const double length = 1.0, radius = 0.05, angle = 5.0 * pi / 180.0;
+  const Vec3 start{Fixed::from_raw(static_cast<int64_t>(std::sin(angle) * length * 0x1p32)),
+                   5.0_fx - Fixed::from_raw(static_cast<int64_t>(std::cos(angle) * length * 0x1p32)), Fixed{}};
+  const BodyId bob = add_ball(t, start, 0.05_fx, 1.0_fx);
+  join(t, JointType::point, anchor, bob, {Fixed{}, 5.0_fx, Fixed{}});
+  // A ball on a massless rod: I = m L^2 + 2/5 m r^2 about the pivot; the
+  // finite amplitude lengthens it by theta0^2 / 16.
+  const double inertia = length * length + 0.4 * radius * radius;
+  const double expected = 2 * pi * std::sqrt(inertia / (g * length)) * (1 + angle * angle / 16);
+  const double period = measured_period(t, bob, 0.0, 10.0);
+  INFO("period " << period << " s, expected " << expected << " s");
+  CHECK(std::abs(period - expected) / expected < 0.01);
+  // And the rod kept its length: the anchor stayed on the ball's centre
+  // within 1 mm.
+  const double stretch = std::hypot(to_double(t.body(bob).pose.position.x), to_double(t.body(bob).pose.position.y) - 5.0);
+  CHECK(std::abs(stretch - length) < 0.001);
+}
+
+TEST_CASE("a hinge pendulum swings about its axis with the same period and keeps its axis", "[joint][pendulum]") {
+  TestWorld t;
+  const BodyId anchor = add_anchor(t, {Fixed{}, 5.0_fx, Fixed{}});
+  // A 0.1 m cube 1 m below the hinge (the cube's own turn is fixed to the
+  // swing: I = m L^2 + m (s^2 + s^2) / 12 about the hinge).
+  const double length = 1.0, side = 0.1, angle = 5.0 * pi / 180.0;
+  const Quat tilt = from_axis_angle({Fixed{}, Fixed{}, Fixed::one()}, Fixed::from_raw(static_cast<int64_t>(angle * 0x1p32)));
+  BodyDef def;
+  def.pose.position = {Fixed::from_raw(static_cast<int64_t>(std::sin(angle) * length * 0x1p32)),
+                       5.0_fx - Fixed::from_raw(static_cast<int64_t>(std::cos(angle) * length * 0x1p32)), Fixed{}};
+  def.pose.orientation = tilt;
+  def.shapes.push_back({ShapeType::box, {0.05_fx, 0.05_fx, 0.05_fx}, {}, {}, {}});
+  def.mass = 1.0_fx;
+  const BodyId bob = t.world.create_body(def).id;
+  join(t, JointType::hinge, anchor, bob, {Fixed{}, 5.0_fx, Fixed{}});
+  const double inertia = length * length + side * side / 6;
+  const double expected = 2 * pi * std::sqrt(inertia / (g * length)) * (1 + angle * angle / 16);
+  const double period = measured_period(t, bob, 0.0, 10.0);
+  INFO("period " << period << " s, expected " << expected << " s");
+  CHECK(std::abs(period - expected) / expected < 0.01);
+  // It turned about z only: no x or y spin, no z drift.
+  const Body& body = t.body(bob);
+  CHECK(std::abs(to_double(body.pose.position.z)) < 1e-4);
+  const Vec3 axis = rotate(body.pose.orientation, {Fixed{}, Fixed{}, Fixed::one()});
+  CHECK(to_double(axis.z) > std::cos(0.5 * pi / 180.0));
+}
+
+namespace {
+
+// A chain of `links` 1 kg boxes (0.1 x 0.5 x 0.1 m) hanging from a static
+// anchor at y = top, each joined to the next at its end; a ball of
+// `ball_mass` hangs from the last. Returns the ball.
+struct Chain {
+  BodyId anchor, ball;
+  std::vector<BodyId> links;
+  std::vector<JointId> joints;
+};
+Chain hang_chain(TestWorld& t, int links, Fixed top, Fixed ball_mass, JointType type = JointType::point) {
+  Chain chain;
+  chain.anchor = add_anchor(t, {Fixed{}, top + 0.05_fx, Fixed{}});
+  BodyId above = chain.anchor;
+  for (int i = 0; i < links; ++i) {
+    const Fixed joint_y = top - Fixed::from_int(i) * 0.5_fx;
+    BodyDef def;
+    def.pose.position = {Fixed{}, joint_y - 0.25_fx, Fixed{}};
+    def.shapes.push_back({ShapeType::box, {0.05_fx, 0.25_fx, 0.05_fx}, {}, {}, {}});
+    def.mass = 1.0_fx;
+    const BodyId link = t.world.create_body(def).id;
+    chain.joints.push_back(join(t, type, above, link, {Fixed{}, joint_y, Fixed{}}));
+    chain.links.push_back(link);
+    above = link;
+  }
+  const Fixed bottom = top - Fixed::from_int(links) * 0.5_fx;
+  chain.ball = add_ball(t, {Fixed{}, bottom - 0.25_fx, Fixed{}}, 0.25_fx, ball_mass);
+  chain.joints.push_back(join(t, type, above, chain.ball, {Fixed{}, bottom, Fixed{}}));
+  return chain;
+}
+
+double kinetic_plus_potential(const TestWorld& t) {
+  double energy = 0;
+  for (const Body& body : t.world.bodies()) {
+    if (!body.alive || body.type != BodyType::dynamic) continue;
+    const double m = 1.0 / to_double(body.inverse_mass);
+    const Vec3 v = body.linear_velocity;
+    const Vec3 w = rotate_inverse(body.pose.orientation, body.angular_velocity);
+    const Vec3 iw = body.inertia_local * w;
+    energy += 0.5 * m * (to_double(dot(v, v))) + 0.5 * to_double(dot(w, iw)) + m * g * to_double(body.pose.position.y);
+  }
+  return energy;
+}
+
+}  // namespace
+
+TEST_CASE("a 25-link chain of 1 kg links holds a 100 kg ball stretching less than 2 cm at 10 iterations",
+          "[joint][chain]") {
+  TestWorld t;  // default settings: 10 velocity iterations
+  REQUIRE(t.world.settings().velocity_iterations == 10);
+  const Chain chain = hang_chain(t, 25, 20.0_fx, 100.0_fx);
+  const double rest_y = 20.0 - 12.5 - 0.25;
+  double worst = 0;
+  for (int i = 0; i < 300; ++i) {
+    t.world.step();
+    worst = std::max(worst, rest_y - to_double(t.body(chain.ball).pose.position.y));
+  }
+  const double stretch = rest_y - to_double(t.body(chain.ball).pose.position.y);
+  INFO("stretch after 5 s " << stretch << " m, worst " << worst << " m");
+  CHECK(stretch < 0.02);
+  CHECK(worst < 0.02);
+  // Hanging still: nothing swings.
+  CHECK(std::abs(to_double(t.body(chain.ball).pose.position.x)) < 1e-3);
+}
+
+TEST_CASE("a freely swinging chain loses less than 5% of its energy in 10 s", "[joint][chain]") {
+  TestWorld t;
+  // Ten 1 kg links let go straight, 45 degrees out: the chain swings as a
+  // whole and whips as it flexes; the joints must not eat its energy.
+  const Quat tilt = test::about_degrees({Fixed{}, Fixed{}, Fixed::one()}, 45.0_fx);
+  const Vec3 along = rotate(tilt, {Fixed{}, -Fixed::one(), Fixed{}});  // down the chain
+  const Vec3 top{Fixed{}, 10.0_fx, Fixed{}};
+  BodyId before = add_anchor(t, top);
+  for (int i = 0; i < 10; ++i) {
+    BodyDef def;
+    def.pose = {top + along * (Fixed::from_int(i) * 0.5_fx + 0.25_fx), tilt};
+    def.shapes.push_back({ShapeType::box, {0.05_fx, 0.25_fx, 0.05_fx}, {}, {}, {}});
+    def.mass = 1.0_fx;
+    const BodyId link = t.world.create_body(def).id;
+    join(t, JointType::point, before, link, top + along * (Fixed::from_int(i) * 0.5_fx));
+    before = link;
+  }
+  const double start = kinetic_plus_potential(t);
+  t.simulate_steps(600);
+  const double end = kinetic_plus_potential(t);
+  // Relative to the energy of the swing (the chain hanging at rest is the
+  // zero: its centre 2.5 m under the anchor, 0.73 m under where it starts).
+  const double swing = 10 * g * 2.5 * (1 - std::cos(pi / 4));
+  INFO("energy start " << start << " J, after 10 s " << end << " J, loss " << (start - end) / swing);
+  CHECK((start - end) / swing < 0.05);
+  CHECK(end <= start + 1e-6);  // never gains
+}
+
+TEST_CASE("cutting the joint that holds a chain lets it fall at exactly g", "[joint][chain]") {
+  TestWorld t;
+  const Chain chain = hang_chain(t, 5, 10.0_fx, 1.0_fx);
+  t.simulate_steps(120);  // hanging, its joints warm
+  REQUIRE(t.world.remove_joint(chain.joints[0]));
+  // Every body falls together: in 30 steps each moves as free fall from rest
+  // would, no kick from the warm-started impulses of the joints left.
+  std::vector<double> y0;
+  for (BodyId link : chain.links) y0.push_back(to_double(t.body(link).pose.position.y));
+  std::vector<double> v0;
+  for (BodyId link : chain.links) v0.push_back(to_double(t.body(link).linear_velocity.y));
+  const int steps = 30;
+  t.simulate_steps(steps);
+  const double dt = to_double(t.world.settings().dt), time = steps * dt;
+  for (size_t i = 0; i < chain.links.size(); ++i) {
+    INFO("link " << i);
+    // A body held by joints moves by its end-of-step velocity (the
+    // integrator's rule for constrained bodies): v_k = v0 - g k dt, so the
+    // fall is sum_k (g k dt - v0) dt.
+    const double fall = y0[i] - to_double(t.body(chain.links[i]).pose.position.y);
+    CHECK(fall == Approx(-v0[i] * time + g * dt * dt * steps * (steps + 1) / 2).margin(1e-4));
+    CHECK(to_double(t.body(chain.links[i]).linear_velocity.y) == Approx(v0[i] - g * time).margin(1e-3));
+  }
+}
+
+TEST_CASE("a rope is slack until taut, then holds ten times the load within 1% of its length", "[joint][rope]") {
+  TestWorld t;
+  const BodyId anchor = add_anchor(t, {Fixed{}, 10.0_fx, Fixed{}});
+  // A 1 kg ball 1 m below the anchor on a 2 m rope: it falls freely for
+  // 1 m, then the rope catches it.
+  const BodyId ball = add_ball(t, {Fixed{}, 9.0_fx, Fixed{}}, 0.1_fx, 1.0_fx);
+  JointDef def;
+  def.type = JointType::max_distance;
+  def.body_a = anchor;
+  def.body_b = ball;
+  def.anchor_a = {Fixed{}, 10.0_fx, Fixed{}};
+  def.anchor_b = {Fixed{}, 9.0_fx, Fixed{}};
+  def.length = 2.0_fx;
+  const JointResult made = t.world.create_joint(def);
+  REQUIRE(made.ok());
+  // Slack: exactly free fall (the integrator's constrained rule).
+  const double dt = to_double(t.world.settings().dt);
+  for (int i = 1; i <= 20; ++i) {
+    t.world.step();
+    REQUIRE(to_double(t.body(ball).linear_velocity.y) == Approx(-g * i * dt).margin(1e-6));
+  }
+  // Taut: never more than 1% past 2 m, through the catch and after.
+  double longest = 0;
+  for (int i = 0; i < 240; ++i) {
+    t.world.step();
+    longest = std::max(longest, 10.0 - to_double(t.body(ball).pose.position.y));
+  }
+  INFO("longest " << longest << " m");
+  CHECK(longest < 2.0 * 1.01);
+  CHECK(longest > 1.99);  // it did catch
+  // Ten times the load: a 10 kg ball on the same rope, hanging.
+  TestWorld heavy;
+  const BodyId top = add_anchor(heavy, {Fixed{}, 10.0_fx, Fixed{}});
+  const BodyId weight = add_ball(heavy, {Fixed{}, 8.0_fx, Fixed{}}, 0.1_fx, 10.0_fx);
+  def.body_a = top;
+  def.body_b = weight;
+  def.anchor_b = {Fixed{}, 8.0_fx, Fixed{}};
+  REQUIRE(heavy.world.create_joint(def).ok());
+  heavy.simulate_steps(300);
+  const double hanging = 10.0 - to_double(heavy.body(weight).pose.position.y);
+  INFO("hanging " << hanging << " m");
+  CHECK(hanging < 2.0 * 1.01);
+}
+
+TEST_CASE("a hinge driven against its limit by 1,000 N m never passes it by more than 1 degree", "[joint][limit]") {
+  TestWorld t;
+  const BodyId anchor = add_anchor(t, {Fixed{}, 5.0_fx, Fixed{}});
+  // A 1 kg, 1 m arm on a hinge about z, limits -30..+45 degrees, horizontal.
+  BodyDef def;
+  def.pose.position = {0.5_fx, 5.0_fx, Fixed{}};
+  def.shapes.push_back({ShapeType::box, {0.5_fx, 0.05_fx, 0.05_fx}, {}, {}, {}});
+  def.mass = 1.0_fx;
+  const BodyId arm = t.world.create_body(def).id;
+  JointDef hinge;
+  hinge.type = JointType::hinge;
+  hinge.body_a = anchor;
+  hinge.body_b = arm;
+  hinge.anchor_a = {Fixed{}, 5.0_fx, Fixed{}};
+  hinge.axis = {Fixed{}, Fixed{}, Fixed::one()};
+  hinge.limited = true;
+  hinge.lower_angle = -30.0_fx * "3.14159265358979/180"_fx;
+  hinge.upper_angle = 45.0_fx * "3.14159265358979/180"_fx;
+  const JointResult made = t.world.create_joint(hinge);
+  REQUIRE(made.ok());
+  const Joint& joint = t.world.joints()[made.id.index];
+  for (const int sign : {1, -1}) {
+    double worst = 0;
+    for (int i = 0; i < 180; ++i) {
+      t.world.apply_force(arm, {Fixed{}, Fixed::from_int(sign * 1000), Fixed{}}, {1.0_fx, 5.0_fx, Fixed{}});
+      t.world.step();
+      const double angle = to_double(hinge_angle(joint, t.body(anchor), t.body(arm))) * 180 / pi;
+      worst = std::max(worst, sign > 0 ? angle - 45.0 : -30.0 - angle);
+    }
+    INFO("torque sign " << sign << ": past the limit by at most " << worst << " degrees");
+    CHECK(worst < 1.0);
+    CHECK(worst > -0.5);  // it reached the limit
+  }
+}
