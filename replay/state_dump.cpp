@@ -212,16 +212,19 @@ DumpDifference diff_dumps(const std::string& a, const std::string& b) {
     if (format == nullptr || format->text != "bitstep-state") return {false, "not a bitstep-state dump", {}};
   }
   DumpDifference d{true, {}, first_difference(root_a, root_b)};
-  // Name the bodies of a contact that differs.
-  const std::string prefix = "$.contacts[";
-  if (d.first && d.first->compare(0, prefix.size(), prefix) == 0) {
+  // Name the bodies of a contact or joint that differs.
+  for (const char* list : {"contacts", "joints"}) {
+    const std::string prefix = std::string("$.") + list + "[";
+    if (!d.first || d.first->compare(0, prefix.size(), prefix) != 0) continue;
     const size_t index = std::stoul(d.first->substr(prefix.size()));
-    const json::Node* contacts = root_a.member("contacts");
-    if (contacts != nullptr && index < contacts->children.size()) {
-      if (const json::Node* bodies = contacts->children[index].member("bodies")) {
-        *d.first += " (the contact between bodies " + json::write(*bodies) + ")";
-      }
-    }
+    const json::Node* items = root_a.member(list);
+    if (items == nullptr || index >= items->children.size()) continue;
+    const json::Node& item = items->children[index];
+    const json::Node* bodies = item.member("bodies");
+    if (bodies == nullptr) continue;
+    const json::Node* type = item.member("type");
+    const std::string what = type != nullptr ? "the " + type->text + " joint" : "the contact";
+    *d.first += " (" + what + " between bodies " + json::write(*bodies) + ")";
   }
   return d;
 }

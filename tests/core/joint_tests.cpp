@@ -311,3 +311,46 @@ TEST_CASE("a hinge driven against its limit by 1,000 N m never passes it by more
     CHECK(worst > -0.5);  // it reached the limit
   }
 }
+
+TEST_CASE("a hanging chain falls asleep as one island and a touch on its last link wakes it all",
+          "[joint][sleep]") {
+  for (const SleepMethod method : {SleepMethod::motion, SleepMethod::still}) {
+    INFO("sleep method " << static_cast<int>(method));
+    Settings settings;
+    settings.sleep_method = method;
+    TestWorld t(settings);
+    // Hung at rest (a swinging chain loses ~1% of its energy in 10 s: it
+    // would swing for minutes).
+    const Chain chain = hang_chain(t, 6, 10.0_fx, 2.0_fx);
+    int asleep_at = -1;
+    for (int i = 1; i <= 1200 && asleep_at < 0; ++i) {
+      t.world.step();
+      bool all = t.body(chain.ball).asleep;
+      for (BodyId link : chain.links) all = all && t.body(link).asleep;
+      if (all) asleep_at = i;
+    }
+    INFO("asleep at step " << asleep_at);
+    REQUIRE(asleep_at > 0);
+    // Asleep where it hangs: straight under the anchor.
+    CHECK(std::abs(to_double(t.body(chain.ball).pose.position.x)) < 0.01);
+    t.world.apply_impulse(chain.ball, {Fixed{}, Fixed{}, 2.0_fx}, t.body(chain.ball).pose.position);
+    for (BodyId link : chain.links) CHECK_FALSE(t.body(link).asleep);
+    t.world.step();
+    CHECK(to_double(t.body(chain.links[0]).angular_velocity.x) != 0.0);  // the top link moved with it
+  }
+}
+
+TEST_CASE("the guendelman pipeline holds the 100 kg chain too", "[joint][chain][pipeline]") {
+  Settings settings;
+  settings.pipeline = Pipeline::guendelman;
+  TestWorld t(settings);
+  const Chain chain = hang_chain(t, 25, 20.0_fx, 100.0_fx);
+  const double rest_y = 20.0 - 12.5 - 0.25;
+  double worst = 0;
+  for (int i = 0; i < 300; ++i) {
+    t.world.step();
+    worst = std::max(worst, std::abs(rest_y - to_double(t.body(chain.ball).pose.position.y)));
+  }
+  INFO("worst " << worst << " m");
+  CHECK(worst < 0.02);
+}
