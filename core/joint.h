@@ -19,6 +19,10 @@ enum class JointType : uint8_t {
   // A point joint whose bodies turn relative to each other about one axis
   // only (two angular rows), optionally within [lower_angle, upper_angle].
   hinge,
+  // A ragdoll's shoulder or hip: a point joint whose twist axis (on b)
+  // stays within swing_angle of a's copy of it (a cone) and whose twist
+  // about it stays within [lower_angle, upper_angle].
+  cone,
 };
 
 struct JointId {
@@ -36,10 +40,11 @@ struct JointDef {
   Vec3 anchor_a;          // m: the joined point on a (point, hinge: on both)
   Vec3 anchor_b;          // m: max_distance: the rope's end on b (the others use anchor_a)
   Fixed length;           // m: max_distance: the rope's length; 0 takes the anchors' distance now
-  Vec3 axis;              // hinge: the axis (any length above 1e-3; made unit)
-  bool limited = false;   // hinge: the angle is kept within [lower_angle, upper_angle]
+  Vec3 axis;              // hinge: the axis; cone: the twist axis (any length above 1e-3; made unit)
+  bool limited = false;   // hinge: the angle is kept within [lower_angle, upper_angle] (a cone's always is)
   Fixed lower_angle;      // rad, -pi..0: b's turn about the axis relative to a, from now
   Fixed upper_angle;      // rad, 0..pi
+  Fixed swing_angle;      // rad, 0..pi: cone: how far b's twist axis may swing from a's
   // N s: a joint whose constraint impulse in a step exceeds this breaks
   // (is removed at the end of the step). 0: never.
   Fixed break_impulse;
@@ -59,9 +64,11 @@ struct Joint {
   Fixed length;
   bool limited = false;
   Fixed lower_angle, upper_angle;
+  Fixed swing_angle;  // cone
   Fixed break_impulse;
   // Accumulated impulses: the point rows (N s, world axes), the rope's,
-  // the hinge's two angular rows (N m s) and its limit's.
+  // the hinge's two angular rows (N m s; a cone's swing row in the first)
+  // and its limit's (a cone's twist limit).
   Vec3 point_impulse;
   Fixed distance_impulse;
   Fixed hinge_impulse[2];

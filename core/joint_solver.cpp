@@ -88,6 +88,8 @@ Fixed spin(const BodyRates& a, const BodyRates& b, const AngularPart& part) {
   return dot(b.angular - a.angular, part.axis);
 }
 
+BodyRates body_rates(const Body& body) { return {body.linear_velocity, body.angular_velocity}; }
+
 // The rows of one joint on one rate of the bodies (velocity or push):
 // the limit, the hinge's two angular rows, the rope, then the point block,
 // so that the anchors' coincidence has the last word.
@@ -98,7 +100,7 @@ struct Targets {
   // its length; a limit always: the push that closes the anchors' gap may
   // turn the arm, and may not turn it toward its nearer limit (it did, 3
   // degrees past under a 1,000 N m torque).
-  bool rope_on, limit_on;
+  bool rope_on, limit_on, swing_on;
 };
 struct Impulses {
   Vec3& point;
@@ -110,14 +112,20 @@ struct Impulses {
 void solve_rows(const SolverBody& sa, const SolverBody& sb, BodyRates& a, BodyRates& b, const JointRow& row,
                 const Targets& target, Impulses impulse, bool point_block) {
   const JointType type = row.joint->type;
-  if (type == JointType::hinge) {
+  if (type == JointType::cone && target.swing_on) {
+    // The swing back toward the cone: an impulse >= 0 about s.
+    const Fixed total = max(impulse.hinge[0] + row.hinge_mass[0] * (target.hinge[0] - spin(a, b, row.hinge[0])), Fixed{});
+    apply_paired(sa, sb, a, b, row, row.hinge[0], row.hinge_anchor[0], total - impulse.hinge[0], impulse.point);
+    impulse.hinge[0] = total;
+  }
+  if (type == JointType::hinge || type == JointType::cone) {
     if (target.limit_on) {
       Fixed total = impulse.limit + row.limit_mass * (target.limit - spin(a, b, row.limit));
       total = row.limit_side > 0 ? max(total, Fixed{}) : min(total, Fixed{});
       apply_paired(sa, sb, a, b, row, row.limit, row.limit_anchor, total - impulse.limit, impulse.point);
       impulse.limit = total;
     }
-    for (int k = 0; k < 2; ++k) {
+    for (int k = 0; k < 2 && type == JointType::hinge; ++k) {
       const Fixed lambda = row.hinge_mass[k] * (target.hinge[k] - spin(a, b, row.hinge[k]));
       impulse.hinge[k] += lambda;
       apply_paired(sa, sb, a, b, row, row.hinge[k], row.hinge_anchor[k], lambda, impulse.point);
@@ -161,9 +169,27 @@ void solve_tree(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, Jo
 
 Fixed hinge_angle(const Joint& joint, const Body& a, const Body& b) {
   const Vec3 axis = rotate(a.pose.orientation, joint.local_axis_a);
-  const Vec3 ref_a = rotate(a.pose.orientation, joint.local_reference_a);
+  Vec3 ref_a = rotate(a.pose.orientation, joint.local_reference_a);
   const Vec3 ref_b = rotate(b.pose.orientation, joint.local_reference_b);
-  return atan2(dot(cross(ref_a, ref_b), axis), dot(ref_a, ref_b));
+  if (joint.type != JointType::cone) return atan2(dot(cross(ref_a, ref_b), axis), dot(ref_a, ref_b));
+  // A cone's twist: a's reference carried by the swing (the shortest turn
+  // taking a's axis onto b's, about k = axis_a x axis_b / sin, by Rodrigues'
+  // formula), then its angle to b's reference about b's axis. Measured
+  // about a's axis instead, a 60 degree swing read as 80 degrees of twist.
+  const Vec3 axis_b = rotate(b.pose.orientation, joint.local_axis_b);
+  const Vec3 k = cross(axis, axis_b);
+  const Fixed sine = length(k), cosine = dot(axis, axis_b);
+  if (sine > 0.000001_fx) {
+    const Vec3 unit = k / sine;
+    ref_a = ref_a * cosine + cross(unit, ref_a) * sine + unit * (dot(unit, ref_a) * (Fixed::one() - cosine));
+  }
+  return atan2(dot(cross(ref_a, ref_b), axis_b), dot(ref_a, ref_b));
+}
+
+Fixed swing_angle(const Joint& joint, const Body& a, const Body& b) {
+  const Vec3 axis_a = rotate(a.pose.orientation, joint.local_axis_a);
+  const Vec3 axis_b = rotate(b.pose.orientation, joint.local_axis_b);
+  return atan2(length(cross(axis_b, axis_a)), dot(axis_a, axis_b));
 }
 
 void prepare_joint_rows(const Settings& settings, const std::vector<Body>& bodies, std::vector<Joint>& joints,
@@ -221,7 +247,32 @@ void prepare_joint_rows(const Settings& settings, const std::vector<Body>& bodie
       const Vec3 curve_b = cross(body_b.angular_velocity, cross(body_b.angular_velocity, row.rb));
       row.point_target -= (curve_b - curve_a) * (settings.dt / 2.0_fx);
     }
-    if (joint.type == JointType::hinge) {
+    if (joint.type == JointType::cone) {
+      // The swing: b's axis turned back toward a's about s = axis_b x axis_a
+      // (normalised), one-sided, speculative like the limits; undefined
+      // (and far inside any cone wider than 0.06 degrees) below 1e-3 rad.
+      const Vec3 axis_a = rotate(body_a.pose.orientation, joint.local_axis_a);
+      const Vec3 axis_b = rotate(body_b.pose.orientation, joint.local_axis_b);
+      const Vec3 s = cross(axis_b, axis_a);
+      const Fixed sine = length(s);
+      row.swing_active = sine > 0.001_fx;
+      if (row.swing_active) {
+        const Fixed swing = atan2(sine, dot(axis_a, axis_b));
+        row.hinge[0] = make_twist(a, b, s / sine);
+        pair_with_point(row, row.hinge[0], row.hinge_anchor[0], row.hinge_mass[0]);
+        const Fixed past = swing - joint.swing_angle;
+        if (past <= Fixed{}) {
+          row.hinge_target[0] = past * inverse_dt;
+        } else if (settings.baumgarte) {
+          row.hinge_target[0] = recovery(past, factor, inverse_dt, max_speed);
+        } else {
+          row.hinge_push_target[0] = recovery(past, factor, inverse_dt, max_speed);
+        }
+      } else {
+        joint.hinge_impulse[0] = Fixed{};
+      }
+    }
+    if (joint.type == JointType::hinge || joint.type == JointType::cone) {
       const Vec3 axis_a = rotate(body_a.pose.orientation, joint.local_axis_a);
       const Vec3 axis_b = rotate(body_b.pose.orientation, joint.local_axis_b);
       Vec3 p[2];
@@ -229,7 +280,7 @@ void prepare_joint_rows(const Settings& settings, const std::vector<Body>& bodie
       // b's axis is turned onto a's by a rotation about axis_b x axis_a
       // (its length the sine of the angle between them).
       const Vec3 misalignment = cross(axis_b, axis_a);
-      for (int k = 0; k < 2; ++k) {
+      for (int k = 0; k < 2 && joint.type == JointType::hinge; ++k) {
         row.hinge[k] = make_twist(a, b, p[k]);
         pair_with_point(row, row.hinge[k], row.hinge_anchor[k], row.hinge_mass[k]);
         const Fixed rate = recovery(dot(misalignment, p[k]), factor, inverse_dt, max_speed);
@@ -237,12 +288,18 @@ void prepare_joint_rows(const Settings& settings, const std::vector<Body>& bodie
       }
       if (joint.limited) {
         const Fixed angle = hinge_angle(joint, body_a, body_b);
-        row.limit = make_twist(a, b, axis_a);
+        // A cone twists about the mean of its two axes (b's own axis when
+        // swung, a's at rest); a hinge's axes agree.
+        const Vec3 twist_axis = joint.type == JointType::cone ? axis_b : axis_a;
+        row.limit = make_twist(a, b, twist_axis);
         pair_with_point(row, row.limit, row.limit_anchor, row.limit_mass);
-        // The nearer limit, as a speculative row: the angle may approach it
-        // by what is left this step; past it, it stops, and the excess is
-        // pushed back.
-        const bool lower = angle - joint.lower_angle < joint.upper_angle - angle;
+        // The limit nearer to where the angle is heading (its rate at the
+        // velocities the step starts the solve with: a fast turn toward the
+        // far limit went past it while the near one was watched), as a
+        // speculative row: the angle may approach it by what is left this
+        // step; past it, it stops, and the excess is pushed back.
+        const Fixed heading = angle + spin(body_rates(body_a), body_rates(body_b), row.limit) * settings.dt;
+        const bool lower = heading - joint.lower_angle < joint.upper_angle - heading;
         row.limit_side = lower ? 1 : -1;
         const Fixed bound = lower ? joint.lower_angle : joint.upper_angle;
         const Fixed past = lower ? bound - angle : angle - bound;  // > 0: beyond the limit
@@ -277,8 +334,11 @@ void warm_start_joints(std::vector<SolverBody>& bodies, const std::vector<JointR
     if (joint.type == JointType::hinge) {
       apply_turn(a.velocity, b.velocity, row.hinge[0], joint.hinge_impulse[0]);
       apply_turn(a.velocity, b.velocity, row.hinge[1], joint.hinge_impulse[1]);
-      if (row.limit_side != 0) apply_turn(a.velocity, b.velocity, row.limit, joint.limit_impulse);
     }
+    if (joint.type == JointType::cone && row.swing_active) {
+      apply_turn(a.velocity, b.velocity, row.hinge[0], joint.hinge_impulse[0]);
+    }
+    if (row.limit_side != 0) apply_turn(a.velocity, b.velocity, row.limit, joint.limit_impulse);
   }
 }
 
@@ -288,7 +348,7 @@ void solve_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, 
     SolverBody& b = bodies[row.b];
     Joint& joint = *row.joint;
     const Targets target{row.point_target, row.rope_target, {row.hinge_target[0], row.hinge_target[1]},
-                         row.limit_target, row.rope_active, row.limit_side != 0};
+                         row.limit_target, row.rope_active, row.limit_side != 0, row.swing_active};
     solve_rows(a, b, a.velocity, b.velocity, row, target,
                {joint.point_impulse, joint.distance_impulse, joint.hinge_impulse, joint.limit_impulse}, !tree.exact);
   }
@@ -305,7 +365,7 @@ void push_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, J
     SolverBody& b = bodies[row.b];
     const Targets target{row.point_push_target, row.rope_push_target,
                          {row.hinge_push_target[0], row.hinge_push_target[1]}, row.limit_push_target,
-                         row.rope_push_target != Fixed{}, row.limit_side != 0};
+                         row.rope_push_target != Fixed{}, row.limit_side != 0, row.swing_active};
     solve_rows(a, b, a.push, b.push, row, target,
                {row.point_push_impulse, row.rope_push_impulse, row.hinge_push_impulse, row.limit_push_impulse},
                !tree.exact);

@@ -46,6 +46,7 @@ struct JointRow {
   Vec3 hinge_anchor[2];
   Fixed hinge_mass[2];
   Fixed hinge_target[2], hinge_push_target[2];
+  bool swing_active = false;  // cone: hinge[0] is the swing row (one-sided), the limit the twist's
   AngularPart limit;        // (w_b - w_a) . axis
   Vec3 limit_anchor;
   Fixed limit_mass;
@@ -71,8 +72,11 @@ void push_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, J
 bool joints_to_push(const std::vector<JointRow>& rows);
 
 // The angle of b's reference vector about the hinge axis, from a's (rad,
-// -pi..pi): 0 at creation.
+// -pi..pi): 0 at creation. For a cone, the twist: b's reference projected
+// onto the plane normal to a's axis first.
 Fixed hinge_angle(const Joint& joint, const Body& a, const Body& b);
+// A cone's swing: the angle between its two bodies' copies of the axis (rad, 0..pi).
+Fixed swing_angle(const Joint& joint, const Body& a, const Body& b);
 
 // Whether the joint's impulse this step went past its break_impulse.
 bool over_break_impulse(const Joint& joint);

@@ -190,11 +190,16 @@ JointResult World::create_joint(const JointDef& def) {
     result.error = "body_b: the same body as body_a";
   } else if (bodies_[def.body_a.index].type != BodyType::dynamic && bodies_[def.body_b.index].type != BodyType::dynamic) {
     result.error = "body_b: neither body is dynamic";
-  } else if (def.type == JointType::hinge && length(def.axis) < 0.001_fx) {
+  } else if ((def.type == JointType::hinge || def.type == JointType::cone) && length(def.axis) < 0.001_fx) {
     result.error = "axis: shorter than 0.001";
   } else if (def.limited && (def.lower_angle < -pi || def.lower_angle > Fixed{} || def.upper_angle < Fixed{} ||
                              def.upper_angle > pi)) {
     result.error = "limits: lower must be within -180..0 degrees and upper within 0..180";
+  } else if (def.type == JointType::cone && (def.lower_angle < -pi || def.lower_angle > Fixed{} ||
+                                            def.upper_angle < Fixed{} || def.upper_angle > pi)) {
+    result.error = "limits: lower must be within -180..0 degrees and upper within 0..180";
+  } else if (def.type == JointType::cone && (def.swing_angle < Fixed{} || def.swing_angle > pi)) {
+    result.error = "swing_angle: outside 0..180 degrees";
   } else if (def.length < Fixed{} || def.length > 1000.0_fx) {
     result.error = "length: outside 0..1000 m";
   } else if (def.break_impulse < Fixed{}) {
@@ -217,7 +222,7 @@ JointResult World::create_joint(const JointDef& def) {
   joint.local_anchor_a = a.pose.apply_inverse(def.anchor_a);
   joint.local_anchor_b = b.pose.apply_inverse(anchor_b);
   joint.length = def.length == Fixed{} ? length(anchor_b - def.anchor_a) : def.length;
-  if (def.type == JointType::hinge) {
+  if (def.type == JointType::hinge || def.type == JointType::cone) {
     const Vec3 axis = normalize(def.axis);
     // A unit vector normal to the axis: the angle is measured between its
     // two bodies' copies, equal now.
@@ -228,11 +233,12 @@ JointResult World::create_joint(const JointDef& def) {
     joint.local_reference_a = rotate_inverse(a.pose.orientation, reference);
     joint.local_reference_b = rotate_inverse(b.pose.orientation, reference);
   }
-  joint.limited = def.type == JointType::hinge && def.limited;
+  joint.limited = (def.type == JointType::hinge && def.limited) || def.type == JointType::cone;
   if (joint.limited) {
     joint.lower_angle = def.lower_angle;
     joint.upper_angle = def.upper_angle;
   }
+  if (def.type == JointType::cone) joint.swing_angle = def.swing_angle;
   joint.break_impulse = def.break_impulse;
   uint32_t index;
   if (!free_joint_slots_.empty()) {

@@ -67,7 +67,7 @@ inline constexpr std::array<const char*, 5> setting_flags = {"baumgarte", "warm_
 inline constexpr std::array<const char*, 3> sleep_methods = {"off", "motion", "still"};
 inline constexpr std::array<const char*, 3> body_types = {"static", "kinematic", "dynamic"};
 inline constexpr std::array<const char*, 4> shape_types = {"plane", "box", "capsule", "sphere"};
-inline constexpr std::array<const char*, 3> joint_types = {"point", "max_distance", "hinge"};
+inline constexpr std::array<const char*, 4> joint_types = {"point", "max_distance", "hinge", "cone"};
 
 template <class V, class S>
 void describe_settings(V& v, S& s) {
@@ -217,6 +217,7 @@ void describe_joint(V& v, J& joint, const Bodies& bodies) {
   v.integer("limited", joint.limited, 1, 0, 1);
   v.fixed("lower_angle", joint.lower_angle);
   v.fixed("upper_angle", joint.upper_angle);
+  v.fixed("swing_angle", joint.swing_angle);
   v.fixed("break_impulse", joint.break_impulse);
   // The impulses accumulated last step, which warm-start the next.
   v.vec("point_impulse", joint.point_impulse);
