@@ -1,5 +1,7 @@
 #include "core/joint_solver.h"
 
+#include <tuple>
+
 namespace bitstep {
 
 namespace {
@@ -90,6 +92,66 @@ Fixed spin(const BodyRates& a, const BodyRates& b, const AngularPart& part) {
 
 BodyRates body_rates(const Body& body) { return {body.linear_velocity, body.angular_velocity}; }
 
+// Folds a hinge's two angular rows into its point block (JointRow::
+// hinge_coupling): after make_twist built the rows and point_k holds K.
+void fold_hinge_rows(JointRow& row) {
+  for (int k = 0; k < 2; ++k) row.hinge_coupling[k] = cross(row.hinge[k].turn_b, row.rb) + cross(row.hinge[k].turn_a, row.ra);
+  const auto entry = [&](int i, int j) { return dot(row.hinge[i].axis, row.hinge[j].turn_a + row.hinge[j].turn_b); };
+  const Fixed a00 = entry(0, 0), a01 = entry(0, 1), a11 = entry(1, 1);
+  const Fixed det = a00 * a11 - a01 * a01;
+  if (det <= Fixed{}) return;  // an immovable pair: nothing to fold
+  row.hinge_block[0] = a11 / det;
+  row.hinge_block[1] = -a01 / det;
+  row.hinge_block[2] = a00 / det;
+  const Vec3 g0 = row.hinge_coupling[0], g1 = row.hinge_coupling[1];
+  // sum g_i (A^-1)_ij g_j^T, row by row.
+  const Vec3 c0 = g0 * row.hinge_block[0] + g1 * row.hinge_block[1];
+  const Vec3 c1 = g0 * row.hinge_block[1] + g1 * row.hinge_block[2];
+  Mat33 fold;
+  for (int r = 0; r < 3; ++r) {
+    const Fixed g0r = r == 0 ? g0.x : (r == 1 ? g0.y : g0.z);
+    const Fixed g1r = r == 0 ? g1.x : (r == 1 ? g1.y : g1.z);
+    fold.rows[static_cast<size_t>(r)] = c0 * g0r + c1 * g1r;
+  }
+  row.point_k = row.point_k - fold;
+  row.point_mass = inverse(row.point_k);
+}
+
+// A^-1 v for a hinge's 2x2 block.
+void apply_block(const Fixed (&block)[3], const Fixed (&v)[2], Fixed (&out)[2]) {
+  out[0] = block[0] * v[0] + block[1] * v[1];
+  out[1] = block[1] * v[0] + block[2] * v[1];
+}
+
+// The point block's right-hand side for a row, b_p = target - J_p v, folded
+// with a hinge's angular rows: b_p - sum g_k (A^-1 b_a)_k, b_a the rows'.
+Vec3 point_rhs(const JointRow& row, const BodyRates& a, const BodyRates& b, Vec3 target, const Fixed (&hinge_target)[2],
+               Fixed (&angular_rhs)[2]) {
+  Vec3 rhs = target - anchor_rate(a, b, row.ra, row.rb);
+  if (row.joint->type != JointType::hinge) return rhs;
+  for (int k = 0; k < 2; ++k) angular_rhs[k] = hinge_target[k] - spin(a, b, row.hinge[k]);
+  Fixed scaled[2];
+  apply_block(row.hinge_block, angular_rhs, scaled);
+  return rhs - row.hinge_coupling[0] * scaled[0] - row.hinge_coupling[1] * scaled[1];
+}
+
+// Applies a point impulse, and a hinge's angular impulses that go with it:
+// A^-1 (b_a - G lambda_p).
+void apply_point_block(const SolverBody& sa, const SolverBody& sb, BodyRates& a, BodyRates& b, const JointRow& row,
+                       Vec3 lambda, const Fixed (&angular_rhs)[2], Vec3& point_impulse, Fixed (&hinge_impulse)[2]) {
+  point_impulse += lambda;
+  apply_point(sa, sb, a, b, row.ra, row.rb, lambda);
+  if (row.joint->type != JointType::hinge) return;
+  const Fixed rest[2] = {angular_rhs[0] - dot(row.hinge_coupling[0], lambda),
+                         angular_rhs[1] - dot(row.hinge_coupling[1], lambda)};
+  Fixed turn[2];
+  apply_block(row.hinge_block, rest, turn);
+  for (int k = 0; k < 2; ++k) {
+    hinge_impulse[k] += turn[k];
+    apply_turn(a, b, row.hinge[k], turn[k]);
+  }
+}
+
 // The rows of one joint on one rate of the bodies (velocity or push):
 // the limit, the hinge's two angular rows, the rope, then the point block,
 // so that the anchors' coincidence has the last word.
@@ -125,11 +187,6 @@ void solve_rows(const SolverBody& sa, const SolverBody& sb, BodyRates& a, BodyRa
       apply_paired(sa, sb, a, b, row, row.limit, row.limit_anchor, total - impulse.limit, impulse.point);
       impulse.limit = total;
     }
-    for (int k = 0; k < 2 && type == JointType::hinge; ++k) {
-      const Fixed lambda = row.hinge_mass[k] * (target.hinge[k] - spin(a, b, row.hinge[k]));
-      impulse.hinge[k] += lambda;
-      apply_paired(sa, sb, a, b, row, row.hinge[k], row.hinge_anchor[k], lambda, impulse.point);
-    }
   }
   if (type == JointType::max_distance) {
     if (!target.rope_on) return;
@@ -141,9 +198,9 @@ void solve_rows(const SolverBody& sa, const SolverBody& sb, BodyRates& a, BodyRa
     return;
   }
   if (!point_block) return;
-  const Vec3 lambda = row.point_mass * (target.point - anchor_rate(a, b, row.ra, row.rb));
-  impulse.point += lambda;
-  apply_point(sa, sb, a, b, row.ra, row.rb, lambda);
+  Fixed angular_rhs[2] = {};
+  const Vec3 lambda = row.point_mass * point_rhs(row, a, b, target.point, target.hinge, angular_rhs);
+  apply_point_block(sa, sb, a, b, row, lambda, angular_rhs, impulse.point, impulse.hinge);
 }
 
 // Every point block at once on one rate of the bodies: lambda = K^-1 (target
@@ -153,15 +210,18 @@ void solve_tree(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, Jo
                 Target target_of, Impulse impulse_of) {
   for (size_t p = 0; p < tree.row_of.size(); ++p) {
     JointRow& row = rows[tree.row_of[p]];
-    tree.rhs[p] = target_of(row) - anchor_rate(rate_of(bodies[row.a]), rate_of(bodies[row.b]), row.ra, row.rb);
+    Fixed hinge_target[2];
+    const Vec3 point_target = target_of(row, hinge_target);
+    tree.rhs[p] = point_rhs(row, rate_of(bodies[row.a]), rate_of(bodies[row.b]), point_target, hinge_target,
+                            tree.angular_rhs[p].value);
   }
   solve_joint_tree(tree);
   for (size_t p = 0; p < tree.row_of.size(); ++p) {
     JointRow& row = rows[tree.row_of[p]];
     SolverBody& a = bodies[row.a];
     SolverBody& b = bodies[row.b];
-    impulse_of(row) += tree.rhs[p];
-    apply_point(a, b, rate_of(a), rate_of(b), row.ra, row.rb, tree.rhs[p]);
+    auto [point_impulse, hinge_impulse] = impulse_of(row);
+    apply_point_block(a, b, rate_of(a), rate_of(b), row, tree.rhs[p], tree.angular_rhs[p].value, point_impulse, hinge_impulse);
   }
 }
 
@@ -282,10 +342,10 @@ void prepare_joint_rows(const Settings& settings, const std::vector<Body>& bodie
       const Vec3 misalignment = cross(axis_b, axis_a);
       for (int k = 0; k < 2 && joint.type == JointType::hinge; ++k) {
         row.hinge[k] = make_twist(a, b, p[k]);
-        pair_with_point(row, row.hinge[k], row.hinge_anchor[k], row.hinge_mass[k]);
         const Fixed rate = recovery(dot(misalignment, p[k]), factor, inverse_dt, max_speed);
         (settings.baumgarte ? row.hinge_target[k] : row.hinge_push_target[k]) = rate;
       }
+      if (joint.type == JointType::hinge) fold_hinge_rows(row);
       if (joint.limited) {
         const Fixed angle = hinge_angle(joint, body_a, body_b);
         // A cone twists about the mean of its two axes (b's own axis when
@@ -355,8 +415,12 @@ void solve_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, 
   if (!tree.exact) return;
   solve_tree(
       bodies, rows, tree, [](SolverBody& body) -> BodyRates& { return body.velocity; },
-      [](const JointRow& row) { return row.point_target; },
-      [](JointRow& row) -> Vec3& { return row.joint->point_impulse; });
+      [](const JointRow& row, Fixed (&hinge)[2]) {
+        hinge[0] = row.hinge_target[0];
+        hinge[1] = row.hinge_target[1];
+        return row.point_target;
+      },
+      [](JointRow& row) { return std::tie(row.joint->point_impulse, row.joint->hinge_impulse); });
 }
 
 void push_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree) {
@@ -373,8 +437,12 @@ void push_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, J
   if (!tree.exact) return;
   solve_tree(
       bodies, rows, tree, [](SolverBody& body) -> BodyRates& { return body.push; },
-      [](const JointRow& row) { return row.point_push_target; },
-      [](JointRow& row) -> Vec3& { return row.point_push_impulse; });
+      [](const JointRow& row, Fixed (&hinge)[2]) {
+        hinge[0] = row.hinge_push_target[0];
+        hinge[1] = row.hinge_push_target[1];
+        return row.point_push_target;
+      },
+      [](JointRow& row) { return std::tie(row.point_push_impulse, row.hinge_push_impulse); });
 }
 
 bool joints_to_push(const std::vector<JointRow>& rows) {

@@ -189,6 +189,7 @@ void factor_joint_tree(const std::vector<SolverBody>& bodies, const std::vector<
     }
   }
   tree.rhs.resize(n);
+  tree.angular_rhs.resize(n);
   tree.exact = true;
 }
 

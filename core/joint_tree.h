@@ -44,6 +44,10 @@ struct JointTree {
   // Workspace, kept from step to step.
   std::vector<Mat33> pivot;
   std::vector<Vec3> rhs;
+  struct AngularRhs {
+    Fixed value[2];  // a hinge's angular rows' right-hand side (joint_solver.cpp)
+  };
+  std::vector<AngularRhs> angular_rhs;
   std::vector<uint32_t> parent, depth, key_order, position_of, body_rows, body_rows_begin, queue;
   std::vector<uint64_t> keys;
   std::vector<Coupling> unsorted;

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/joint_solver.h"
+#include "core/seed_hinge.h"
 #include "fixed/decimal.h"
 #include "tests/core/test_world.h"
 #include "tests/test_support.h"
@@ -406,4 +407,70 @@ TEST_CASE("a cone joint keeps a flung arm within its cone to 0.1 degree and its 
     CHECK(twist_low > -23.5);
     CHECK(worst_swing > 50.0);  // the blow did reach the cone
   }
+}
+
+TEST_CASE("the seed's composite hinge against the rigid hinge: axis tilt and limit overshoot under a blow",
+          "[joint][seed_hinge]") {
+  // A 1 m, 1 kg arm hinged about z at a static anchor, limits -30..+45
+  // degrees, falling onto its lower limit; then a 5 N s sideways blow at
+  // its tip tries to tilt the axis.
+  struct Result {
+    double tilt = 0, overshoot = 0, final_tilt = 0, final_angle = 0;
+  };
+  const auto run = [](bool seed) {
+    TestWorld t;
+    const BodyId anchor = add_anchor(t, {Fixed{}, 5.0_fx, Fixed{}});
+    BodyDef def;
+    def.pose.position = {0.5_fx, 5.0_fx, Fixed{}};
+    def.shapes.push_back({ShapeType::box, {0.5_fx, 0.05_fx, 0.05_fx}, {}, {}, {}});
+    def.mass = 1.0_fx;
+    const BodyId arm = t.world.create_body(def).id;
+    JointDef hinge;
+    hinge.type = JointType::hinge;
+    hinge.body_a = anchor;
+    hinge.body_b = arm;
+    hinge.anchor_a = {Fixed{}, 5.0_fx, Fixed{}};
+    hinge.axis = {Fixed{}, Fixed{}, Fixed::one()};
+    hinge.limited = true;
+    const Fixed degree = "3.14159265358979/180"_fx;
+    hinge.lower_angle = -30.0_fx * degree;
+    hinge.upper_angle = 45.0_fx * degree;
+    if (seed) {
+      for (const JointDef& part : seed_hinge(hinge, 0.1_fx, 0.005_fx)) REQUIRE(t.world.create_joint(part).ok());
+    } else {
+      REQUIRE(t.world.create_joint(hinge).ok());
+    }
+    Result result;
+    for (int i = 0; i < 600; ++i) {
+      if (i == 90) t.world.apply_impulse(arm, {Fixed{}, Fixed{}, 5.0_fx}, {1.0_fx, 5.0_fx, Fixed{}});
+      t.world.step();
+      const Body& body = t.body(arm);
+      const Vec3 z = rotate(body.pose.orientation, {Fixed{}, Fixed{}, Fixed::one()});
+      result.tilt = std::max(result.tilt, std::acos(std::min(1.0, to_double(z.z))) * 180 / pi);
+      const Vec3 x = rotate(body.pose.orientation, {Fixed::one(), Fixed{}, Fixed{}});
+      const double angle = std::atan2(to_double(x.y), to_double(x.x)) * 180 / pi;
+      result.overshoot = std::max(result.overshoot, -30.0 - angle);
+      result.final_tilt = std::acos(std::min(1.0, to_double(z.z))) * 180 / pi;
+      result.final_angle = angle;
+    }
+    return result;
+  };
+  const Result rigid = run(false), seed = run(true);
+  INFO("rigid: tilt " << rigid.tilt << ", past the limit " << rigid.overshoot << " degrees; seed: tilt " << seed.tilt
+                      << ", past the limit " << seed.overshoot << " degrees");
+  INFO("after 10 s: rigid at " << rigid.final_angle << " tilted " << rigid.final_tilt << ", seed at "
+                                 << seed.final_angle << " tilted " << seed.final_tilt);
+  // The rigid hinge (two angular rows folded into its point block) keeps
+  // its axis and its limit exactly.
+  CHECK(rigid.tilt < 0.1);
+  CHECK(rigid.overshoot < 0.1);
+  CHECK(std::abs(rigid.final_angle + 30.0) < 0.1);
+  // The seed's, on the same solver (its side and limit ropes row by row,
+  // its point block exact): measured 8.6 degrees past the limit as it
+  // falls onto it, the blow tilts the axis 80 degrees and throws it 50
+  // degrees past, and it comes back only slowly, still wobbling by ~2
+  // degrees after 10 s. The ragdolls use the rigid hinge and the cone.
+  CHECK(seed.tilt > 10.0);
+  CHECK(std::abs(seed.final_angle + 30.0) < 2.0);
+  CHECK(seed.final_tilt < 5.0);
 }
