@@ -128,7 +128,7 @@ void apply_block(const Fixed (&block)[3], const Fixed (&v)[2], Fixed (&out)[2]) 
 Vec3 point_rhs(const JointRow& row, const BodyRates& a, const BodyRates& b, Vec3 target, const Fixed (&hinge_target)[2],
                Fixed (&angular_rhs)[2]) {
   Vec3 rhs = target - anchor_rate(a, b, row.ra, row.rb);
-  if (row.joint->type != JointType::hinge) return rhs;
+  if (!row.folded) return rhs;
   for (int k = 0; k < 2; ++k) angular_rhs[k] = hinge_target[k] - spin(a, b, row.hinge[k]);
   Fixed scaled[2];
   apply_block(row.hinge_block, angular_rhs, scaled);
@@ -141,7 +141,7 @@ void apply_point_block(const SolverBody& sa, const SolverBody& sb, BodyRates& a,
                        Vec3 lambda, const Fixed (&angular_rhs)[2], Vec3& point_impulse, Fixed (&hinge_impulse)[2]) {
   point_impulse += lambda;
   apply_point(sa, sb, a, b, row.ra, row.rb, lambda);
-  if (row.joint->type != JointType::hinge) return;
+  if (!row.folded) return;
   const Fixed rest[2] = {angular_rhs[0] - dot(row.hinge_coupling[0], lambda),
                          angular_rhs[1] - dot(row.hinge_coupling[1], lambda)};
   Fixed turn[2];
@@ -181,6 +181,11 @@ void solve_rows(const SolverBody& sa, const SolverBody& sb, BodyRates& a, BodyRa
     impulse.hinge[0] = total;
   }
   if (type == JointType::hinge || type == JointType::cone) {
+    for (int k = 0; k < 2 && type == JointType::hinge && !row.folded; ++k) {
+      const Fixed lambda = row.hinge_mass[k] * (target.hinge[k] - spin(a, b, row.hinge[k]));
+      impulse.hinge[k] += lambda;
+      apply_paired(sa, sb, a, b, row, row.hinge[k], row.hinge_anchor[k], lambda, impulse.point);
+    }
     if (target.limit_on) {
       Fixed total = impulse.limit + row.limit_mass * (target.limit - spin(a, b, row.limit));
       total = row.limit_side > 0 ? max(total, Fixed{}) : min(total, Fixed{});
@@ -345,7 +350,9 @@ void prepare_joint_rows(const Settings& settings, const std::vector<Body>& bodie
         const Fixed rate = recovery(dot(misalignment, p[k]), factor, inverse_dt, max_speed);
         (settings.baumgarte ? row.hinge_target[k] : row.hinge_push_target[k]) = rate;
       }
-      if (joint.type == JointType::hinge) fold_hinge_rows(row);
+      if (joint.type == JointType::hinge) {
+        for (int k = 0; k < 2; ++k) pair_with_point(row, row.hinge[k], row.hinge_anchor[k], row.hinge_mass[k]);
+      }
       if (joint.limited) {
         const Fixed angle = hinge_angle(joint, body_a, body_b);
         // A cone twists about the mean of its two axes (b's own axis when
@@ -377,6 +384,24 @@ void prepare_joint_rows(const Settings& settings, const std::vector<Body>& bodie
       }
     }
     rows.push_back(row);
+  }
+  // Hinges alone on their movable bodies are folded (JointRow::folded).
+  std::vector<uint32_t>& blocks_on = tree.queue;  // per slot: point blocks on the body
+  blocks_on.assign(bodies.size(), 0);
+  for (const JointRow& row : rows) {
+    if (row.joint->type == JointType::max_distance) continue;
+    for (const uint32_t body : {row.a, row.b}) {
+      if (!immovable(solver_bodies[body])) ++blocks_on[body];
+    }
+  }
+  for (JointRow& row : rows) {
+    if (row.joint->type != JointType::hinge) continue;
+    const bool alone = (immovable(solver_bodies[row.a]) || blocks_on[row.a] == 1) &&
+                       (immovable(solver_bodies[row.b]) || blocks_on[row.b] == 1);
+    if (alone) {
+      row.folded = true;
+      fold_hinge_rows(row);
+    }
   }
   factor_joint_tree(solver_bodies, rows, tree);
 }

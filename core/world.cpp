@@ -251,7 +251,12 @@ JointResult World::create_joint(const JointDef& def) {
     joints_.push_back(joint);
   }
   result.id = {index, joints_[index].generation};
-  wake_islands_of({def.body_a.index, def.body_b.index});
+  // Joined to an awake body, a sleeping one wakes (its island now moves
+  // with it); two sleeping bodies, or one and a static body, stay asleep
+  // (a ragdoll built asleep, as the seed's).
+  if (is_awake_dynamic(bodies_[def.body_a.index]) || is_awake_dynamic(bodies_[def.body_b.index])) {
+    wake_islands_of({def.body_a.index, def.body_b.index});
+  }
   return result;
 }
 

@@ -56,7 +56,8 @@ class World {
 
   // Joins two bodies (core/joint.h): checked first (live, different bodies,
   // one of them dynamic, anchors within reach of the bodies, a usable axis
-  // and limits); on error the world is unchanged. Wakes both bodies' islands.
+  // and limits); on error the world is unchanged. A sleeping body joined
+  // to an awake one wakes with its island; two sleeping ones stay asleep.
   JointResult create_joint(const JointDef& def);
   // Removes the joint and wakes its bodies (a chain whose holder is cut falls).
   bool remove_joint(JointId id);

@@ -303,4 +303,75 @@ ThrowResult generate_throw(const ThrowParams& params) {
   return result;
 }
 
+namespace {
+
+// The distance from a box's centre to its support plane along the unit
+// vector: |u.x| h.x + |u.y| h.y + |u.z| h.z (world axes).
+Fixed extent_along(Vec3 half_extents, Vec3 unit) {
+  return abs(unit.x) * half_extents.x + abs(unit.y) * half_extents.y + abs(unit.z) * half_extents.z;
+}
+
+SceneJoint chain_joint(std::string name, JointType type, uint32_t body_a, uint32_t body_b, Vec3 anchor, Vec3 axis) {
+  SceneJoint joint;
+  joint.name = std::move(name);
+  joint.def.type = type;
+  joint.def.anchor_a = anchor;
+  if (type == JointType::hinge) joint.def.axis = axis;
+  joint.body_a = body_a;
+  joint.body_b = body_b;
+  return joint;
+}
+
+}  // namespace
+
+GeneratedStructure generate_chain(const ChainParams& params) {
+  GeneratedStructure out;
+  if (params.count < 1) return out;
+  const Vec3 d = normalize(params.direction);
+  Shape link;
+  link.type = params.link == ChainLink::box ? ShapeType::box : ShapeType::sphere;
+  if (link.type == ShapeType::box) link.half_extents = params.half_extents;
+  if (link.type == ShapeType::sphere) link.radius = params.radius;
+  const Fixed half_length = link.type == ShapeType::box ? extent_along(params.half_extents, d) : params.radius;
+  const Fixed pitch = half_length + half_length + params.gap;
+  // Link i's centre; the joint before it sits half a gap beyond link i - 1's surface.
+  const auto centre = [&](int i) { return params.position + d * (Fixed::from_int(i) * pitch); };
+  const Fixed centre_to_joint = half_length + params.gap * Fixed::from_ratio(1, 2);
+  for (int i = 0; i < params.count; ++i) {
+    out.bodies.push_back(dynamic_body(body_name(params.name, static_cast<size_t>(i)), centre(i), {link}, params.substance));
+  }
+
+  const Vec3 anchor_half_extents{0.05_fx, 0.05_fx, 0.05_fx};
+  const Fixed anchor_reach = half_length + params.gap + extent_along(anchor_half_extents, d);
+  const auto add_anchor = [&](const char* suffix, Vec3 position) {
+    SceneBody anchor;
+    anchor.name = params.name + suffix;
+    anchor.def.type = BodyType::static_body;
+    anchor.def.pose.position = position;
+    anchor.def.shapes = {box_shape(anchor_half_extents)};
+    anchor.def.material = params.substance.material;
+    out.bodies.push_back(std::move(anchor));
+    return static_cast<uint32_t>(out.bodies.size() - 1);
+  };
+  const auto joint_name = [&](int k) { return params.name + ".joint" + std::to_string(k); };
+  const auto last = static_cast<uint32_t>(params.count - 1);
+  const bool first_anchored = params.anchored != ChainAnchoring::none;
+  const bool last_anchored = params.anchored == ChainAnchoring::both;
+  const uint32_t anchor0 = first_anchored ? add_anchor(".anchor0", centre(0) - d * anchor_reach) : 0;
+  const uint32_t anchor1 = last_anchored ? add_anchor(".anchor1", centre(params.count - 1) + d * anchor_reach) : 0;
+
+  if (first_anchored) {
+    out.joints.push_back(chain_joint(joint_name(0), JointType::point, anchor0, 0, centre(0) - d * centre_to_joint, {}));
+  }
+  for (int k = 1; k < params.count; ++k) {
+    out.joints.push_back(chain_joint(joint_name(k), params.joint, static_cast<uint32_t>(k - 1),
+                                     static_cast<uint32_t>(k), centre(k) - d * centre_to_joint, params.axis));
+  }
+  if (last_anchored) {
+    out.joints.push_back(chain_joint(joint_name(params.count), JointType::point, last, anchor1,
+                                     centre(params.count - 1) + d * centre_to_joint, {}));
+  }
+  return out;
+}
+
 }  // namespace bitstep

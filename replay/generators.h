@@ -1,5 +1,5 @@
 // Generators for big structures (stack, pyramid, wall, jenga, dominoes,
-// tables, thrown cubes). Each is a pure function of its parameters, using
+// tables, thrown cubes, chains). Each is a pure function of its parameters, using
 // integer and Fixed arithmetic only, so a scene file that says "wall of 128"
 // means the same bodies, bit for bit, everywhere. Bodies are named
 // "<name>.<index>" with index 0, 1, ... in creation order. The parameters'
@@ -149,5 +149,44 @@ struct ThrowResult {
   bool placed_all = true;  // false when a body found no free spot in the region
 };
 ThrowResult generate_throw(const ThrowParams& params);
+
+// A chain of `count` links, box or sphere, their centres following each
+// other along `direction` (made unit) from `position` (the first link's
+// centre), `gap` apart surface to surface along it. Consecutive links are
+// joined at the middle of the gap between them (a point joint, or a hinge
+// about `axis`, world frame). An anchored end is joined by a point joint,
+// at the middle of the same gap, to a static box of half extents 0.05
+// just beyond the end link: "<name>.anchor0" before the first link,
+// "<name>.anchor1" after the last. Box links keep world axes; a box's
+// extent along the direction is its support distance, |d.x| h.x + |d.y|
+// h.y + |d.z| h.z.
+//
+// Bodies: the links "<name>.0" .. "<name>.<count - 1>", then the anchors.
+// Joints, in creation order: "<name>.joint<k>" joins link k - 1 (anchor0
+// for k = 0) to link k (anchor1 for k = count); k runs 0..count when both
+// ends are anchored, 1..count - 1 when none is.
+enum class ChainLink : uint8_t { box, sphere };
+enum class ChainAnchoring : uint8_t { none, first, both };
+struct ChainParams {
+  std::string name = "chain";
+  int count = 10;
+  ChainLink link = ChainLink::box;
+  Vec3 half_extents{0.1_fx, 0.25_fx, 0.1_fx};  // box links
+  Fixed radius = 0.2_fx;                        // sphere links
+  Fixed gap;                                    // m, between consecutive links' surfaces
+  Vec3 position;
+  Vec3 direction{Fixed{}, -Fixed::one(), Fixed{}};  // hanging down
+  ChainAnchoring anchored = ChainAnchoring::first;
+  JointType joint = JointType::point;  // point or hinge
+  Vec3 axis{Fixed{}, Fixed{}, Fixed::one()};  // hinge
+  Substance substance;
+};
+// A generator's bodies and the joints between them; a joint's body_a and
+// body_b index `bodies` (the scene adds the index of the first body).
+struct GeneratedStructure {
+  std::vector<SceneBody> bodies;
+  std::vector<SceneJoint> joints;
+};
+GeneratedStructure generate_chain(const ChainParams& params);
 
 }  // namespace bitstep

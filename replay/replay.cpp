@@ -91,23 +91,25 @@ Input read_input(const Node& node, const Scene& scene, BodyNames& names) {
   Input input;
   input.source = node;
   input.step = read_int(reader.require("step"), 1, max_steps);
-  static constexpr Input::Kind kinds[] = {Input::Kind::impulse, Input::Kind::force,  Input::Kind::set_velocity,
-                                          Input::Kind::spawn,   Input::Kind::remove, Input::Kind::wake};
-  input.kind = kinds[read_choice(reader.require("type"), {"impulse", "force", "set_velocity", "spawn", "remove", "wake"})];
-  const Node& body = reader.require("body");
+  static constexpr Input::Kind kinds[] = {Input::Kind::impulse, Input::Kind::force,     Input::Kind::set_velocity,
+                                          Input::Kind::spawn,   Input::Kind::remove,    Input::Kind::wake,
+                                          Input::Kind::add_joint, Input::Kind::remove_joint};
+  input.kind = kinds[read_choice(reader.require("type"), {"impulse", "force", "set_velocity", "spawn", "remove", "wake",
+                                                          "add_joint", "remove_joint"})];
+  const auto body = [&] { return read_body_ref(reader.require("body"), names); };
   switch (input.kind) {
     case Input::Kind::impulse:
-      input.body = read_body_ref(body, names);
+      input.body = body();
       input.vector = read_vec3_within(reader.require("impulse"), -max_impulse, max_impulse, "N s");
       input.point = read_point(reader.require("point"));
       break;
     case Input::Kind::force:
-      input.body = read_body_ref(body, names);
+      input.body = body();
       input.vector = read_vec3_within(reader.require("force"), -max_force, max_force, "N");
       input.point = read_point(reader.require("point"));
       break;
     case Input::Kind::set_velocity:
-      input.body = read_body_ref(body, names);
+      input.body = body();
       if (const Node* linear = reader.find("linear")) {
         input.vector = read_speed(*linear, envelope::max_linear_speed, "m/s");
       }
@@ -116,15 +118,49 @@ Input read_input(const Node& node, const Scene& scene, BodyNames& names) {
       }
       break;
     case Input::Kind::spawn:
-      input.spawned = read_scene_body(body, scene);
+      input.spawned = read_scene_body(reader.require("body"), scene);
       break;
     case Input::Kind::remove:
     case Input::Kind::wake:
-      input.body = read_body_ref(body, names);
+      input.body = body();
+      break;
+    case Input::Kind::add_joint:
+      input.joint = read_joint_spec(reader.require("joint"), [&](const Node& ref) { return read_body_ref(ref, names); });
+      break;
+    case Input::Kind::remove_joint:
+      input.joint.name = read_string(reader.require("joint"));
       break;
   }
   reader.finish();
   return input;
+}
+
+// Numbers the joints that inputs name, as InputRun::joints does: the
+// scene's 0..n-1, then each add_joint in input order. Names are unique
+// across the scene's joints and add_joint's; a remove_joint names one of
+// the scene or of an add_joint before it.
+void number_joints(std::vector<Input>& inputs, const Scene& scene) {
+  std::map<std::string_view, uint32_t> numbers;  // views of names in `scene` and `inputs`, which outlive it
+  for (size_t k = 0; k < scene.joints.size(); ++k) {
+    if (!scene.joints[k].name.empty()) numbers.emplace(scene.joints[k].name, static_cast<uint32_t>(k));
+  }
+  auto next = static_cast<uint32_t>(scene.joints.size());
+  for (Input& input : inputs) {
+    const std::string& name = input.joint.name;
+    if (input.kind == Input::Kind::add_joint) {
+      input.joint_number = next++;
+      if (!name.empty() && !numbers.emplace(name, input.joint_number).second) {
+        fail(input.source.path + ".joint.name", "duplicate joint name " + json::quote(name));
+      }
+    } else if (input.kind == Input::Kind::remove_joint) {
+      const auto found = numbers.find(name);
+      if (found == numbers.end()) {
+        fail(input.source.path + ".joint",
+             "no joint named " + json::quote(name) + " in the scene or added by an add_joint before it");
+      }
+      input.joint_number = found->second;
+    }
+  }
 }
 
 std::vector<Input> read_inputs(const Node& node, const Scene& scene) {
@@ -134,6 +170,7 @@ std::vector<Input> read_inputs(const Node& node, const Scene& scene) {
   for (const Node& input : node.children) inputs.push_back(read_input(input, scene, names));
   // Step order; within a step, file order.
   std::stable_sort(inputs.begin(), inputs.end(), [](const Input& a, const Input& b) { return a.step < b.step; });
+  number_joints(inputs, scene);
   return inputs;
 }
 
@@ -250,22 +287,66 @@ std::variant<InputsFile, ReplayError> load_inputs_file(const std::string& path, 
 }
 
 bool build_world(const Scene& scene, World& world, std::string& reason) {
+  std::vector<BodyId> ids;
+  ids.reserve(scene.bodies.size());
   for (size_t i = 0; i < scene.bodies.size(); ++i) {
     const CreateResult created = world.create_body(scene.bodies[i].def);
     if (!created.ok()) {
       reason = "body " + std::to_string(i) + ": " + created.error.field + ": " + created.error.reason;
       return false;
     }
+    ids.push_back(created.id);
+  }
+  for (size_t k = 0; k < scene.joints.size(); ++k) {
+    const SceneJoint& joint = scene.joints[k];
+    JointDef def = joint.def;
+    // A scene made in code may name a body it does not have: the world refuses the handle.
+    def.body_a = joint.body_a < ids.size() ? ids[joint.body_a] : BodyId{};
+    def.body_b = joint.body_b < ids.size() ? ids[joint.body_b] : BodyId{};
+    const JointResult created = world.create_joint(def);
+    if (!created.ok()) {
+      reason = "joint " + std::to_string(k) + (joint.name.empty() ? "" : " (" + json::quote(joint.name) + ")") + ": " +
+               created.error;
+      return false;
+    }
   }
   return true;
 }
 
-void apply_inputs(World& world, const std::vector<Input>& inputs, int64_t step, size_t& next) {
-  for (; next < inputs.size() && inputs[next].step <= step; ++next) {
-    const Input& input = inputs[next];
+namespace {
+
+// The body in the slot now, or a handle no body has.
+BodyId occupant(const World& world, uint32_t slot) {
+  const bool occupied = slot < world.bodies().size() && world.bodies()[slot].alive;
+  return {slot, occupied ? world.bodies()[slot].generation : 0};
+}
+
+constexpr JointId no_joint{UINT32_MAX, 0};
+
+void add_joint(World& world, const Input& input, InputRun& run) {
+  const JointSpec& spec = input.joint;
+  const BodyId a = occupant(world, spec.body_a), b = occupant(world, spec.body_b);
+  const auto frame = [&](BodyId id) { return world.is_alive(id) ? world.body(id).pose : Pose{}; };
+  JointDef def = joint_in_world(spec, frame(a), frame(b));
+  def.body_a = a;
+  def.body_b = b;
+  const JointResult created = world.create_joint(def);
+  if (run.joints.size() <= input.joint_number) run.joints.resize(input.joint_number + size_t{1}, no_joint);
+  run.joints[input.joint_number] = created.ok() ? created.id : no_joint;
+}
+
+}  // namespace
+
+InputRun::InputRun(const World& world_at_step_0) {
+  const std::vector<Joint>& slots = world_at_step_0.joints();
+  for (uint32_t k = 0; k < slots.size(); ++k) joints.push_back(slots[k].alive ? JointId{k, slots[k].generation} : no_joint);
+}
+
+void apply_inputs(World& world, const std::vector<Input>& inputs, int64_t step, InputRun& run) {
+  for (; run.next < inputs.size() && inputs[run.next].step <= step; ++run.next) {
+    const Input& input = inputs[run.next];
     if (input.step < step) continue;
-    const bool occupied = input.body < world.bodies().size() && world.bodies()[input.body].alive;
-    const BodyId id{input.body, occupied ? world.bodies()[input.body].generation : 0};
+    const BodyId id = occupant(world, input.body);
     switch (input.kind) {
       case Input::Kind::impulse: world.apply_impulse(id, input.vector, input.point); break;
       case Input::Kind::force: world.apply_force(id, input.vector, input.point); break;
@@ -273,6 +354,10 @@ void apply_inputs(World& world, const std::vector<Input>& inputs, int64_t step, 
       case Input::Kind::spawn: world.create_body(input.spawned.def); break;  // checked against the envelope when read
       case Input::Kind::remove: world.remove_body(id); break;
       case Input::Kind::wake: world.wake(id); break;
+      case Input::Kind::add_joint: add_joint(world, input, run); break;
+      case Input::Kind::remove_joint:
+        if (input.joint_number < run.joints.size()) world.remove_joint(run.joints[input.joint_number]);
+        break;
     }
   }
 }
@@ -280,9 +365,9 @@ void apply_inputs(World& world, const std::vector<Input>& inputs, int64_t step, 
 void run_inputs(World& world, const std::vector<Input>& inputs, int64_t steps, std::vector<uint64_t>& hashes,
                 int64_t dump_step, std::string* dump) {
   if (dump != nullptr && dump_step == 0) *dump = dump_state(world);
-  size_t next = 0;
+  InputRun run(world);
   for (int64_t step = 1; step <= steps; ++step) {
-    apply_inputs(world, inputs, step, next);
+    apply_inputs(world, inputs, step, run);
     world.step();
     hashes.push_back(state_hash(world));
     if (dump != nullptr && step == dump_step) *dump = dump_state(world);

@@ -19,15 +19,21 @@ namespace bitstep {
 // after the inputs before it in the file. `body` is a slot index (a name in
 // the file is resolved to the scene body's slot when the replay is read);
 // the input goes to whatever body occupies the slot then, and is ignored
-// when the slot is empty.
+// when the slot is empty. add_joint's bodies are slots in the same way; a
+// joint the world refuses then (World::create_joint) is not added.
 struct Input {
-  enum class Kind { impulse, force, set_velocity, spawn, remove, wake };
+  enum class Kind { impulse, force, set_velocity, spawn, remove, wake, add_joint, remove_joint };
   int64_t step = 1;
   Kind kind = Kind::impulse;
   uint32_t body = 0;
   Vec3 vector;       // impulse (N s), force (N) or linear velocity (m/s)
   Vec3 point;        // world point of an impulse or force (m); angular velocity (rad/s) for set_velocity
   SceneBody spawned; // spawn: the new body
+  // add_joint: the joint, its bodies as slots, local anchors in the body's
+  // frame in the world at that step (about its centre of mass); remove_joint:
+  // joint.name only.
+  JointSpec joint;
+  uint32_t joint_number = 0;  // add_joint, remove_joint: the joint, numbered as in InputRun::joints
   json::Node source; // the input as written, kept for writing the replay back exactly
 };
 
@@ -63,12 +69,24 @@ struct InputsFile {
 };
 std::variant<InputsFile, ReplayError> load_inputs_file(const std::string& path, const Scene& scene);
 
-// A world with the scene's bodies in order; false (and the reason) when a
-// body is refused.
+// A world with the scene's bodies in order, then its joints in order (in a
+// new world scene body i is slot i and scene joint k joint slot k); false
+// (and the reason) when a body or a joint is refused: "body 3: <field>:
+// <reason>", "joint 2 (\"rope\"): <World::create_joint's error>".
 bool build_world(const Scene& scene, World& world, std::string& reason);
 
-// Applies the inputs of step `step` starting at `next` (advanced past them).
-void apply_inputs(World& world, const std::vector<Input>& inputs, int64_t step, size_t& next);
+// A run of inputs: the next one to apply, and the joints inputs name, by
+// number: the scene's (the world's joint slots at step 0, as build_world
+// made them), then each add_joint's in input order, as it is created
+// (an index no joint has: nothing).
+struct InputRun {
+  explicit InputRun(const World& world_at_step_0);
+  size_t next = 0;
+  std::vector<JointId> joints;
+};
+
+// Applies the inputs of step `step` starting at `run.next` (advanced past them).
+void apply_inputs(World& world, const std::vector<Input>& inputs, int64_t step, InputRun& run);
 
 // Runs `steps` steps with the inputs from a world at step 0, appending each
 // step's state hash.

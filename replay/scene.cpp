@@ -3,6 +3,8 @@
 #include <climits>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <map>
 #include <set>
 
 #include "core/envelope.h"
@@ -19,10 +21,14 @@ using namespace scene_reader;
 namespace {
 
 constexpr int max_bodies = 1000000;  // in one scene, all generators included
+constexpr int max_joints = 1000000;  // likewise
 constexpr std::uintmax_t max_file_bytes = std::uintmax_t{1} << 30;
 constexpr Fixed max_distance = 1000.0_fx;  // m: a generator's gap, spacing, spread
 constexpr Fixed max_speed = 500.0_fx;      // m/s, as check_envelope
 constexpr Fixed max_spin = 100.0_fx;       // rad/s, as check_envelope
+constexpr Fixed min_axis_length = 0.001_fx;  // a joint's axis, a chain's direction (as World::create_joint)
+// pi rounded once to Q32.32, as scene_reader's (degrees -> radians).
+constexpr Fixed pi = 3.14159265358979323846264338327950288_fx;
 
 MaterialTable read_materials(const Node& node) {
   if (node.kind != Kind::object) fail(node, std::string("expected an object of named materials, got ") + json::describe(node.kind));
@@ -141,7 +147,7 @@ void check_overlap(ObjectReader& reader, Fixed overlap, Fixed half_height) {
   if (overlap >= half_height) fail(*reader.find("overlap"), "must be less than the boxes' half height");
 }
 
-std::vector<SceneBody> read_stack(ObjectReader& reader, const MaterialTable& materials) {
+GeneratedStructure read_stack(ObjectReader& reader, const MaterialTable& materials) {
   StackParams p;
   read_common(reader, materials, p.name, p.substance);
   read_optional(reader, "count", p.count, 1, 10000);
@@ -155,10 +161,10 @@ std::vector<SceneBody> read_stack(ObjectReader& reader, const MaterialTable& mat
     p.direction = directions[read_choice(*direction, {"+x", "-x", "+y", "-y", "+z", "-z"})];
   }
   check_overlap(reader, p.overlap, stack_half_height(p));
-  return generate_stack(p);
+  return {generate_stack(p), {}};
 }
 
-std::vector<SceneBody> read_pyramid(ObjectReader& reader, const MaterialTable& materials) {
+GeneratedStructure read_pyramid(ObjectReader& reader, const MaterialTable& materials) {
   PyramidParams p;
   read_common(reader, materials, p.name, p.substance);
   read_optional(reader, "base", p.base, 1, 1000);
@@ -167,10 +173,10 @@ std::vector<SceneBody> read_pyramid(ObjectReader& reader, const MaterialTable& m
   read_optional_within(reader, "gap", p.gap, Fixed{}, max_distance, "m");
   read_optional_within(reader, "overlap", p.overlap, Fixed{}, envelope::max_size, "m");
   check_overlap(reader, p.overlap, p.half_extents.y);
-  return generate_pyramid(p);
+  return {generate_pyramid(p), {}};
 }
 
-std::vector<SceneBody> read_wall(ObjectReader& reader, const MaterialTable& materials) {
+GeneratedStructure read_wall(ObjectReader& reader, const MaterialTable& materials) {
   WallParams p;
   read_common(reader, materials, p.name, p.substance);
   read_optional(reader, "base", p.base, 1, 1000);
@@ -184,10 +190,10 @@ std::vector<SceneBody> read_wall(ObjectReader& reader, const MaterialTable& mate
   read_optional_within(reader, "gap", p.gap, Fixed{}, max_distance, "m");
   read_optional_within(reader, "overlap", p.overlap, Fixed{}, envelope::max_size, "m");
   check_overlap(reader, p.overlap, p.half_extents.y);
-  return generate_wall(p);
+  return {generate_wall(p), {}};
 }
 
-std::vector<SceneBody> read_jenga(ObjectReader& reader, const MaterialTable& materials) {
+GeneratedStructure read_jenga(ObjectReader& reader, const MaterialTable& materials) {
   JengaParams p;
   read_common(reader, materials, p.name, p.substance);
   read_optional(reader, "levels", p.levels, 1, 10000);
@@ -195,10 +201,10 @@ std::vector<SceneBody> read_jenga(ObjectReader& reader, const MaterialTable& mat
   read_place(reader, "position", p.position);
   read_optional_within(reader, "overlap", p.overlap, Fixed{}, envelope::max_size, "m");
   check_overlap(reader, p.overlap, p.half_extents.y);
-  return generate_jenga(p);
+  return {generate_jenga(p), {}};
 }
 
-std::vector<SceneBody> read_dominoes(ObjectReader& reader, const MaterialTable& materials) {
+GeneratedStructure read_dominoes(ObjectReader& reader, const MaterialTable& materials) {
   DominoParams p;
   read_common(reader, materials, p.name, p.substance);
   read_optional(reader, "count", p.count, 1, 100000);
@@ -211,20 +217,20 @@ std::vector<SceneBody> read_dominoes(ObjectReader& reader, const MaterialTable& 
     p.direction = directions[read_choice(*direction, {"+x", "-x", "+z", "-z"})];
   }
   read_optional_within(reader, "push", p.push, -max_spin, max_spin, "rad/s");
-  return generate_dominoes(p);
+  return {generate_dominoes(p), {}};
 }
 
-std::vector<SceneBody> read_tables(ObjectReader& reader, const MaterialTable& materials) {
+GeneratedStructure read_tables(ObjectReader& reader, const MaterialTable& materials) {
   TableParams p;
   read_common(reader, materials, p.name, p.substance);
   read_optional(reader, "count", p.count, 1, 1000);
   read_size(reader, "top_half_extents", p.top_half_extents);
   read_size(reader, "leg_half_extents", p.leg_half_extents);
   read_place(reader, "position", p.position);
-  return generate_tables(p);
+  return {generate_tables(p), {}};
 }
 
-std::vector<SceneBody> read_throw(ObjectReader& reader, const MaterialTable& materials) {
+GeneratedStructure read_throw(ObjectReader& reader, const MaterialTable& materials) {
   ThrowParams p;
   read_common(reader, materials, p.name, p.substance);
   read_optional(reader, "count", p.count, 1, 10000);
@@ -249,25 +255,116 @@ std::vector<SceneBody> read_throw(ObjectReader& reader, const MaterialTable& mat
     fail(reader.node(), "no free spot for body " + std::to_string(result.bodies.size()) +
                             " after 1000 draws: make \"spread\" larger or \"count\" smaller");
   }
-  return std::move(result.bodies);
+  return {std::move(result.bodies), {}};
 }
 
-std::vector<SceneBody> read_generator(const Node& node, const MaterialTable& materials) {
+// A direction or an axis: components within +-1000, at least 0.001 long.
+Vec3 read_direction(const Node& node) {
+  const Vec3 v = read_vec3_within(node, -max_distance, max_distance, "");
+  if (length(v) < min_axis_length) fail(node, "shorter than 0.001");
+  return v;
+}
+
+GeneratedStructure read_chain(ObjectReader& reader, const MaterialTable& materials) {
+  ChainParams p;
+  read_common(reader, materials, p.name, p.substance);
+  read_optional(reader, "count", p.count, 1, 1000);
+  if (const Node* link = reader.find("link")) {
+    p.link = read_choice(*link, {"box", "sphere"}) == 0 ? ChainLink::box : ChainLink::sphere;
+  }
+  // Only the size key of the link's shape is known (as a shape's).
+  if (p.link == ChainLink::box) read_size(reader, "half_extents", p.half_extents);
+  if (p.link == ChainLink::sphere) {
+    read_optional_within(reader, "radius", p.radius, envelope::min_size, envelope::max_size, "m");
+  }
+  read_optional_within(reader, "gap", p.gap, Fixed{}, max_distance, "m");
+  read_place(reader, "position", p.position);
+  if (const Node* direction = reader.find("direction")) p.direction = read_direction(*direction);
+  if (const Node* anchored = reader.find("anchored")) {
+    static constexpr ChainAnchoring modes[] = {ChainAnchoring::none, ChainAnchoring::first, ChainAnchoring::both};
+    p.anchored = modes[read_choice(*anchored, {"none", "first", "both"})];
+  }
+  if (const Node* joint = reader.find("joint")) {
+    p.joint = read_choice(*joint, {"point", "hinge"}) == 0 ? JointType::point : JointType::hinge;
+  }
+  if (p.joint == JointType::hinge) {
+    if (const Node* axis = reader.find("axis")) p.axis = read_direction(*axis);
+  }
+  return generate_chain(p);
+}
+
+GeneratedStructure read_generator(const Node& node, const MaterialTable& materials) {
   ObjectReader reader(node);
-  using Reader = std::vector<SceneBody> (*)(ObjectReader&, const MaterialTable&);
+  using Reader = GeneratedStructure (*)(ObjectReader&, const MaterialTable&);
   static constexpr Reader readers[] = {read_stack, read_pyramid, read_wall, read_jenga,
-                                       read_dominoes, read_tables, read_throw};
-  const size_t type =
-      read_choice(reader.require("type"), {"stack", "pyramid", "wall", "jenga", "dominoes", "tables", "throw"});
-  std::vector<SceneBody> bodies = readers[type](reader, materials);
+                                       read_dominoes, read_tables, read_throw, read_chain};
+  const size_t type = read_choice(reader.require("type"),
+                                  {"stack", "pyramid", "wall", "jenga", "dominoes", "tables", "throw", "chain"});
+  GeneratedStructure generated = readers[type](reader, materials);
   reader.finish();
-  for (const SceneBody& body : bodies) {
+  for (const SceneBody& body : generated.bodies) {
     const EnvelopeError envelope = check_envelope(body.def);
     if (!envelope.ok()) {
       fail(node, "generated body " + json::quote(body.name) + ": " + envelope_field(envelope) + " " + envelope.reason);
     }
   }
-  return bodies;
+  return generated;
+}
+
+// --- joints ---------------------------------------------------------------
+
+// A joint's point given either in the world ("anchor", "anchor_b") or in its
+// body's frame ("local_anchor_a", "local_anchor_b"): exactly one of the two.
+// (The keys are literals: the reader keeps views of them.)
+Vec3 read_anchor(ObjectReader& reader, std::string_view world_key, std::string_view local_key, bool& local) {
+  const Node* in_world = reader.find(world_key);
+  const Node* in_body = reader.find(local_key);
+  const std::string keys = "\"" + std::string(world_key) + "\" or \"" + std::string(local_key) + "\"";
+  if (in_world != nullptr && in_body != nullptr) fail(*in_body, "give " + keys + ", not both");
+  if (in_world == nullptr && in_body == nullptr) {
+    fail(reader.node(), "missing key \"" + std::string(world_key) + "\" (or \"" + std::string(local_key) + "\")");
+  }
+  local = in_body != nullptr;
+  return read_vec3_within(local ? *in_body : *in_world, -envelope::max_position, envelope::max_position, "m");
+}
+
+// "limits": [lower, upper] in degrees, lower in -180..0 and upper in 0..180,
+// turned into radians as orientations are: mul_div(d, pi, 180), the exact
+// product rounded once (so 180 degrees is pi to the bit).
+void read_limits(const Node& node, JointDef& def) {
+  if (node.kind != Kind::array) fail(node, std::string("expected [lower, upper] in degrees, got ") + json::describe(node.kind));
+  if (node.children.size() != 2) {
+    fail(node, "expected [lower, upper] in degrees, got " + std::to_string(node.children.size()) + " numbers");
+  }
+  const Fixed lower = read_fixed_within(node.children[0], Fixed::from_int(-180), Fixed{}, "degrees");
+  const Fixed upper = read_fixed_within(node.children[1], Fixed{}, Fixed::from_int(180), "degrees");
+  def.limited = true;
+  def.lower_angle = mul_div(lower, pi, Fixed::from_int(180));
+  def.upper_angle = mul_div(upper, pi, Fixed::from_int(180));
+}
+
+// Reads "joints": each joint's bodies by name, local anchors placed at the
+// bodies' scene poses. Names, when given, are unique among all the scene's
+// joints (`names` holds the generated ones, read before).
+std::vector<SceneJoint> read_joints(const Node& node, const Scene& scene, const std::map<std::string, uint32_t>& bodies,
+                                    std::set<std::string>& names) {
+  if (node.kind != Kind::array) fail(node, std::string("expected an array of joints, got ") + json::describe(node.kind));
+  const BodyResolver resolve = [&](const Node& name) -> uint32_t {
+    const auto found = bodies.find(read_string(name));
+    if (found == bodies.end()) fail(name, "no body named " + json::quote(name.text));
+    return found->second;
+  };
+  std::vector<SceneJoint> joints;
+  for (const Node& entry : node.children) {
+    const JointSpec spec = read_joint_spec(entry, resolve);
+    if (!spec.name.empty() && !names.insert(spec.name).second) {
+      fail(entry.path + ".name", "duplicate joint name " + json::quote(spec.name));
+    }
+    const Pose& frame_a = scene.bodies[spec.body_a].def.pose;
+    const Pose& frame_b = scene.bodies[spec.body_b].def.pose;
+    joints.push_back({spec.name, joint_in_world(spec, frame_a, frame_b), spec.body_a, spec.body_b});
+  }
+  return joints;
 }
 
 // --- the file -------------------------------------------------------------
@@ -280,19 +377,36 @@ void check_header(ObjectReader& reader) {
   if (number != 1) fail(version, "unsupported version " + std::to_string(number) + " (this build reads version 1)");
 }
 
-// Names are optional, but those given are unique.
-void add_bodies(Scene& scene, std::set<std::string>& names, std::vector<SceneBody> bodies, const Node& source,
+// Names are optional, but those given are unique; `names` maps each to its body's index.
+void add_bodies(Scene& scene, std::map<std::string, uint32_t>& names, std::vector<SceneBody> bodies, const Node& source,
                 bool one_node_per_body) {
   if (scene.bodies.size() + bodies.size() > static_cast<size_t>(max_bodies)) {
     fail(source, "more than " + std::to_string(max_bodies) + " bodies in the scene");
   }
   for (size_t i = 0; i < bodies.size(); ++i) {
     SceneBody& body = bodies[i];
-    if (!body.name.empty() && !names.insert(body.name).second) {
+    if (!body.name.empty() && !names.emplace(body.name, static_cast<uint32_t>(scene.bodies.size())).second) {
       if (one_node_per_body) fail(source.children[i].path + ".name", "duplicate body name " + json::quote(body.name));
       fail(source, "generated body name " + json::quote(body.name) + " is already taken");
     }
     scene.bodies.push_back(std::move(body));
+  }
+}
+
+// A generator's joints, their bodies moved from the generator's own indices
+// to the scene's (its first body is `first`).
+void add_generated_joints(std::vector<SceneJoint>& out, std::set<std::string>& names, std::vector<SceneJoint> joints,
+                          uint32_t first, const Node& source) {
+  if (out.size() + joints.size() > static_cast<size_t>(max_joints)) {
+    fail(source, "more than " + std::to_string(max_joints) + " joints in the scene");
+  }
+  for (SceneJoint& joint : joints) {
+    if (!joint.name.empty() && !names.insert(joint.name).second) {
+      fail(source, "generated joint name " + json::quote(joint.name) + " is already taken");
+    }
+    joint.body_a += first;
+    joint.body_b += first;
+    out.push_back(std::move(joint));
   }
 }
 
@@ -304,21 +418,36 @@ Scene read_scene(const Node& root) {
   if (const Node* settings = reader.find("settings")) read_settings_onto(*settings, scene.settings);
   MaterialTable& materials = scene.materials;
   if (const Node* table = reader.find("materials")) materials = read_materials(*table);
-  std::set<std::string> names;
+  std::map<std::string, uint32_t> names;
   if (const Node* bodies = reader.find("bodies")) {
     if (bodies->kind != Kind::array) fail(*bodies, std::string("expected an array of bodies, got ") + json::describe(bodies->kind));
     std::vector<SceneBody> read;
     for (const Node& body : bodies->children) read.push_back(read_body(body, materials));
     add_bodies(scene, names, std::move(read), *bodies, true);
   }
+  // Generators before "joints", which may name their bodies; the joints'
+  // creation order is still "joints" first, then each generator's.
+  std::vector<SceneJoint> generated_joints;
+  std::set<std::string> joint_names;
   if (const Node* generators = reader.find("generators")) {
     if (generators->kind != Kind::array) {
       fail(*generators, std::string("expected an array of generators, got ") + json::describe(generators->kind));
     }
     for (const Node& generator : generators->children) {
-      add_bodies(scene, names, read_generator(generator, materials), generator, false);
+      GeneratedStructure generated = read_generator(generator, materials);
+      const auto first = static_cast<uint32_t>(scene.bodies.size());
+      add_bodies(scene, names, std::move(generated.bodies), generator, false);
+      add_generated_joints(generated_joints, joint_names, std::move(generated.joints), first, generator);
     }
   }
+  if (const Node* joints = reader.find("joints")) {
+    scene.joints = read_joints(*joints, scene, names, joint_names);
+    if (scene.joints.size() + generated_joints.size() > static_cast<size_t>(max_joints)) {
+      fail(*joints, "more than " + std::to_string(max_joints) + " joints in the scene");
+    }
+  }
+  scene.joints.insert(scene.joints.end(), std::make_move_iterator(generated_joints.begin()),
+                      std::make_move_iterator(generated_joints.end()));
   reader.finish();
   return scene;
 }
@@ -426,5 +555,49 @@ std::variant<Scene, SceneError> load_scene_file(const std::string& path) {
 }
 
 SceneBody read_scene_body(const json::Node& node, const Scene& scene) { return read_body(node, scene.materials); }
+
+JointSpec read_joint_spec(const json::Node& node, const BodyResolver& resolve_body) {
+  ObjectReader reader(node);
+  JointSpec spec;
+  JointDef& def = spec.def;
+  static constexpr JointType types[] = {JointType::point, JointType::max_distance, JointType::hinge, JointType::cone};
+  def.type = types[read_choice(reader.require("type"), {"point", "max_distance", "hinge", "cone"})];
+  if (const Node* name = reader.find("name")) spec.name = read_string(*name);
+  spec.body_a = resolve_body(reader.require("body_a"));
+  const Node& body_b = reader.require("body_b");
+  spec.body_b = resolve_body(body_b);
+  if (spec.body_b == spec.body_a) fail(body_b, "the same body as body_a");
+  // Only the keys of the joint's type are known: "axis" on a point joint is an unknown key.
+  def.anchor_a = read_anchor(reader, "anchor", "local_anchor_a", spec.anchor_a_local);
+  if (def.type == JointType::max_distance) {
+    def.anchor_b = read_anchor(reader, "anchor_b", "local_anchor_b", spec.anchor_b_local);
+    if (const Node* length = reader.find("length")) {
+      // Absent: the anchors' distance at creation (JointDef::length 0).
+      def.length = read_fixed(*length, Bound::positive);
+      if (def.length > max_distance) fail(*length, "longer than 1000 m");
+    }
+  }
+  if (def.type == JointType::hinge) {
+    def.axis = read_direction(reader.require("axis"));
+    if (const Node* limits = reader.find("limits")) read_limits(*limits, def);
+  }
+  if (def.type == JointType::cone) {
+    // The twist axis, the swing cone's half angle and the twist limits, in degrees.
+    def.axis = read_direction(reader.require("axis"));
+    const Node& swing = reader.require("swing");
+    def.swing_angle = mul_div(read_fixed_within(swing, Fixed{}, Fixed::from_int(180), "degrees"), pi, Fixed::from_int(180));
+    read_limits(reader.require("twist"), def);
+  }
+  read_optional(reader, "break_impulse", def.break_impulse, Bound::non_negative);
+  reader.finish();
+  return spec;
+}
+
+JointDef joint_in_world(const JointSpec& spec, const Pose& frame_a, const Pose& frame_b) {
+  JointDef def = spec.def;
+  if (spec.anchor_a_local) def.anchor_a = frame_a.apply(def.anchor_a);
+  if (spec.anchor_b_local) def.anchor_b = frame_b.apply(def.anchor_b);
+  return def;
+}
 
 }  // namespace bitstep

@@ -1,9 +1,11 @@
 // Scene files (format "bitstep-scene", version 1; replay/README.md has the
-// format): JSON text -> Settings and body definitions in creation order.
+// format): JSON text -> Settings, body and joint definitions in creation order.
 // Numbers go from their text straight to Fixed (DESIGN rule 3); every error
 // names the file, the JSON path of the offending value and the reason.
 #pragma once
 
+#include <cstdint>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -11,6 +13,7 @@
 #include <vector>
 
 #include "core/body.h"
+#include "core/joint.h"
 #include "core/settings.h"
 #include "replay/json_tree.h"
 #include "replay/material_table.h"
@@ -22,10 +25,19 @@ struct SceneBody {
   BodyDef def;
 };
 
+// A joint between two scene bodies, in the world frame at the bodies'
+// scene poses. def.body_a / def.body_b are filled by build_world.
+struct SceneJoint {
+  std::string name;  // may be empty; generated joints are "<generator name>.joint<k>"
+  JointDef def;
+  uint32_t body_a = 0, body_b = 0;  // indices into Scene::bodies
+};
+
 struct Scene {
   Settings settings;
-  std::vector<SceneBody> bodies;  // creation order: "bodies" first, then each generator's
-  MaterialTable materials;        // "materials", for bodies spawned later
+  std::vector<SceneBody> bodies;    // creation order: "bodies" first, then each generator's
+  std::vector<SceneJoint> joints;   // creation order: "joints" first, then each generator's
+  MaterialTable materials;          // "materials", for bodies spawned later
 };
 
 struct SceneError {
@@ -60,5 +72,23 @@ std::variant<std::string, SceneError> apply_settings_text(std::string_view json_
 // resolved against the scene's table: for bodies spawned by replay inputs.
 // Throws scene_reader::ReadFailure with the JSON path (callers catch it).
 SceneBody read_scene_body(const json::Node& node, const Scene& scene);
+
+// One joint object in the scene format (as in "joints"), for scenes and
+// add_joint inputs: its anchors as written, each in the world frame or in
+// its body's frame, and its bodies as `resolve_body` read them ("body_a",
+// "body_b"; it fails with the value's path). Throws
+// scene_reader::ReadFailure with the JSON path.
+struct JointSpec {
+  std::string name;
+  JointDef def;  // body ids unset; anchor_a / anchor_b in the frames below
+  uint32_t body_a = 0, body_b = 0;
+  bool anchor_a_local = false;  // "local_anchor_a": anchor_a is in body a's frame
+  bool anchor_b_local = false;  // "local_anchor_b" (max_distance): anchor_b in body b's frame
+};
+using BodyResolver = std::function<uint32_t(const json::Node&)>;
+JointSpec read_joint_spec(const json::Node& node, const BodyResolver& resolve_body);
+// The spec's definition in the world frame: local anchors placed with the
+// poses of the bodies' frames (world = frame.apply(local)).
+JointDef joint_in_world(const JointSpec& spec, const Pose& frame_a, const Pose& frame_b);
 
 }  // namespace bitstep

@@ -212,7 +212,7 @@ TEST_CASE("scene errors name the file, the JSON path and the reason", "[scene]")
           "angular_velocity, density, mass, material, linear_damping, angular_damping, asleep, shapes)");
     CHECK(error_of(R"({"format": "bitstep-scene", "version": 1, "setings": {}})") ==
           "f.json: $.setings: unknown key (known keys: format, version, description, settings, materials, bodies, "
-          "generators)");
+          "generators, joints)");
     CHECK(error_of(scene_text(R"({"shapes": [{"type": "sphere", "radius": 1, "half_extents": [1, 1, 1]}]})")) ==
           "f.json: $.bodies[0].shapes[0].half_extents: unknown key (known keys: type, radius, position, orientation)");
   }
@@ -348,7 +348,7 @@ TEST_CASE("scene errors name the file, the JSON path and the reason", "[scene]")
           "f.json: $.generators[0]: generated body name \"stack.1\" is already taken");
     CHECK(error_of(R"({"format": "bitstep-scene", "version": 1, "generators": [{"type": "tower"}]})") ==
           "f.json: $.generators[0].type: expected \"stack\", \"pyramid\", \"wall\", \"jenga\", \"dominoes\", "
-          "\"tables\" or \"throw\", got \"tower\"");
+          "\"tables\", \"throw\" or \"chain\", got \"tower\"");
     CHECK(error_of(R"({"format": "bitstep-scene", "version": 1, "generators": [{"type": "stack", "base": 3}]})") ==
           "f.json: $.generators[0].base: unknown key (known keys: type, name, material, density, mass, asleep, count, "
           "half_extents, position, overlap, direction)");

@@ -1,0 +1,479 @@
+// Joints in scenes: the "joints" array, the chain generator, build_world's
+// joint order and the add_joint / remove_joint inputs (replay/README.md).
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <variant>
+
+#include "replay/generators.h"
+#include "replay/replay.h"
+#include "replay/scene.h"
+#include "tests/replay/test_scenes.h"
+
+using namespace bitstep;
+
+namespace {
+
+constexpr Fixed pi = 3.14159265358979323846264338327950288_fx;
+const Fixed one_micron = Fixed::from_ratio(1, 1000000);
+
+// Two dynamic unit cubes "a" at the origin and "b" 1.1 m up, a static
+// "base" below, and the given "joints" and extra top-level members.
+std::string scene_with(const std::string& joints, const std::string& extra = "") {
+  return R"({"format": "bitstep-scene", "version": 1, )" + extra + R"("bodies": [
+    {"name": "base", "type": "static", "position": [0, -1.1, 0], "shapes": [{"type": "box", "half_extents": [1, 0.5, 1]}]},
+    {"name": "a", "shapes": [{"type": "box", "half_extents": [0.5, 0.5, 0.5]}]},
+    {"name": "b", "position": [0, 1.1, 0], "orientation": {"axis": [0, 0, 1], "degrees": 90},
+     "shapes": [{"type": "box", "half_extents": [0.5, 0.5, 0.5]}]}],
+    "joints": [)" + joints + "]}";
+}
+
+Scene load_ok(const std::string& text) {
+  auto result = parse_scene(text, "f.json");
+  if (const auto* error = std::get_if<SceneError>(&result)) FAIL(error->message());
+  return std::get<Scene>(std::move(result));
+}
+
+std::string error_of(const std::string& text) {
+  const auto result = parse_scene(text, "f.json");
+  if (const auto* error = std::get_if<SceneError>(&result)) return error->message();
+  return "no error";
+}
+
+std::string chain_scene(const std::string& chain_keys, const std::string& joints = "") {
+  return R"({"format": "bitstep-scene", "version": 1, "bodies": [{"name": "bar", "type": "static",
+    "position": [0, 8, 0], "shapes": [{"type": "box", "half_extents": [2, 0.1, 0.1]}]}],
+    "generators": [{"type": "chain", )" + chain_keys + R"(}], "joints": [)" + joints + "]}";
+}
+
+World built(const Scene& scene) {
+  World world(scene.settings);
+  std::string reason;
+  if (!build_world(scene, world, reason)) FAIL(reason);
+  return world;
+}
+
+// The largest distance, over the world's live point joints, between where
+// body a and body b hold their anchors.
+Fixed widest_point_joint(const World& world) {
+  Fixed widest;
+  for (const Joint& joint : world.joints()) {
+    if (!joint.alive || joint.type == JointType::max_distance) continue;
+    const Vec3 on_a = world.bodies()[joint.body_a].pose.apply(joint.local_anchor_a);
+    const Vec3 on_b = world.bodies()[joint.body_b].pose.apply(joint.local_anchor_b);
+    widest = max(widest, length(on_a - on_b));
+  }
+  return widest;
+}
+
+size_t live_joints(const World& world) {
+  size_t live = 0;
+  for (const Joint& joint : world.joints()) live += joint.alive ? 1 : 0;
+  return live;
+}
+
+// An inputs file, read against `scene`; removed at the end of the test.
+struct InputsFileOf {
+  std::string path;
+  std::variant<InputsFile, ReplayError> loaded;
+  InputsFileOf(const std::string& inputs, const Scene& scene)
+      : path((std::filesystem::temp_directory_path() / "bitstep_joint_inputs_test.json").string()) {
+    std::ofstream(path, std::ios::binary) << R"({"inputs": [)" + inputs + "]}";
+    loaded = load_inputs_file(path, scene);
+  }
+  ~InputsFileOf() {
+    std::error_code ignored;
+    std::filesystem::remove(path, ignored);
+  }
+  const std::vector<Input>& inputs() {
+    if (const auto* error = std::get_if<ReplayError>(&loaded)) FAIL(error->message());
+    return std::get<InputsFile>(loaded).inputs;
+  }
+  std::string error() {
+    if (const auto* error = std::get_if<ReplayError>(&loaded)) return error->path + ": " + error->reason;
+    return "no error";
+  }
+};
+
+}  // namespace
+
+TEST_CASE("a scene's joints: anchors in the world or in a body's frame, built in order", "[scene][joints]") {
+  const Scene scene = load_ok(scene_with(R"(
+    {"type": "point", "name": "neck", "body_a": "a", "body_b": "b", "anchor": [0, 0.55, 0]},
+    {"type": "point", "body_a": "b", "body_b": "a", "local_anchor_a": [-0.55, 0, 0], "break_impulse": 20},
+    {"type": "max_distance", "name": "rope", "body_a": "base", "body_b": "a", "local_anchor_a": [0, 0.5, 0],
+     "local_anchor_b": [0.5, 0, 0]},
+    {"type": "max_distance", "body_a": "base", "body_b": "b", "anchor": [1, -0.6, 0], "anchor_b": [1, 1.1, 0],
+     "length": 2.5},
+    {"type": "hinge", "name": "knee", "body_a": "a", "body_b": "b", "anchor": [0, 0.55, 0], "axis": [0, 0, 2],
+     "limits": [-180, 90]})"));
+  REQUIRE(scene.joints.size() == 5);
+  CHECK(scene.joints[0].name == "neck");
+  CHECK(scene.joints[1].name.empty());
+  CHECK(scene.joints[0].body_a == 1);
+  CHECK(scene.joints[0].body_b == 2);
+  CHECK(scene.joints[0].def.anchor_a == Vec3{Fixed{}, 0.55_fx, Fixed{}});
+  CHECK(scene.joints[1].def.break_impulse == 20.0_fx);
+  // b is turned 90 degrees about z: its local -x is the world's -y.
+  const Vec3 turned = scene.joints[1].def.anchor_a;
+  CHECK(abs(turned.x) <= one_micron);
+  CHECK(abs(turned.y - 0.55_fx) <= one_micron);
+  CHECK(scene.joints[2].def.type == JointType::max_distance);
+  CHECK(scene.joints[2].def.anchor_a == Vec3{Fixed{}, -0.6_fx, Fixed{}});
+  CHECK(scene.joints[2].def.anchor_b == Vec3{0.5_fx, Fixed{}, Fixed{}});
+  CHECK(scene.joints[2].def.length == Fixed{});  // the anchors' distance, taken at creation
+  CHECK(scene.joints[3].def.length == 2.5_fx);
+  const JointDef& knee = scene.joints[4].def;
+  CHECK(knee.axis == Vec3{Fixed{}, Fixed{}, 2.0_fx});
+  CHECK(knee.limited);
+  CHECK(knee.lower_angle == -pi);  // exactly: d pi / 180 rounded once
+  CHECK(knee.upper_angle.raw() == pi.raw() / 2);
+
+  const World world = built(scene);
+  REQUIRE(world.joints().size() == 5);
+  CHECK(world.joints()[0].body_a == 1);
+  CHECK(world.joints()[2].body_a == 0);
+  CHECK(world.joints()[4].type == JointType::hinge);
+  CHECK(world.joints()[2].length == length(Vec3{0.5_fx, 0.6_fx, Fixed{}}));
+  CHECK(widest_point_joint(world) <= one_micron);
+}
+
+TEST_CASE("joint errors name the JSON path", "[scene][joints]") {
+  const auto joint_error = [](const std::string& joint) { return error_of(scene_with(joint)); };
+  const std::string ab = R"("body_a": "a", "body_b": "b")";
+  const std::string point = R"({"type": "point", )" + ab;
+  CHECK(joint_error(R"({"type": "point", "body_a": "a", "body_b": "link.9", "anchor": [0, 0, 0]})") ==
+        "f.json: $.joints[0].body_b: no body named \"link.9\"");
+  CHECK(joint_error(R"({"type": "point", "body_a": 1, "body_b": "b", "anchor": [0, 0, 0]})") ==
+        "f.json: $.joints[0].body_a: expected a string, got a number");
+  CHECK(joint_error(R"({"type": "point", "body_b": "b", "anchor": [0, 0, 0]})") ==
+        "f.json: $.joints[0]: missing key \"body_a\"");
+  CHECK(joint_error(R"({"type": "point", "body_a": "a", "body_b": "a", "anchor": [0, 0, 0]})") ==
+        "f.json: $.joints[0].body_b: the same body as body_a");
+  CHECK(joint_error(R"({"body_a": "a", "body_b": "b", "anchor": [0, 0, 0]})") == "f.json: $.joints[0]: missing key \"type\"");
+  CHECK(joint_error(R"({"type": "cone", "body_a": "a", "body_b": "b", "anchor": [0, 1, 0], "axis": [0, -1, 0],
+                          "twist": [-10, 10]})") == "f.json: $.joints[0]: missing key \"swing\"");
+  CHECK(joint_error(R"({"type": "cone", "body_a": "a", "body_b": "b", "anchor": [0, 1, 0], "axis": [0, -1, 0],
+                          "swing": 200, "twist": [-10, 10]})").find("$.joints[0].swing: ") != std::string::npos);
+  CHECK(joint_error(R"({"type": "weld", "body_a": "a", "body_b": "b"})") ==
+        "f.json: $.joints[0].type: expected \"point\", \"max_distance\", \"hinge\" or \"cone\", got \"weld\"");
+  // Anchors: one of the two keys.
+  CHECK(joint_error(point + "}") == "f.json: $.joints[0]: missing key \"anchor\" (or \"local_anchor_a\")");
+  CHECK(joint_error(point + R"(, "anchor": [0, 0, 0], "local_anchor_a": [0, 0, 0]})") ==
+        "f.json: $.joints[0].local_anchor_a: give \"anchor\" or \"local_anchor_a\", not both");
+  CHECK(joint_error(point + R"(, "anchor": [0, 20000, 0]})") == "f.json: $.joints[0].anchor[1]: outside +-16000 m");
+  CHECK(joint_error(R"({"type": "max_distance", )" + ab + R"(, "anchor": [0, 0, 0]})") ==
+        "f.json: $.joints[0]: missing key \"anchor_b\" (or \"local_anchor_b\")");
+  CHECK(joint_error(R"({"type": "max_distance", )" + ab + R"(, "anchor": [0, 0, 0], "anchor_b": [0, 1, 0],
+                       "local_anchor_b": [0, 0, 0]})") ==
+        "f.json: $.joints[0].local_anchor_b: give \"anchor_b\" or \"local_anchor_b\", not both");
+  // Keys of another type are unknown keys.
+  CHECK(joint_error(point + R"(, "anchor": [0, 0, 0], "axis": [0, 0, 1]})") ==
+        "f.json: $.joints[0].axis: unknown key (known keys: type, name, body_a, body_b, anchor, local_anchor_a, "
+        "break_impulse)");
+  CHECK(joint_error(point + R"(, "anchor": [0, 0, 0], "anchor_b": [0, 0, 1]})") ==
+        "f.json: $.joints[0].anchor_b: unknown key (known keys: type, name, body_a, body_b, anchor, local_anchor_a, "
+        "break_impulse)");
+  CHECK(joint_error(R"({"type": "hinge", )" + ab + R"(, "anchor": [0, 0, 0], "axis": [0, 0, 1], "length": 1})") ==
+        "f.json: $.joints[0].length: unknown key (known keys: type, name, body_a, body_b, anchor, local_anchor_a, "
+        "axis, limits, break_impulse)");
+  CHECK(joint_error(R"({"type": "max_distance", )" + ab + R"(, "anchor": [0, 0, 0], "anchor_b": [0, 1, 0],
+                       "limits": [0, 0]})") ==
+        "f.json: $.joints[0].limits: unknown key (known keys: type, name, body_a, body_b, anchor, local_anchor_a, "
+        "anchor_b, local_anchor_b, length, break_impulse)");
+  CHECK(joint_error(point + R"(, "anchor": [0, 0, 0], "colour": "red"})").find("$.joints[0].colour: unknown key") !=
+        std::string::npos);
+  // Hinges: the axis and the limits in degrees.
+  const std::string hinge = R"({"type": "hinge", )" + ab + R"(, "anchor": [0, 0.55, 0])";
+  CHECK(joint_error(hinge + "}") == "f.json: $.joints[0]: missing key \"axis\"");
+  CHECK(joint_error(hinge + R"(, "axis": [0, 0, 0]})") == "f.json: $.joints[0].axis: shorter than 0.001");
+  CHECK(joint_error(hinge + R"(, "axis": [0, 0, 1], "limits": [10, 20]})") ==
+        "f.json: $.joints[0].limits[0]: outside -180..0 degrees");
+  CHECK(joint_error(hinge + R"(, "axis": [0, 0, 1], "limits": [-181, 20]})") ==
+        "f.json: $.joints[0].limits[0]: outside -180..0 degrees");
+  CHECK(joint_error(hinge + R"(, "axis": [0, 0, 1], "limits": [-10, -5]})") ==
+        "f.json: $.joints[0].limits[1]: outside 0..180 degrees");
+  CHECK(joint_error(hinge + R"(, "axis": [0, 0, 1], "limits": [-10, 180.5]})") ==
+        "f.json: $.joints[0].limits[1]: outside 0..180 degrees");
+  CHECK(joint_error(hinge + R"(, "axis": [0, 0, 1], "limits": [-10, 0, 10]})") ==
+        "f.json: $.joints[0].limits: expected [lower, upper] in degrees, got 3 numbers");
+  CHECK(joint_error(hinge + R"(, "axis": [0, 0, 1], "limits": 90})") ==
+        "f.json: $.joints[0].limits: expected [lower, upper] in degrees, got a number");
+  // Ropes and breaking.
+  const std::string rope = R"({"type": "max_distance", )" + ab + R"(, "anchor": [0, 0.5, 0], "anchor_b": [0, 0.6, 0])";
+  CHECK(joint_error(rope + R"(, "length": 0})") == "f.json: $.joints[0].length: must be > 0");
+  CHECK(joint_error(rope + R"(, "length": 1001})") == "f.json: $.joints[0].length: longer than 1000 m");
+  CHECK(joint_error(rope + R"(, "break_impulse": -1})") == "f.json: $.joints[0].break_impulse: must be >= 0");
+  // Names and the array.
+  CHECK(joint_error(point + R"(, "name": "j", "anchor": [0, 0, 0]}, )" + point + R"(, "name": "j", "anchor": [0, 0, 0]})") ==
+        "f.json: $.joints[1].name: duplicate joint name \"j\"");
+  CHECK(error_of(R"({"format": "bitstep-scene", "version": 1, "joints": {}})") ==
+        "f.json: $.joints: expected an array of joints, got an object");
+  CHECK(error_of(R"({"format": "bitstep-scene", "version": 1, "joints": [7]})") ==
+        "f.json: $.joints[0]: expected an object, got a number");
+}
+
+TEST_CASE("a joint the world refuses fails build_world with its number and name", "[scene][joints]") {
+  const auto build_error = [](const std::string& joints) {
+    const Scene scene = load_ok(scene_with(joints));
+    World world(scene.settings);
+    std::string reason;
+    return build_world(scene, world, reason) ? std::string("built") : reason;
+  };
+  const std::string fine = R"({"type": "point", "body_a": "a", "body_b": "b", "anchor": [0, 0.55, 0]})";
+  CHECK(build_error(fine) == "built");
+  CHECK(build_error(fine + R"(, {"type": "point", "name": "far", "body_a": "a", "body_b": "b", "anchor": [0, 50, 0]})") ==
+        "joint 1 (\"far\"): anchor_a: farther from the body than twice its reach and 1 m");
+  CHECK(build_error(fine + R"(, {"type": "hinge", "body_a": "a", "body_b": "b", "anchor": [0, 0.55, 0],
+                                 "axis": [0, 0, 1], "limits": [-10, 10]}, )" +
+                    R"({"type": "point", "body_a": "base", "body_b": "a", "local_anchor_a": [0, 70, 0]})") ==
+        "joint 2: anchor_a: farther from the body than twice its reach and 1 m");
+}
+
+TEST_CASE("chain generator: links, anchors, names and joints for each anchoring", "[scene][joints][chain]") {
+  ChainParams params;
+  params.position = Vec3{Fixed{}, 7.63_fx, Fixed{}};
+  params.gap = 0.02_fx;
+  SECTION("none") {
+    params.anchored = ChainAnchoring::none;
+    const GeneratedStructure chain = generate_chain(params);
+    REQUIRE(chain.bodies.size() == 10);
+    REQUIRE(chain.joints.size() == 9);
+    CHECK(chain.bodies[9].name == "chain.9");
+    CHECK(chain.joints.front().name == "chain.joint1");
+    CHECK(chain.joints.back().name == "chain.joint9");
+    for (uint32_t k = 0; k < 9; ++k) {
+      CHECK(chain.joints[k].body_a == k);
+      CHECK(chain.joints[k].body_b == k + 1);
+    }
+  }
+  SECTION("first") {
+    const GeneratedStructure chain = generate_chain(params);  // the default
+    REQUIRE(chain.bodies.size() == 11);
+    REQUIRE(chain.joints.size() == 10);
+    const SceneBody& anchor = chain.bodies[10];
+    CHECK(anchor.name == "chain.anchor0");
+    CHECK(anchor.def.type == BodyType::static_body);
+    CHECK(anchor.def.shapes[0].half_extents == Vec3{0.05_fx, 0.05_fx, 0.05_fx});
+    // Just above the first link: its top 7.88, the gap 0.02, then the box.
+    CHECK(anchor.def.pose.position == Vec3{Fixed{}, 7.63_fx + 0.25_fx + 0.02_fx + 0.05_fx, Fixed{}});
+    CHECK(chain.joints[0].name == "chain.joint0");
+    CHECK(chain.joints[0].body_a == 10);
+    CHECK(chain.joints[0].body_b == 0);
+    CHECK(chain.joints[0].def.type == JointType::point);
+    CHECK(chain.joints[0].def.anchor_a == Vec3{Fixed{}, 7.63_fx + 0.25_fx + 0.01_fx, Fixed{}});
+    // Exact placement along the default direction (down): pitch 0.52.
+    CHECK(chain.bodies[3].def.pose.position.y == 7.63_fx - Fixed::from_int(3) * 0.52_fx);
+    CHECK(chain.joints[3].def.anchor_a.y == chain.bodies[3].def.pose.position.y + 0.26_fx);
+    CHECK(chain.joints[3].body_a == 2);
+    CHECK(chain.joints[3].body_b == 3);
+  }
+  SECTION("both") {
+    params.anchored = ChainAnchoring::both;
+    params.link = ChainLink::sphere;
+    params.joint = JointType::hinge;
+    const GeneratedStructure chain = generate_chain(params);
+    REQUIRE(chain.bodies.size() == 12);
+    REQUIRE(chain.joints.size() == 11);
+    CHECK(chain.bodies[0].def.shapes[0].type == ShapeType::sphere);
+    CHECK(chain.bodies[0].def.shapes[0].radius == 0.2_fx);
+    CHECK(chain.bodies[10].name == "chain.anchor0");
+    CHECK(chain.bodies[11].name == "chain.anchor1");
+    CHECK(chain.joints[10].name == "chain.joint10");
+    CHECK(chain.joints[10].body_a == 9);
+    CHECK(chain.joints[10].body_b == 11);
+    // Between links the chain's joint; at the anchors point joints.
+    CHECK(chain.joints[0].def.type == JointType::point);
+    CHECK(chain.joints[5].def.type == JointType::hinge);
+    CHECK(chain.joints[5].def.axis == Vec3{Fixed{}, Fixed{}, Fixed::one()});
+    CHECK(chain.joints[10].def.type == JointType::point);
+    CHECK(chain.bodies[11].def.pose.position.y ==
+          chain.bodies[9].def.pose.position.y - (0.2_fx + 0.02_fx + 0.05_fx));
+  }
+}
+
+TEST_CASE("chain generator in a scene: names, scene indices, joints built coincident", "[scene][joints][chain]") {
+  for (const char* anchored : {"none", "first", "both"}) {
+    INFO(anchored);
+    const Scene scene = load_ok(chain_scene(std::string(R"("count": 4, "gap": 0.02, "position": [0, 7.63, 0], )") +
+                                                R"("anchored": ")" + anchored + "\"",
+                                            R"({"type": "point", "name": "top", "body_a": "bar", "body_b": "chain.0",
+                                                "local_anchor_a": [0, -0.11, 0]})"));
+    const size_t anchors = std::string(anchored) == "none" ? 0 : (std::string(anchored) == "first" ? 1 : 2);
+    REQUIRE(scene.bodies.size() == 1 + 4 + anchors);
+    REQUIRE(scene.joints.size() == 1 + 3 + anchors);
+    CHECK(scene.bodies[1].name == "chain.0");
+    CHECK(scene.bodies[4].name == "chain.3");
+    // "joints" first, then the generator's, their bodies moved past the bar.
+    CHECK(scene.joints[0].name == "top");
+    CHECK(scene.joints[0].def.anchor_a == Vec3{Fixed{}, 7.89_fx, Fixed{}});
+    CHECK(scene.joints[1].name == (anchors > 0 ? "chain.joint0" : "chain.joint1"));
+    CHECK(scene.joints.back().name == (anchors == 2 ? "chain.joint4" : "chain.joint3"));
+    const SceneJoint& between = scene.joints[anchors > 0 ? 2 : 1];
+    CHECK(between.body_a == 1);
+    CHECK(between.body_b == 2);
+    const World world = built(scene);
+    CHECK(world.joints().size() == scene.joints.size());
+    CHECK(widest_point_joint(world) <= one_micron);
+  }
+  // A sideways hinge chain of spheres.
+  const Scene sideways = load_ok(chain_scene(R"("count": 5, "link": "sphere", "radius": 0.25, "direction": [2, 0, 0],
+      "position": [3, 8, 0], "joint": "hinge", "axis": [0, 0, 1], "anchored": "both")"));
+  REQUIRE(sideways.bodies.size() == 1 + 5 + 2);
+  CHECK(sideways.bodies[2].def.pose.position == Vec3{3.5_fx, 8.0_fx, Fixed{}});
+  CHECK(sideways.joints[1].def.anchor_a == Vec3{3.25_fx, 8.0_fx, Fixed{}});
+  const World world = built(sideways);
+  CHECK(world.joints().size() == 6);
+  CHECK(widest_point_joint(world) <= one_micron);
+}
+
+TEST_CASE("chain generator errors name the generator's keys", "[scene][joints][chain]") {
+  CHECK(error_of(chain_scene(R"("count": 0)")) == "f.json: $.generators[0].count: outside 1..1000");
+  CHECK(error_of(chain_scene(R"("count": 1001)")) == "f.json: $.generators[0].count: outside 1..1000");
+  CHECK(error_of(chain_scene(R"("link": "ring")")) ==
+        "f.json: $.generators[0].link: expected \"box\" or \"sphere\", got \"ring\"");
+  CHECK(error_of(chain_scene(R"("radius": 0.2)")).find("$.generators[0].radius: unknown key") != std::string::npos);
+  CHECK(error_of(chain_scene(R"("link": "sphere", "half_extents": [1, 1, 1])"))
+            .find("$.generators[0].half_extents: unknown key") != std::string::npos);
+  CHECK(error_of(chain_scene(R"("direction": [0, 0, 0])")) == "f.json: $.generators[0].direction: shorter than 0.001");
+  CHECK(error_of(chain_scene(R"("anchored": "middle")")) ==
+        "f.json: $.generators[0].anchored: expected \"none\", \"first\" or \"both\", got \"middle\"");
+  CHECK(error_of(chain_scene(R"("joint": "max_distance")")) ==
+        "f.json: $.generators[0].joint: expected \"point\" or \"hinge\", got \"max_distance\"");
+  CHECK(error_of(chain_scene(R"("axis": [0, 0, 1])")).find("$.generators[0].axis: unknown key") != std::string::npos);
+  CHECK(error_of(chain_scene(R"("joint": "hinge", "axis": [0, 0, 0])")) ==
+        "f.json: $.generators[0].axis: shorter than 0.001");
+  CHECK(error_of(chain_scene(R"("gap": -0.1)")) == "f.json: $.generators[0].gap: outside 0..1000 m");
+  CHECK(error_of(chain_scene(R"("count": 2)", R"({"type": "point", "name": "chain.joint1", "body_a": "bar", "body_b": "chain.0",
+                                     "anchor": [0, 7.9, 0]})")) ==
+        "f.json: $.joints[0].name: duplicate joint name \"chain.joint1\"");
+  CHECK(error_of(chain_scene(R"("position": [0, 4, 0]}, {"type": "chain", "name": "other", "position": [0, 2, 0])")) ==
+        "no error");
+  CHECK(error_of(R"({"format": "bitstep-scene", "version": 1, "generators": [
+                     {"type": "chain"}, {"type": "chain", "position": [5, 0, 0]}]})") ==
+        "f.json: $.generators[1]: generated body name \"chain.0\" is already taken");
+}
+
+TEST_CASE("chains.json: the generator and explicit joints together", "[scene][joints]") {
+  auto loaded = load_scene_file(test::scenes_dir + "/chains.json");
+  if (const auto* error = std::get_if<SceneError>(&loaded)) FAIL(error->message());
+  const Scene& scene = std::get<Scene>(loaded);
+  CHECK(scene.bodies.size() == 2 + 10 + 10 + 10 + 1);
+  CHECK(scene.joints.size() == 2 + 9 + 9 + 10);
+  const World world = test::world_of("chains.json");
+  CHECK(live_joints(world) == 30);
+  CHECK(widest_point_joint(world) <= one_micron);
+}
+
+TEST_CASE("add_joint and remove_joint inputs are read and applied", "[replay][joints]") {
+  const Scene scene = load_ok(scene_with(R"({"type": "point", "name": "neck", "body_a": "a", "body_b": "b",
+                                             "anchor": [0, 0.55, 0]})"));
+  InputsFileOf file(R"(
+    {"step": 3, "type": "remove_joint", "joint": "rope"},
+    {"step": 1, "type": "add_joint", "joint": {"type": "max_distance", "name": "rope", "body_a": "base", "body_b": 2,
+                                               "local_anchor_a": [0, 0.5, 0], "anchor_b": [0, 1.6, 0]}},
+    {"step": 2, "type": "remove_joint", "joint": "neck"},
+    {"step": 2, "type": "add_joint", "joint": {"type": "point", "body_a": "a", "body_b": "b", "local_anchor_a": [0, 0.55, 0]}})",
+                    scene);
+  const std::vector<Input>& inputs = file.inputs();
+  REQUIRE(inputs.size() == 4);
+  CHECK(inputs[0].kind == Input::Kind::add_joint);
+  CHECK(inputs[0].joint.name == "rope");
+  CHECK(inputs[0].joint.body_a == 0);
+  CHECK(inputs[0].joint.body_b == 2);
+  CHECK(inputs[0].joint.anchor_a_local);
+  CHECK_FALSE(inputs[0].joint.anchor_b_local);
+  CHECK(inputs[0].joint_number == 1);  // after the scene's one joint
+  CHECK(inputs[1].kind == Input::Kind::remove_joint);
+  CHECK(inputs[1].joint_number == 0);  // "neck"
+  CHECK(inputs[2].joint_number == 2);
+  CHECK(inputs[3].joint_number == 1);  // "rope"
+
+  World world = built(scene);
+  InputRun run(world);
+  REQUIRE(run.joints.size() == 1);
+  apply_inputs(world, inputs, 1, run);
+  REQUIRE(live_joints(world) == 2);
+  const Joint& rope = world.joints()[run.joints[1].index];
+  CHECK(rope.type == JointType::max_distance);
+  CHECK(world.bodies()[0].pose.apply(rope.local_anchor_a) == Vec3{Fixed{}, -0.6_fx, Fixed{}});
+  apply_inputs(world, inputs, 2, run);  // "neck" out, an unnamed point joint in (into neck's slot)
+  CHECK(live_joints(world) == 2);
+  CHECK_FALSE(world.is_alive(run.joints[0]));
+  CHECK(world.is_alive(run.joints[2]));
+  CHECK(widest_point_joint(world) <= one_micron);
+  apply_inputs(world, inputs, 3, run);
+  CHECK(live_joints(world) == 1);
+  CHECK_FALSE(world.is_alive(run.joints[1]));
+
+  // The same inputs give the same chain of hashes.
+  std::vector<uint64_t> first, second;
+  World one = built(scene), two = built(scene);
+  run_inputs(one, inputs, 4, first);
+  run_inputs(two, inputs, 4, second);
+  CHECK(first == second);
+}
+
+TEST_CASE("malformed joint inputs are refused with their paths", "[replay][joints]") {
+  const Scene scene = load_ok(scene_with(R"({"type": "point", "name": "neck", "body_a": "a", "body_b": "b",
+                                             "anchor": [0, 0.55, 0]})"));
+  const auto error = [&](const std::string& inputs) { return InputsFileOf(inputs, scene).error(); };
+  const std::string joint = R"({"type": "point", "body_a": "a", "body_b": "b", "anchor": [0, 0.55, 0]})";
+  CHECK(error(R"({"step": 1, "type": "add_joint"})") == "$.inputs[0]: missing key \"joint\"");
+  CHECK(error(R"({"step": 1, "type": "add_joint", "body": 1, "joint": )" + joint + "}") ==
+        "$.inputs[0].body: unknown key (known keys: step, type, joint)");
+  CHECK(error(R"({"step": 1, "type": "add_joint", "joint": {"type": "point", "body_a": "a", "body_b": "x",
+                  "anchor": [0, 0, 0]}})") == "$.inputs[0].joint.body_b: no body named \"x\" in the scene");
+  CHECK(error(R"({"step": 1, "type": "add_joint", "joint": {"type": "point", "body_a": "b", "body_b": 2,
+                  "anchor": [0, 0, 0]}})") == "$.inputs[0].joint.body_b: the same body as body_a");
+  CHECK(error(R"({"step": 1, "type": "add_joint", "joint": {"type": "hinge", "body_a": "a", "body_b": "b",
+                  "anchor": [0, 0, 0], "axis": [0, 0, 1], "limits": [5, 10]}})") ==
+        "$.inputs[0].joint.limits[0]: outside -180..0 degrees");
+  CHECK(error(R"({"step": 1, "type": "add_joint", "joint": {"type": "point", "name": "neck", "body_a": "a",
+                  "body_b": "b", "anchor": [0, 0, 0]}})") == "$.inputs[0].joint.name: duplicate joint name \"neck\"");
+  CHECK(error(R"({"step": 1, "type": "remove_joint", "joint": "tail"})") ==
+        "$.inputs[0].joint: no joint named \"tail\" in the scene or added by an add_joint before it");
+  CHECK(error(R"({"step": 1, "type": "remove_joint", "joint": 0})") == "$.inputs[0].joint: expected a string, got a number");
+  // Removed before it is added (an earlier step, or earlier in the same step).
+  const std::string add_tail = R"({"step": 5, "type": "add_joint", "joint": {"type": "point", "name": "tail",
+                                   "body_a": "a", "body_b": "b", "anchor": [0, 0.55, 0]}})";
+  CHECK(error(R"({"step": 4, "type": "remove_joint", "joint": "tail"}, )" + add_tail) ==
+        "$.inputs[0].joint: no joint named \"tail\" in the scene or added by an add_joint before it");
+  CHECK(error(R"({"step": 5, "type": "remove_joint", "joint": "tail"}, )" + add_tail) ==
+        "$.inputs[0].joint: no joint named \"tail\" in the scene or added by an add_joint before it");
+  CHECK(error(add_tail + R"(, {"step": 5, "type": "remove_joint", "joint": "tail"})") == "no error");
+}
+
+TEST_CASE("hostile joint and chain values are refused, never a checked-build abort", "[scene][joints]") {
+  for (const std::string& joint : {
+           std::string(R"({"type": "point", "body_a": "a", "body_b": "b", "anchor": [2147483647, 0, -2147483648]})"),
+           std::string(R"({"type": "point", "body_a": "a", "body_b": "b", "local_anchor_a": [0, 2147483647, 0]})"),
+           std::string(R"({"type": "hinge", "body_a": "a", "body_b": "b", "anchor": [0, 0, 0],
+                           "axis": [2147483647, 2147483647, 2147483647]})"),
+           std::string(R"({"type": "hinge", "body_a": "a", "body_b": "b", "anchor": [0, 0, 0], "axis": [0, 0, "raw:1"]})"),
+           std::string(R"({"type": "hinge", "body_a": "a", "body_b": "b", "anchor": [0, 0, 0], "axis": [0, 0, 1],
+                           "limits": [-2147483648, 2147483647]})"),
+           std::string(R"({"type": "max_distance", "body_a": "a", "body_b": "b", "anchor": [0, 0, 0],
+                           "anchor_b": [0, 0, 0], "length": 2147483647})"),
+       }) {
+    INFO(joint);
+    CHECK(error_of(scene_with(joint)) != "no error");
+  }
+  for (const std::string& chain : {
+           std::string(R"("count": 1000, "gap": 1000, "half_extents": [50, 50, 50])"),
+           std::string(R"("count": 1000, "gap": 1000, "direction": [1, 1, 1], "position": [16000, 16000, 16000])"),
+           std::string(R"("direction": [2147483647, 0, 0])"),
+           std::string(R"("link": "sphere", "radius": 2147483647)"),
+       }) {
+    INFO(chain);
+    CHECK(error_of(chain_scene(chain)) != "no error");
+  }
+  // Far but inside the bounds: loads, and the world refuses the joint when it is built.
+  const Scene far = load_ok(scene_with(R"({"type": "point", "body_a": "a", "body_b": "b", "anchor": [16000, -16000, 16000]})"));
+  World world(far.settings);
+  std::string reason;
+  CHECK_FALSE(build_world(far, world, reason));
+  CHECK(reason == "joint 0: anchor_a: farther from the body than twice its reach and 1 m");
+}
