@@ -56,6 +56,21 @@ class BitstepEngine final : public Engine {
     return static_cast<int>(ids_.size()) - 1;
   }
 
+  int add_joint(const JointSpec& spec) override {
+    JointDef def;
+    def.type = spec.kind == JointKind::hinge ? JointType::hinge : JointType::point;
+    def.body_a = ids_[static_cast<size_t>(spec.body_a)];
+    def.body_b = ids_[static_cast<size_t>(spec.body_b)];
+    def.anchor_a = def.anchor_b = fx(spec.anchor);
+    def.axis = fx(spec.axis);
+    def.limited = spec.limited;
+    def.lower_angle = fx(spec.lower);
+    def.upper_angle = fx(spec.upper);
+    const JointResult created = world_.create_joint(def);
+    if (!created.ok()) throw std::runtime_error("bench joint: " + created.error);
+    return joints_++;
+  }
+
   void step() override { world_.step(); }
 
   BodyState state(int body) const override {
@@ -72,6 +87,7 @@ class BitstepEngine final : public Engine {
   World world_;
   std::unique_ptr<ThreadPool> pool_;  // null on one thread
   std::vector<BodyId> ids_;
+  int joints_ = 0;
 };
 
 Settings settings_for(const StepConfig& config, Pipeline pipeline, bool shock) {

@@ -123,7 +123,9 @@ class BulletEngine final : public Engine {
 
   ~BulletEngine() override {
     // The world refers to the bodies (and they to the shapes): take them out
-    // before anything is destroyed.
+    // before anything is destroyed, the constraints (which refer to the
+    // bodies) first.
+    for (auto it = constraints_.rbegin(); it != constraints_.rend(); ++it) world_.removeConstraint(it->get());
     for (auto it = bodies_.rbegin(); it != bodies_.rend(); ++it) world_.removeRigidBody(it->rigid.get());
   }
 
@@ -200,6 +202,34 @@ class BulletEngine final : public Engine {
     return static_cast<int>(bodies_.size()) - 1;
   }
 
+  // Pivots and axes in each body's Bullet frame: its centre of mass on its
+  // principal axes (add_body), so the world anchor is taken through the
+  // inverse of that transform, not the spec's body frame. The joined bodies
+  // do not collide (addConstraint's second argument), as in bitstep.
+  int add_joint(const JointSpec& spec) override {
+    btRigidBody& a = *bodies_[static_cast<size_t>(spec.body_a)].rigid;
+    btRigidBody& b = *bodies_[static_cast<size_t>(spec.body_b)].rigid;
+    const btTransform& ta = a.getCenterOfMassTransform();
+    const btTransform& tb = b.getCenterOfMassTransform();
+    const btVector3 anchor = bt(spec.anchor);
+    std::unique_ptr<btTypedConstraint> constraint;
+    if (spec.kind == JointKind::hinge) {
+      const btVector3 axis = bt(spec.axis).normalized();
+      auto hinge = std::make_unique<btHingeConstraint>(a, b, ta.inverse() * anchor, tb.inverse() * anchor,
+                                                       ta.getBasis().transpose() * axis,
+                                                       tb.getBasis().transpose() * axis);
+      // Bullet's hinge angle (useReferenceFrameA false) is a's turn relative
+      // to b, the opposite sign of the spec's (b's relative to a).
+      if (spec.limited) hinge->setLimit(bt(-spec.upper), bt(-spec.lower));
+      constraint = std::move(hinge);
+    } else {
+      constraint = std::make_unique<btPoint2PointConstraint>(a, b, ta.inverse() * anchor, tb.inverse() * anchor);
+    }
+    world_.addConstraint(constraint.get(), true);
+    constraints_.push_back(std::move(constraint));
+    return static_cast<int>(constraints_.size()) - 1;
+  }
+
   // maxSubSteps = 0 is Bullet's variable-step mode: exactly one internal step
   // of dt (no fixed-step accumulator, no interpolation).
   void step() override { world_.stepSimulation(dt_, 0); }
@@ -270,6 +300,7 @@ class BulletEngine final : public Engine {
   btDiscreteDynamicsWorld world_;
   std::vector<std::unique_ptr<btCollisionShape>> shapes_;
   std::vector<Body> bodies_;
+  std::vector<std::unique_ptr<btTypedConstraint>> constraints_;
   btScalar dt_ = 0;
 };
 

@@ -47,6 +47,20 @@ struct BodyState {
   V3 angular_velocity{0, 0, 0};
 };
 
+enum class JointKind { point, hinge };
+
+// A joint between two bodies (indices from add_body), in the world frame at
+// the moment of creation. The joined bodies do not collide with each other.
+struct JointSpec {
+  JointKind kind = JointKind::point;
+  int body_a = 0, body_b = 0;
+  V3 anchor{0, 0, 0};  // m, world: the point both bodies share
+  V3 axis{0, 0, 1};    // hinge: the axis, world (unit)
+  bool limited = false;  // hinge: b's turn about the axis relative to a kept in [lower, upper]
+  double lower = 0;      // rad, <= 0
+  double upper = 0;      // rad, >= 0
+};
+
 // The step every engine is given: the same dt, iteration count and gravity.
 struct StepConfig {
   double dt = 1.0 / 60.0;  // s
@@ -62,6 +76,11 @@ class Engine {
   virtual int add_body(const BodySpec& spec) = 0;
   virtual void step() = 0;
   virtual BodyState state(int body) const = 0;
+  // Index of the new joint, 0, 1, ... in creation order; -1: the engine has no joints.
+  virtual int add_joint(const JointSpec& spec) {
+    (void)spec;
+    return -1;
+  }
   // The deepest overlap among the engine's current contact points, m (>= 0).
   virtual double max_penetration() const = 0;
   // A 64-bit hash over the exact bits of every body's state (determinism check).

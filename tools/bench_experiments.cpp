@@ -562,6 +562,138 @@ ExperimentResult thrown(const Variant& variant, const StepConfig& config, const 
   return run.result;
 }
 
+// --- joints ------------------------------------------------------------------
+
+// A static 5 cm sphere at `at`: what joints hang from (joined bodies do not
+// collide, so its shape is only there because a body needs one).
+BodySpec anchor_body(const V3& at) {
+  BodySpec body = sphere(0.05, at, 1);
+  body.is_static = true;
+  return body;
+}
+
+void join(Run& run, const JointSpec& spec) {
+  if (run.engine->add_joint(spec) < 0) throw std::runtime_error("the engine has no joints");
+}
+
+JointSpec point_joint(int a, int b, const V3& anchor) {
+  JointSpec spec;
+  spec.kind = JointKind::point;
+  spec.body_a = a;
+  spec.body_b = b;
+  spec.anchor = anchor;
+  return spec;
+}
+
+// A 1 kg ball (r 0.05 m) on a point joint 1 m below a static anchor, let go
+// 5 degrees out. Its period, from the downward zero crossings of x (linear
+// interpolation between steps) over 10 s, against the compound pendulum's
+// 2 pi sqrt(I / (m g L)) (1 + theta0^2 / 16), I = m L^2 + 2/5 m r^2.
+ExperimentResult pendulum(const Variant& variant, const StepConfig& config, const RunOptions& options) {
+  Run run(variant, config);
+  const double m = 1, r = 0.05, L = 1, theta0 = 5 * pi / 180;
+  const V3 pivot{0, 2, 0};
+  const int holder = run.add(anchor_body(pivot));
+  const int bob = run.add(sphere(r, {L * std::sin(theta0), pivot[1] - L * std::cos(theta0), 0}, m));
+  join(run, point_joint(holder, bob, pivot));
+  std::vector<double> crossings;
+  double x_before = run.engine->state(bob).position[0], worst_length = 0;
+  const int n = run.steps_for(options.quick ? 6.0 : 10.0);
+  for (int i = 1; i <= n; ++i) {
+    run.step();
+    const V3 p = run.engine->state(bob).position;
+    if (x_before > 0 && p[0] <= 0) crossings.push_back((i - 1 + x_before / (x_before - p[0])) * config.dt);
+    x_before = p[0];
+    worst_length = std::max(worst_length, std::abs(length(sub(p, pivot)) - L));
+  }
+  const double I = m * L * L + 0.4 * m * r * r;
+  const double exact = 2 * pi * std::sqrt(I / (m * g * L)) * (1 + theta0 * theta0 / 16);
+  run.metric("crossings", static_cast<double>(crossings.size()));
+  run.metric("max_length_error_m", worst_length);
+  if (crossings.size() < 2) {
+    run.result.failed = true;
+    run.result.error = 1;
+    return run.result;
+  }
+  const double period = (crossings.back() - crossings.front()) / static_cast<double>(crossings.size() - 1);
+  run.relative_error("period_s", period, exact);
+  return run.result;
+}
+
+// 25 links (1 kg boxes 0.1 x 0.5 x 0.1 m) hanging straight down from a
+// static anchor by point joints at their ends, a 100 kg ball (r 0.25 m) on
+// the last by its top, all at rest where the straight chain hangs. Error =
+// how far the ball ever gets below that rest position (the chain's
+// stretch), m; "fell" beyond 1 m.
+ExperimentResult chain_stretch(const Variant& variant, const StepConfig& config, const RunOptions& options) {
+  Run run(variant, config);
+  const int links = 25;
+  const double half = 0.25, r = 0.25, top = 15;
+  int above = run.add(anchor_body({0, top, 0}));
+  for (int k = 0; k < links; ++k) {
+    const double upper_end = top - 2 * half * k;
+    const int link = run.add(box({0.05, half, 0.05}, {0, upper_end - half, 0}, 1));
+    join(run, point_joint(above, link, {0, upper_end, 0}));
+    above = link;
+  }
+  const double bottom = top - 2 * half * links;
+  const double rest_y = bottom - r;
+  const int ball = run.add(sphere(r, {0, rest_y, 0}, 100));
+  join(run, point_joint(above, ball, {0, bottom, 0}));
+  double worst = 0;
+  const int n = run.steps_for(options.quick ? 2.0 : 5.0);
+  for (int i = 0; i < n; ++i) {
+    run.step();
+    worst = std::max(worst, rest_y - run.engine->state(ball).position[1]);
+  }
+  run.result.error = worst;
+  run.result.failed = !(worst < 1.0);
+  run.metric("final_stretch_m", rest_y - run.engine->state(ball).position[1]);
+  return run.result;
+}
+
+// A 1 m, 1 kg arm (box half extents 0.5, 0.05, 0.05, its centre 0.5 m from
+// the pivot) on a hinge about z at a static anchor, limited to -30..+45
+// degrees, under gravity. Engine has no force input, so the arm starts
+// turning at 20 rad/s toward the upper limit (it reaches it in 2 to 3
+// steps at 60 Hz) instead of being driven by a torque. Error = the worst
+// overshoot past either limit over 3 s, degrees.
+ExperimentResult hinge_limit(const Variant& variant, const StepConfig& config, const RunOptions& options) {
+  Run run(variant, config);
+  const double lower = -30 * pi / 180, upper = 45 * pi / 180, omega = 20, half = 0.5;
+  const V3 pivot{0, 2, 0};
+  const int holder = run.add(anchor_body(pivot));
+  BodySpec arm_spec = box({half, 0.05, 0.05}, {pivot[0] + half, pivot[1], pivot[2]}, 1);
+  arm_spec.angular_velocity = {0, 0, omega};
+  arm_spec.linear_velocity = {0, omega * half, 0};  // w x r at the centre
+  const int arm = run.add(arm_spec);
+  JointSpec hinge = point_joint(holder, arm, pivot);
+  hinge.kind = JointKind::hinge;
+  hinge.axis = {0, 0, 1};
+  hinge.limited = true;
+  hinge.lower = lower;
+  hinge.upper = upper;
+  join(run, hinge);
+  double highest = 0, lowest = 0, worst_pivot = 0;
+  const int n = run.steps_for(options.quick ? 1.0 : 3.0);
+  for (int i = 0; i < n; ++i) {
+    run.step();
+    const BodyState s = run.engine->state(arm);
+    const auto R = matrix(s.orientation);
+    const double angle = std::atan2(R[1][0], R[0][0]);  // the arm's x axis about z
+    highest = std::max(highest, angle);
+    lowest = std::min(lowest, angle);
+    const V3 end{s.position[0] - half * R[0][0], s.position[1] - half * R[1][0], s.position[2] - half * R[2][0]};
+    worst_pivot = std::max(worst_pivot, length(sub(end, pivot)));
+  }
+  const double degrees = 180 / pi;
+  run.result.error = std::max({0.0, highest - upper, lower - lowest}) * degrees;
+  run.metric("max_angle_deg", highest * degrees);
+  run.metric("min_angle_deg", lowest * degrees);
+  run.metric("max_pivot_gap_m", worst_pivot);
+  return run.result;
+}
+
 }  // namespace
 
 const std::vector<Experiment>& experiments() {
@@ -601,6 +733,14 @@ const std::vector<Experiment>& experiments() {
        thrown},
       {"heap_rest", "stability", "farthest move 30-40 s (m)", "heaps of 27 cubes dropped into a pen (quick: 2 of 24)",
        false, heap_rest},
+      {"pendulum", "joints", "relative error of the period",
+       "1 kg ball on a point joint 1 m below an anchor, from 5 degrees, 10 s (quick: 6 s)", false, pendulum},
+      {"chain_stretch", "joints", "max stretch of the chain (m)",
+       "25 links of 1 kg, 0.5 m, on point joints, 100 kg ball at the end, 5 s (quick: 2 s)", false, chain_stretch},
+      {"hinge_limit", "joints", "max overshoot past a limit (degrees)",
+       "1 m arm on a hinge limited to -30..45 degrees, started at 20 rad/s toward +45 (no force input), 3 s "
+       "(quick: 1 s)",
+       false, hinge_limit},
   };
   return list;
 }
