@@ -613,11 +613,11 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
       if (!rows[i].in_resting_face) free_rows.push_back(i);
     }
     for (int pass = 0; pass < settings.velocity_iterations; ++pass) {
-      solve_joints(solver_bodies, joint_rows, joints.tree);
       for (const ManifoldRow& m : manifold_rows) solve_friction(solver_bodies[m.a], solver_bodies[m.b], m);
       for (const ManifoldRow& m : manifold_rows) solve_manifold_normal(solver_bodies[m.a], solver_bodies[m.b], m);
       for (const ManifoldRow& m : manifold_rows) solve_rocking(solver_bodies[m.a], solver_bodies[m.b], m);
       sweep_free_rows(solver_bodies, rows, free_rows, pass);
+      solve_joints(solver_bodies, joint_rows, joints.tree);
     }
   }
   if (kind == SolvePass::collision) {
