@@ -374,4 +374,133 @@ GeneratedStructure generate_chain(const ChainParams& params) {
   return out;
 }
 
+namespace {
+
+// pi rounded once to Q32.32, as the scene reader's (degrees -> radians).
+constexpr Fixed pi = 3.14159265358979323846264338327950288_fx;
+
+// Degrees -> radians as the scene reader turns them: mul_div(d, pi, 180).
+Fixed radians(int degrees) { return mul_div(Fixed::from_int(degrees), pi, Fixed::from_int(180)); }
+
+// A ragdoll's part at scale 1, lengths in units of 0.1 mm, in the ragdoll's
+// frame: origin at the pelvis centre, y up, facing +z, its left +x. Boxes:
+// half extents (a, b, c); spheres: radius a; capsules: radius a, half
+// height b (along y: every limb hangs straight down).
+struct RagdollPart {
+  const char* name;
+  ShapeType type;
+  int a, b, c;
+  int x, y;           // the centre
+  int mass_fraction;  // of the whole body, in 1/10000
+};
+
+// Proportions from Winter, "Biomechanics and Motor Control of Human
+// Movement" (4th ed., 2009), Table 4.1 (Dempster's segment data) and
+// Fig. 4.1 (segment lengths as fractions of the height H), for H = 1.8 m:
+// sole 0, knee 0.285 H = 0.51, hip 0.530 H = 0.95, shoulder 0.818 H =
+// 1.47 m; upper arm 0.186 H = 0.335, forearm + hand (0.146 + 0.108) H =
+// 0.457, thigh 0.245 H = 0.44, shank + foot to the sole 0.285 H = 0.51;
+// shoulder width 0.259 H = 0.466 m (the shoulder joints here 0.44 apart),
+// hip joints 0.18 apart. Mass fractions (Winter Table 4.1): head and neck
+// 8.1%, trunk 49.7% (here chest = thorax + abdomen 35.5%, pelvis 14.2%),
+// upper arm 2.8%, forearm + hand 2.2%, thigh 10.0%, leg + foot 6.1%: 100%
+// in all. Radii and depths are round numbers near a 75 kg man's girths
+// (densities 780..1270 kg/m^3). Parts meeting at a joint are 1 cm apart,
+// the anchor in the middle of the gap; elsewhere parts are at least 1 cm
+// apart too (forearm to thigh 2 cm, thigh to thigh 4 cm), so none overlaps
+// at creation. The comments give extents from the pelvis centre, which is
+// 1.05 m above the soles (the head's top 1.785 m).
+constexpr RagdollPart ragdoll_part_table[ragdoll_parts_count] = {
+    {"pelvis", ShapeType::box, 1400, 950, 1000, 0, 0, 1420},             // y -0.095..0.095
+    {"chest", ShapeType::box, 1600, 1900, 1100, 0, 2950, 3550},          // y 0.105..0.485
+    {"head", ShapeType::sphere, 1200, 0, 0, 0, 6150, 810},               // y 0.495..0.735
+    {"upper_arm.l", ShapeType::capsule, 500, 1125, 0, 2200, 2525, 280},  // y 0.09..0.415, x 0.17..0.27
+    {"forearm.l", ShapeType::capsule, 400, 1850, 0, 2200, -1450, 220},   // y -0.37..0.08, x 0.18..0.26
+    {"upper_arm.r", ShapeType::capsule, 500, 1125, 0, -2200, 2525, 280},
+    {"forearm.r", ShapeType::capsule, 400, 1850, 0, -2200, -1450, 220},
+    {"thigh.l", ShapeType::capsule, 700, 1450, 0, 900, -3200, 1000},  // y -0.535..-0.105, x 0.02..0.16
+    {"shin.l", ShapeType::capsule, 500, 2025, 0, 900, -7975, 610},    // y -1.05..-0.545
+    {"thigh.r", ShapeType::capsule, 700, 1450, 0, -900, -3200, 1000},
+    {"shin.r", ShapeType::capsule, 500, 2025, 0, -900, -7975, 610},
+};
+
+// A ragdoll's joint: parts a (nearer the pelvis) and b, the anchor (0.1 mm,
+// ragdoll frame, z = 0) and the axis (unit, ragdoll frame). Cones: swing
+// and twist limits; hinges: limits (degrees).
+struct RagdollJoint {
+  const char* name;
+  uint32_t a, b;
+  JointType type;
+  int ax, ay, az;
+  int x, y;
+  int swing, lower, upper;
+};
+
+// Hinge signs: a hinge's angle is b's turn about the axis relative to a,
+// right-handed. A forearm hanging along -y turned about +x swings its hand
+// toward -z, backward; so the elbow's axis is -x (forward bends are
+// positive, 0..140) and the knee's +x (the foot goes back, 0..140).
+// tests/replay/joint_scene_tests.cpp pushes both ways and checks.
+constexpr RagdollJoint ragdoll_joint_table[ragdoll_joints_count] = {
+    {"waist", 0, 1, JointType::cone, 0, 1, 0, 0, 1000, 30, -30, 30},
+    {"neck", 1, 2, JointType::cone, 0, 1, 0, 0, 4900, 40, -60, 60},
+    {"shoulder.l", 1, 3, JointType::cone, 0, -1, 0, 2200, 4200, 80, -60, 60},
+    {"elbow.l", 3, 4, JointType::hinge, -1, 0, 0, 2200, 850, 0, 0, 140},
+    {"shoulder.r", 1, 5, JointType::cone, 0, -1, 0, -2200, 4200, 80, -60, 60},
+    {"elbow.r", 5, 6, JointType::hinge, -1, 0, 0, -2200, 850, 0, 0, 140},
+    {"hip.l", 0, 7, JointType::cone, 0, -1, 0, 900, -1000, 70, -30, 30},
+    {"knee.l", 7, 8, JointType::hinge, 1, 0, 0, 900, -5400, 0, 0, 140},
+    {"hip.r", 0, 9, JointType::cone, 0, -1, 0, -900, -1000, 70, -30, 30},
+    {"knee.r", 9, 10, JointType::hinge, 1, 0, 0, -900, -5400, 0, 0, 140},
+};
+
+}  // namespace
+
+GeneratedStructure generate_ragdoll(const RagdollParams& params) {
+  GeneratedStructure out;
+  const Fixed s = params.scale;
+  // n tenths of a millimetre at scale 1, scaled: rounded once, then once more.
+  const auto length_of = [&](int n) { return Fixed::from_ratio(n, 10000) * s; };
+  const Fixed whole_mass = Fixed::from_int(75) * s * s * s;  // kg
+  const Quat q = params.orientation;
+  for (int k = 0; k < params.count; ++k) {
+    const Vec3 pelvis = params.position + params.spacing * Fixed::from_int(k);
+    const Pose frame{pelvis, q};
+    const auto base = static_cast<uint32_t>(out.bodies.size());
+    const std::string prefix = params.name + "." + std::to_string(k) + ".";
+    for (const RagdollPart& part : ragdoll_part_table) {
+      Shape shape;
+      shape.type = part.type;
+      if (part.type == ShapeType::box) shape.half_extents = Vec3{length_of(part.a), length_of(part.b), length_of(part.c)};
+      if (part.type != ShapeType::box) shape.radius = length_of(part.a);
+      if (part.type == ShapeType::capsule) shape.half_height = length_of(part.b);
+      SceneBody body;
+      body.name = prefix + part.name;
+      body.def.type = BodyType::dynamic;
+      body.def.pose = {frame.apply(Vec3{length_of(part.x), length_of(part.y), Fixed{}}), q};
+      body.def.shapes = {shape};
+      body.def.mass = whole_mass * Fixed::from_ratio(part.mass_fraction, 10000);
+      body.def.material = params.material;
+      body.def.asleep = params.asleep;
+      out.bodies.push_back(std::move(body));
+    }
+    for (const RagdollJoint& spec : ragdoll_joint_table) {
+      SceneJoint joint;
+      joint.name = prefix + spec.name;
+      joint.body_a = base + spec.a;
+      joint.body_b = base + spec.b;
+      JointDef& def = joint.def;
+      def.type = spec.type;
+      def.anchor_a = frame.apply(Vec3{length_of(spec.x), length_of(spec.y), Fixed{}});
+      def.axis = rotate(q, Vec3{Fixed::from_int(spec.ax), Fixed::from_int(spec.ay), Fixed::from_int(spec.az)});
+      def.limited = true;
+      def.lower_angle = radians(spec.lower);
+      def.upper_angle = radians(spec.upper);
+      if (spec.type == JointType::cone) def.swing_angle = radians(spec.swing);
+      out.joints.push_back(std::move(joint));
+    }
+  }
+  return out;
+}
+
 }  // namespace bitstep

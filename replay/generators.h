@@ -1,5 +1,5 @@
 // Generators for big structures (stack, pyramid, wall, jenga, dominoes,
-// tables, thrown cubes, chains). Each is a pure function of its parameters, using
+// tables, thrown cubes, chains, ragdolls). Each is a pure function of its parameters, using
 // integer and Fixed arithmetic only, so a scene file that says "wall of 128"
 // means the same bodies, bit for bit, everywhere. Bodies are named
 // "<name>.<index>" with index 0, 1, ... in creation order. The parameters'
@@ -188,5 +188,43 @@ struct GeneratedStructure {
   std::vector<SceneJoint> joints;
 };
 GeneratedStructure generate_chain(const ChainParams& params);
+
+// Ragdolls: `count` humans of 11 parts joined by 10 joints, standing upright
+// along +y and facing +z (their left is +x) unless `orientation` turns the
+// whole body (e.g. 90 degrees about x: lying on the back). `position` is the
+// first ragdoll's pelvis centre, ragdoll k's is position + k spacing (world
+// frame). At scale 1 a ragdoll is 1.785 m tall (the pelvis centre 1.05 m
+// above the soles) and weighs 75 kg; lengths scale with `scale`, masses
+// with its cube. Proportions and masses: ragdoll_parts() in generators.cpp
+// (Winter's anthropometric table). Parts are 1 cm (times the scale) apart
+// where they meet, with the joint's anchor in the middle of the gap, and
+// at least 1 cm apart elsewhere: nothing overlaps at creation.
+//
+// Bodies of ragdoll k, in creation order: "<name>.<k>.pelvis" (box),
+// ".chest" (box), ".head" (sphere), ".upper_arm.l", ".forearm.l",
+// ".upper_arm.r", ".forearm.r", ".thigh.l", ".shin.l", ".thigh.r",
+// ".shin.r" (capsules along the limb; the forearm includes the hand, the
+// shin the foot). Joints, in creation order, each from the part nearer the
+// pelvis (a) to the next (b): ".waist" (pelvis-chest: cone about +y, swing
+// 30, twist +-30 degrees), ".neck" (chest-head: cone about +y, 40, +-60),
+// ".shoulder.l" (chest-upper arm: cone down the arm, 80, +-60), ".elbow.l"
+// (hinge about -x, 0..140: the forearm bends forward only), ".shoulder.r",
+// ".elbow.r", ".hip.l" (pelvis-thigh: cone down the leg, 70, +-30),
+// ".knee.l" (hinge about +x, 0..140: the shin bends backward only),
+// ".hip.r", ".knee.r". Axes and anchors turn with `orientation`.
+struct RagdollParams {
+  std::string name = "ragdoll";
+  int count = 1;
+  Vec3 position;                           // the first ragdoll's pelvis centre
+  Vec3 spacing{Fixed{}, 2.5_fx, Fixed{}};  // from one ragdoll to the next: stacked
+  Fixed scale = Fixed::one();              // 1: 1.8 m, 75 kg
+  Quat orientation;                        // identity: standing upright along +y, facing +z (unit)
+  Material material;
+  bool asleep = true;  // as the seed's ragdolls (when the scene's sleep is on)
+};
+inline constexpr int ragdoll_parts_count = 11;
+inline constexpr int ragdoll_joints_count = 10;
+// 11 count bodies and 10 count joints, joint bodies indexing `bodies`.
+GeneratedStructure generate_ragdoll(const RagdollParams& params);
 
 }  // namespace bitstep

@@ -293,13 +293,30 @@ GeneratedStructure read_chain(ObjectReader& reader, const MaterialTable& materia
   return generate_chain(p);
 }
 
+// Ragdolls: no density or mass keys (each part's mass is its share of
+// 75 kg x scale^3), and asleep by default, as the seed's ragdolls.
+GeneratedStructure read_ragdoll(ObjectReader& reader, const MaterialTable& materials) {
+  RagdollParams p;
+  if (const Node* n = reader.find("name")) p.name = read_string(*n);
+  if (const Node* material = reader.find("material")) p.material = read_material(*material, materials);
+  read_optional(reader, "asleep", p.asleep);
+  read_optional(reader, "count", p.count, 1, 1000);
+  read_place(reader, "position", p.position);
+  read_optional_within(reader, "spacing", p.spacing, -max_distance, max_distance, "m");
+  // 0.25: the thinnest part (a forearm, radius 4 cm) stays 1 cm thick;
+  // 10: the heaviest (the chest, 26.6 kg x scale^3) stays under 1e5 kg.
+  read_optional_within(reader, "scale", p.scale, 0.25_fx, 10.0_fx, "");
+  if (const Node* orientation = reader.find("orientation")) p.orientation = read_orientation(*orientation);
+  return generate_ragdoll(p);
+}
+
 GeneratedStructure read_generator(const Node& node, const MaterialTable& materials) {
   ObjectReader reader(node);
   using Reader = GeneratedStructure (*)(ObjectReader&, const MaterialTable&);
-  static constexpr Reader readers[] = {read_stack, read_pyramid, read_wall, read_jenga,
-                                       read_dominoes, read_tables, read_throw, read_chain};
-  const size_t type = read_choice(reader.require("type"),
-                                  {"stack", "pyramid", "wall", "jenga", "dominoes", "tables", "throw", "chain"});
+  static constexpr Reader readers[] = {read_stack, read_pyramid, read_wall, read_jenga, read_dominoes,
+                                       read_tables, read_throw, read_chain, read_ragdoll};
+  const size_t type = read_choice(reader.require("type"), {"stack", "pyramid", "wall", "jenga", "dominoes", "tables",
+                                                           "throw", "chain", "ragdoll"});
   GeneratedStructure generated = readers[type](reader, materials);
   reader.finish();
   for (const SceneBody& body : generated.bodies) {

@@ -22,13 +22,13 @@ ln -sf /usr/include/xxhash.h "$out/include/xxhash.h"
 replay_flags=(-isystem "$out/include" -DXXH_INLINE_ALL -DXXH_VECTOR=0)
 
 # Golden replays: every build verifies them all, except that the builds run
-# under qemu take the short versions of the three heaviest scenes
+# under qemu take the short versions of the four heaviest scenes
 # (<scene>.short.replay.json: 2 to 20 steps) instead of their full replays
 # (minutes each when emulated); so every scene runs in every build.
 replays=(scenes/*.replay.json)
 short_replays=()
 for r in "${replays[@]}"; do
-  case "$r" in */wall128.replay.json|*/pyramid20.replay.json|*/playground.replay.json) ;; *) short_replays+=("$r") ;; esac
+  case "$r" in */wall128.replay.json|*/pyramid20.replay.json|*/playground.replay.json|*/ragdolls.replay.json) ;; *) short_replays+=("$r") ;; esac
 done
 
 # name | compiler | flags | runner ("-" = run directly)

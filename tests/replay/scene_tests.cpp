@@ -348,7 +348,7 @@ TEST_CASE("scene errors name the file, the JSON path and the reason", "[scene]")
           "f.json: $.generators[0]: generated body name \"stack.1\" is already taken");
     CHECK(error_of(R"({"format": "bitstep-scene", "version": 1, "generators": [{"type": "tower"}]})") ==
           "f.json: $.generators[0].type: expected \"stack\", \"pyramid\", \"wall\", \"jenga\", \"dominoes\", "
-          "\"tables\", \"throw\" or \"chain\", got \"tower\"");
+          "\"tables\", \"throw\", \"chain\" or \"ragdoll\", got \"tower\"");
     CHECK(error_of(R"({"format": "bitstep-scene", "version": 1, "generators": [{"type": "stack", "base": 3}]})") ==
           "f.json: $.generators[0].base: unknown key (known keys: type, name, material, density, mass, asleep, count, "
           "half_extents, position, overlap, direction)");
