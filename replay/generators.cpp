@@ -482,6 +482,8 @@ GeneratedStructure generate_ragdoll(const RagdollParams& params) {
       body.def.mass = whole_mass * Fixed::from_ratio(part.mass_fraction, 10000);
       body.def.material = params.material;
       body.def.asleep = params.asleep;
+      body.def.linear_damping = params.linear_damping;
+      body.def.angular_damping = params.angular_damping;
       out.bodies.push_back(std::move(body));
     }
     for (const RagdollJoint& spec : ragdoll_joint_table) {

@@ -221,6 +221,10 @@ struct RagdollParams {
   Quat orientation;                        // identity: standing upright along +y, facing +z (unit)
   Material material;
   bool asleep = true;  // as the seed's ragdolls (when the scene's sleep is on)
+  // 1/s, every part's: a limb hanging free swings on joints without
+  // friction (Bullet's ragdoll demo damps its parts 0.05 and 0.85).
+  Fixed linear_damping;
+  Fixed angular_damping;
 };
 inline constexpr int ragdoll_parts_count = 11;
 inline constexpr int ragdoll_joints_count = 10;

@@ -300,6 +300,8 @@ GeneratedStructure read_ragdoll(ObjectReader& reader, const MaterialTable& mater
   if (const Node* n = reader.find("name")) p.name = read_string(*n);
   if (const Node* material = reader.find("material")) p.material = read_material(*material, materials);
   read_optional(reader, "asleep", p.asleep);
+  read_optional(reader, "linear_damping", p.linear_damping, Bound::non_negative);
+  read_optional(reader, "angular_damping", p.angular_damping, Bound::non_negative);
   read_optional(reader, "count", p.count, 1, 1000);
   read_place(reader, "position", p.position);
   read_optional_within(reader, "spacing", p.spacing, -max_distance, max_distance, "m");
