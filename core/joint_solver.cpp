@@ -114,7 +114,7 @@ void fold_hinge_rows(JointRow& row) {
     fold.rows[static_cast<size_t>(r)] = c0 * g0r + c1 * g1r;
   }
   row.point_k = row.point_k - fold;
-  row.point_mass = inverse(row.point_k);
+  row.point_mass = inverse_spd(row.point_k);
 }
 
 // A^-1 v for a hinge's 2x2 block.
@@ -298,7 +298,7 @@ void prepare_joint_rows(const Settings& settings, const std::vector<Body>& bodie
       }
     } else {
       row.point_k = point_block(a, b, row.ra, row.rb);
-      row.point_mass = inverse(row.point_k);
+      row.point_mass = inverse_spd(row.point_k);
       const Vec3 closing = -recovery(gap, factor, inverse_dt, max_speed);
       (settings.baumgarte ? row.point_target : row.point_push_target) = closing;
       // The constraint held at the step's end pose, not only in the

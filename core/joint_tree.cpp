@@ -153,6 +153,34 @@ Mat33* block_between(JointTree& tree, uint32_t i, uint32_t j) {
 
 }  // namespace
 
+Mat33 inverse_spd(const Mat33& k) {
+  // K = L D L^T, L unit lower triangular: d0 = k00, l10 = k10 / d0,
+  // l20 = k20 / d0, d1 = k11 - l10 k10, l21 = (k21 - l20 k10) / d1,
+  // d2 = k22 - l20 k20 - l21 (k21 - l20 k10).
+  const Fixed k00 = k.rows[0].x, k10 = k.rows[1].x, k11 = k.rows[1].y, k20 = k.rows[2].x, k21 = k.rows[2].y,
+              k22 = k.rows[2].z;
+  const Fixed d0 = k00;
+  if (d0 <= Fixed{}) return inverse(k);
+  const Fixed l10 = k10 / d0, l20 = k20 / d0;
+  const Fixed d1 = k11 - l10 * k10;
+  if (d1 <= Fixed{}) return inverse(k);
+  const Fixed m21 = k21 - l20 * k10;
+  const Fixed l21 = m21 / d1;
+  const Fixed d2 = k22 - l20 * k20 - l21 * m21;
+  if (d2 <= Fixed{}) return inverse(k);
+  // K^-1 = L^-T D^-1 L^-1. L^-1 = [[1, 0, 0], [-l10, 1, 0], [l10 l21 - l20, -l21, 1]].
+  const Fixed a10 = -l10, a21 = -l21, a20 = l10 * l21 - l20;
+  const Fixed e0 = Fixed::one() / d0, e1 = Fixed::one() / d1, e2 = Fixed::one() / d2;
+  // (K^-1)_ij = sum_k (L^-1)_ki e_k (L^-1)_kj over k >= max(i, j).
+  const Fixed i22 = e2;
+  const Fixed i21 = a21 * e2;
+  const Fixed i20 = a20 * e2;
+  const Fixed i11 = e1 + a21 * i21;
+  const Fixed i10 = a10 * e1 + a21 * i20;
+  const Fixed i00 = e0 + a10 * a10 * e1 + a20 * i20;
+  return {{Vec3{i00, i10, i20}, Vec3{i10, i11, i21}, Vec3{i20, i21, i22}}};
+}
+
 void factor_joint_tree(const std::vector<SolverBody>& bodies, const std::vector<JointRow>& rows, JointTree& tree) {
   tree.exact = false;
   tree.row_of.clear();
@@ -168,7 +196,7 @@ void factor_joint_tree(const std::vector<SolverBody>& bodies, const std::vector<
   // K = L D L^T, leaves first: eliminating k subtracts K_ik D_k^-1 K_kj
   // from every pair of its later neighbours i, j.
   for (uint32_t k = 0; k < n; ++k) {
-    const Mat33 inverse_pivot = inverse(tree.pivot[k]);
+    const Mat33 inverse_pivot = inverse_spd(tree.pivot[k]);
     tree.pivot_inverse[k] = inverse_pivot;
     const uint32_t begin = tree.couplings_begin[k], end = tree.couplings_begin[k + 1];
     for (uint32_t x = begin; x < end; ++x) {

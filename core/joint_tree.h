@@ -54,6 +54,14 @@ struct JointTree {
   std::vector<uint32_t> owner;  // per unsorted coupling: the position it belongs to
 };
 
+// The inverse of a symmetric positive definite 3x3 block (a joint's K or a
+// pivot of the tree's factorisation) by its LDL^T: six divisions and a
+// few dozen products, rounded as they go. inverse() (fixed/mat33.h) is
+// exact through big integers and cost ~200,000 instructions a call: 88%
+// of a 26-joint chain's step. Where a pivot is not positive (a block that
+// rounding left indefinite) it falls back to inverse().
+Mat33 inverse_spd(const Mat33& k);
+
 // Orders and factorises the point blocks of `rows` (the bodies' inverse
 // masses and inertias, and the rows' arms, as prepare_joint_rows left them).
 void factor_joint_tree(const std::vector<SolverBody>& bodies, const std::vector<JointRow>& rows, JointTree& tree);
