@@ -279,24 +279,43 @@ TEST_CASE("a rope is slack until taut, then holds ten times the load within 1% o
   CHECK(hanging < 2.0 * 1.01);
 }
 
-TEST_CASE("a hinge driven against its limit by 1,000 N m never passes it by more than 1 degree", "[joint][limit]") {
-  TestWorld t;
-  const BodyId anchor = add_anchor(t, {Fixed{}, 5.0_fx, Fixed{}});
-  // A 1 kg, 1 m arm on a hinge about z, limits -30..+45 degrees, horizontal.
+namespace {
+
+// A 1 kg, 1 m arm (its centre 0.5 m out along x) on a hinge about z at a
+// static anchor at (0, 5, 0), limits -30..+45 degrees: the hinge's
+// definition, not yet created.
+struct HingedArm {
+  BodyId anchor, arm;
+  JointDef hinge;
+};
+HingedArm hinged_arm(TestWorld& t) {
+  HingedArm made;
+  made.anchor = add_anchor(t, {Fixed{}, 5.0_fx, Fixed{}});
   BodyDef def;
   def.pose.position = {0.5_fx, 5.0_fx, Fixed{}};
   def.shapes.push_back({ShapeType::box, {0.5_fx, 0.05_fx, 0.05_fx}, {}, {}, {}});
   def.mass = 1.0_fx;
-  const BodyId arm = t.world.create_body(def).id;
-  JointDef hinge;
+  made.arm = t.world.create_body(def).id;
+  JointDef& hinge = made.hinge;
   hinge.type = JointType::hinge;
-  hinge.body_a = anchor;
-  hinge.body_b = arm;
+  hinge.body_a = made.anchor;
+  hinge.body_b = made.arm;
   hinge.anchor_a = {Fixed{}, 5.0_fx, Fixed{}};
   hinge.axis = {Fixed{}, Fixed{}, Fixed::one()};
   hinge.limited = true;
-  hinge.lower_angle = -30.0_fx * "3.14159265358979/180"_fx;
-  hinge.upper_angle = 45.0_fx * "3.14159265358979/180"_fx;
+  const Fixed degree = "3.14159265358979/180"_fx;
+  hinge.lower_angle = -30.0_fx * degree;
+  hinge.upper_angle = 45.0_fx * degree;
+  return made;
+}
+
+}  // namespace
+
+TEST_CASE("a hinge driven against its limit by 1,000 N m never passes it by more than 1 degree", "[joint][limit]") {
+  TestWorld t;
+  const HingedArm parts = hinged_arm(t);
+  const BodyId anchor = parts.anchor, arm = parts.arm;
+  const JointDef& hinge = parts.hinge;
   const JointResult made = t.world.create_joint(hinge);
   REQUIRE(made.ok());
   const Joint& joint = t.world.joints()[made.id.index];
@@ -420,22 +439,9 @@ TEST_CASE("the seed's composite hinge against the rigid hinge: axis tilt and lim
   };
   const auto run = [](bool seed) {
     TestWorld t;
-    const BodyId anchor = add_anchor(t, {Fixed{}, 5.0_fx, Fixed{}});
-    BodyDef def;
-    def.pose.position = {0.5_fx, 5.0_fx, Fixed{}};
-    def.shapes.push_back({ShapeType::box, {0.5_fx, 0.05_fx, 0.05_fx}, {}, {}, {}});
-    def.mass = 1.0_fx;
-    const BodyId arm = t.world.create_body(def).id;
-    JointDef hinge;
-    hinge.type = JointType::hinge;
-    hinge.body_a = anchor;
-    hinge.body_b = arm;
-    hinge.anchor_a = {Fixed{}, 5.0_fx, Fixed{}};
-    hinge.axis = {Fixed{}, Fixed{}, Fixed::one()};
-    hinge.limited = true;
-    const Fixed degree = "3.14159265358979/180"_fx;
-    hinge.lower_angle = -30.0_fx * degree;
-    hinge.upper_angle = 45.0_fx * degree;
+    const HingedArm parts = hinged_arm(t);
+    const BodyId arm = parts.arm;
+    const JointDef& hinge = parts.hinge;
     if (seed) {
       for (const JointDef& part : seed_hinge(hinge, 0.1_fx, 0.005_fx)) REQUIRE(t.world.create_joint(part).ok());
     } else {
