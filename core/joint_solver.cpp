@@ -1,5 +1,6 @@
 #include "core/joint_solver.h"
 
+#include <algorithm>
 #include <tuple>
 
 namespace bitstep {
@@ -86,75 +87,29 @@ void apply_paired(const SolverBody& sa, const SolverBody& sb, BodyRates& a, Body
   apply_point(sa, sb, a, b, row.ra, row.rb, point);
 }
 
+// The row whose rate is a cone's twist rate (hinge_angle's): t = (a + b) /
+// (1 + a . b) for the two bodies' axes a and b. The twist is b's reference
+// against a's carried by the shortest turn S from a to b, so it turns with
+// w . b (w = w_b - w_a) less the frame S's own turn about b, which is
+// -(a x b) . (w x b) / (1 + a . b) = -(w . a - (a . b)(w . b)) / (1 + a . b);
+// together (a + b) . w / (1 + a . b). b alone (the rate about b's axis)
+// left out a swing's sweep around the cone: a shoulder swung 80 degrees and
+// circling twisted 93 degrees past its limit while its row saw no twist.
+// |t| = sqrt(2 / (1 + a . b)), 1.55 at the widest cone a ragdoll has (80
+// degrees); near a swing of 180 degrees, where the twist is undefined, b.
+Vec3 twist_rate_axis(Vec3 axis_a, Vec3 axis_b) {
+  const Fixed one_plus_cosine = Fixed::one() + dot(axis_a, axis_b);
+  if (one_plus_cosine < 0.01_fx) return axis_b;
+  return (axis_a + axis_b) / one_plus_cosine;
+}
+
 Fixed spin(const BodyRates& a, const BodyRates& b, const AngularPart& part) {
   return dot(b.angular - a.angular, part.axis);
 }
 
 BodyRates body_rates(const Body& body) { return {body.linear_velocity, body.angular_velocity}; }
 
-// Folds a hinge's two angular rows into its point block (JointRow::
-// hinge_coupling): after make_twist built the rows and point_k holds K.
-void fold_hinge_rows(JointRow& row) {
-  for (int k = 0; k < 2; ++k) row.hinge_coupling[k] = cross(row.hinge[k].turn_b, row.rb) + cross(row.hinge[k].turn_a, row.ra);
-  const auto entry = [&](int i, int j) { return dot(row.hinge[i].axis, row.hinge[j].turn_a + row.hinge[j].turn_b); };
-  const Fixed a00 = entry(0, 0), a01 = entry(0, 1), a11 = entry(1, 1);
-  const Fixed det = a00 * a11 - a01 * a01;
-  if (det <= Fixed{}) return;  // an immovable pair: nothing to fold
-  row.hinge_block[0] = a11 / det;
-  row.hinge_block[1] = -a01 / det;
-  row.hinge_block[2] = a00 / det;
-  const Vec3 g0 = row.hinge_coupling[0], g1 = row.hinge_coupling[1];
-  // sum g_i (A^-1)_ij g_j^T, row by row.
-  const Vec3 c0 = g0 * row.hinge_block[0] + g1 * row.hinge_block[1];
-  const Vec3 c1 = g0 * row.hinge_block[1] + g1 * row.hinge_block[2];
-  Mat33 fold;
-  for (int r = 0; r < 3; ++r) {
-    const Fixed g0r = r == 0 ? g0.x : (r == 1 ? g0.y : g0.z);
-    const Fixed g1r = r == 0 ? g1.x : (r == 1 ? g1.y : g1.z);
-    fold.rows[static_cast<size_t>(r)] = c0 * g0r + c1 * g1r;
-  }
-  row.point_k = row.point_k - fold;
-  row.point_mass = inverse_spd(row.point_k);
-}
-
-// A^-1 v for a hinge's 2x2 block.
-void apply_block(const Fixed (&block)[3], const Fixed (&v)[2], Fixed (&out)[2]) {
-  out[0] = block[0] * v[0] + block[1] * v[1];
-  out[1] = block[1] * v[0] + block[2] * v[1];
-}
-
-// The point block's right-hand side for a row, b_p = target - J_p v, folded
-// with a hinge's angular rows: b_p - sum g_k (A^-1 b_a)_k, b_a the rows'.
-Vec3 point_rhs(const JointRow& row, const BodyRates& a, const BodyRates& b, Vec3 target, const Fixed (&hinge_target)[2],
-               Fixed (&angular_rhs)[2]) {
-  Vec3 rhs = target - anchor_rate(a, b, row.ra, row.rb);
-  if (!row.folded) return rhs;
-  for (int k = 0; k < 2; ++k) angular_rhs[k] = hinge_target[k] - spin(a, b, row.hinge[k]);
-  Fixed scaled[2];
-  apply_block(row.hinge_block, angular_rhs, scaled);
-  return rhs - row.hinge_coupling[0] * scaled[0] - row.hinge_coupling[1] * scaled[1];
-}
-
-// Applies a point impulse, and a hinge's angular impulses that go with it:
-// A^-1 (b_a - G lambda_p).
-void apply_point_block(const SolverBody& sa, const SolverBody& sb, BodyRates& a, BodyRates& b, const JointRow& row,
-                       Vec3 lambda, const Fixed (&angular_rhs)[2], Vec3& point_impulse, Fixed (&hinge_impulse)[2]) {
-  point_impulse += lambda;
-  apply_point(sa, sb, a, b, row.ra, row.rb, lambda);
-  if (!row.folded) return;
-  const Fixed rest[2] = {angular_rhs[0] - dot(row.hinge_coupling[0], lambda),
-                         angular_rhs[1] - dot(row.hinge_coupling[1], lambda)};
-  Fixed turn[2];
-  apply_block(row.hinge_block, rest, turn);
-  for (int k = 0; k < 2; ++k) {
-    hinge_impulse[k] += turn[k];
-    apply_turn(a, b, row.hinge[k], turn[k]);
-  }
-}
-
-// The rows of one joint on one rate of the bodies (velocity or push):
-// the limit, the hinge's two angular rows, the rope, then the point block,
-// so that the anchors' coincidence has the last word.
+// The rows of one joint on one rate of the bodies (velocity or push).
 struct Targets {
   Vec3 point;
   Fixed rope, hinge[2], limit;
@@ -171,24 +126,49 @@ struct Impulses {
   Fixed& limit;
 };
 
+Targets velocity_targets(const JointRow& row) {
+  return {row.point_target,   row.rope_target,       {row.hinge_target[0], row.hinge_target[1]},
+          row.limit_target,   row.rope_active,       row.limit_side != 0,
+          row.swing_active};
+}
+Targets push_targets(const JointRow& row) {
+  return {row.point_push_target,  row.rope_push_target,           {row.hinge_push_target[0], row.hinge_push_target[1]},
+          row.limit_push_target,  row.rope_push_target != Fixed{}, row.limit_side != 0,
+          row.swing_active};
+}
+Impulses velocity_impulses(JointRow& row) {
+  Joint& joint = *row.joint;
+  return {joint.point_impulse, joint.distance_impulse, joint.hinge_impulse, joint.limit_impulse};
+}
+Impulses push_impulses(JointRow& row) {
+  return {row.point_push_impulse, row.rope_push_impulse, row.hinge_push_impulse, row.limit_push_impulse};
+}
+
+// One-sided rows: the swing's impulse >= 0, a limit's of its side's sign.
+Fixed clamp_swing(Fixed total) { return max(total, Fixed{}); }
+Fixed clamp_limit(const JointRow& row, Fixed total) { return row.limit_side > 0 ? max(total, Fixed{}) : min(total, Fixed{}); }
+
+// The rows of one joint solved one by one: the swing, the hinge's two
+// angular rows, the limit, the rope, then the point block, so that the
+// anchors' coincidence has the last word. With the tree solve (in_tree),
+// only the rows it leaves out: a rope, and a swing or limit not engaged.
 void solve_rows(const SolverBody& sa, const SolverBody& sb, BodyRates& a, BodyRates& b, const JointRow& row,
-                const Targets& target, Impulses impulse, bool point_block) {
+                const Targets& target, Impulses impulse, bool in_tree) {
   const JointType type = row.joint->type;
-  if (type == JointType::cone && target.swing_on) {
+  if (type == JointType::cone && target.swing_on && !(in_tree && row.swing_in_tree)) {
     // The swing back toward the cone: an impulse >= 0 about s.
-    const Fixed total = max(impulse.hinge[0] + row.hinge_mass[0] * (target.hinge[0] - spin(a, b, row.hinge[0])), Fixed{});
+    const Fixed total = clamp_swing(impulse.hinge[0] + row.hinge_mass[0] * (target.hinge[0] - spin(a, b, row.hinge[0])));
     apply_paired(sa, sb, a, b, row, row.hinge[0], row.hinge_anchor[0], total - impulse.hinge[0], impulse.point);
     impulse.hinge[0] = total;
   }
   if (type == JointType::hinge || type == JointType::cone) {
-    for (int k = 0; k < 2 && type == JointType::hinge && !row.folded; ++k) {
+    for (int k = 0; k < 2 && type == JointType::hinge && !in_tree; ++k) {
       const Fixed lambda = row.hinge_mass[k] * (target.hinge[k] - spin(a, b, row.hinge[k]));
       impulse.hinge[k] += lambda;
       apply_paired(sa, sb, a, b, row, row.hinge[k], row.hinge_anchor[k], lambda, impulse.point);
     }
-    if (target.limit_on) {
-      Fixed total = impulse.limit + row.limit_mass * (target.limit - spin(a, b, row.limit));
-      total = row.limit_side > 0 ? max(total, Fixed{}) : min(total, Fixed{});
+    if (target.limit_on && !(in_tree && row.limit_in_tree)) {
+      const Fixed total = clamp_limit(row, impulse.limit + row.limit_mass * (target.limit - spin(a, b, row.limit)));
       apply_paired(sa, sb, a, b, row, row.limit, row.limit_anchor, total - impulse.limit, impulse.point);
       impulse.limit = total;
     }
@@ -202,32 +182,177 @@ void solve_rows(const SolverBody& sa, const SolverBody& sb, BodyRates& a, BodyRa
     impulse.rope = total;
     return;
   }
-  if (!point_block) return;
-  Fixed angular_rhs[2] = {};
-  const Vec3 lambda = row.point_mass * point_rhs(row, a, b, target.point, target.hinge, angular_rhs);
-  apply_point_block(sa, sb, a, b, row, lambda, angular_rhs, impulse.point, impulse.hinge);
+  if (in_tree) return;
+  const Vec3 lambda = row.point_mass * (target.point - anchor_rate(a, b, row.ra, row.rb));
+  impulse.point += lambda;
+  apply_point(sa, sb, a, b, row.ra, row.rb, lambda);
 }
 
-// Every point block at once on one rate of the bodies: lambda = K^-1 (target
-// - J v), then each joint's impulse applied.
-template <class Rate, class Target, class Impulse>
-void solve_tree(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree, Rate rate_of,
-                Target target_of, Impulse impulse_of) {
-  for (size_t p = 0; p < tree.row_of.size(); ++p) {
-    JointRow& row = rows[tree.row_of[p]];
-    Fixed hinge_target[2];
-    const Vec3 point_target = target_of(row, hinge_target);
-    tree.rhs[p] = point_rhs(row, rate_of(bodies[row.a]), rate_of(bodies[row.b]), point_target, hinge_target,
-                            tree.angular_rhs[p].value);
+// The tree node's rows in JointRow::tree_axes order: the point block's
+// three, a hinge's two angular rows, the swing, the limit.
+struct NodeLayout {
+  int hinge = -1, swing = -1, limit = -1;  // the first row of each, -1: not in the node
+};
+NodeLayout layout_of(const JointRow& row) {
+  NodeLayout layout;
+  int next = 3;
+  if (row.joint->type == JointType::hinge) {
+    layout.hinge = next;
+    next += 2;
   }
-  solve_joint_tree(tree);
+  if (row.swing_in_tree) layout.swing = next++;
+  if (row.limit_in_tree) layout.limit = next++;
+  return layout;
+}
+
+void set_tree_axes(JointRow& row);
+
+// The tree solves an engaged swing or limit row as an equality. Where the
+// solution pulls (the row's total impulse on the wrong side of zero: a blow
+// this step took the limb away from the limit the step's start was heading
+// for), the row leaves the tree for the rest of the step, where it is
+// solved row by row and one-sided, and the tree is factorised again and
+// solved again. Clamping the total alone (the tree's other rows computed
+// with the pull in them) made ragdolls gain energy and fold limbs 180
+// degrees; releasing rows within the factorisation (K^-1 e_j per row, one
+// at a time) took the pull back and forth between two hips on one pelvis.
+// Returns whether a row left.
+constexpr Fixed pull_tolerance = Fixed::from_raw(1 << 12);  // N m s: rounding, left to solve_tree's clamp
+
+template <class ImpulsesOf>
+bool release_pulling_rows(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree,
+                          ImpulsesOf impulses_of) {
+  bool released = false;
   for (size_t p = 0; p < tree.row_of.size(); ++p) {
     JointRow& row = rows[tree.row_of[p]];
+    const NodeLayout layout = layout_of(row);
+    if (layout.swing < 0 && layout.limit < 0) continue;
+    const Impulses impulse = impulses_of(row);
+    bool leaves = false;
+    if (layout.swing >= 0 && impulse.hinge[0] + tree.rhs[p].at[layout.swing] < -pull_tolerance) {
+      row.swing_in_tree = false;
+      leaves = true;
+    }
+    if (layout.limit >= 0) {
+      const Fixed total = impulse.limit + tree.rhs[p].at[layout.limit];
+      if (row.limit_side > 0 ? total < -pull_tolerance : total > pull_tolerance) {
+        row.limit_in_tree = false;
+        leaves = true;
+      }
+    }
+    if (!leaves) continue;
+    row.released = released = true;  // not engaged again this step
+    set_tree_axes(row);
+  }
+  if (released) factor_joint_tree(bodies, rows, tree);
+  return released;
+}
+
+// Every joint's tree rows at once on one rate of the bodies: lambda = K^-1
+// (target - J v), solved again while an engaged row pulls
+// (release_pulling_rows), then each joint's impulses applied.
+template <class Rate, class TargetsOf, class ImpulsesOf>
+void solve_tree(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree, Rate rate_of,
+                TargetsOf targets_of, ImpulsesOf impulses_of) {
+  for (;;) {
+    for (size_t p = 0; p < tree.row_of.size(); ++p) {
+      const JointRow& row = rows[tree.row_of[p]];
+      const BodyRates& a = rate_of(bodies[row.a]);
+      const BodyRates& b = rate_of(bodies[row.b]);
+      const Targets target = targets_of(row);
+      const NodeLayout layout = layout_of(row);
+      Column& rhs = tree.rhs[p];
+      const Vec3 point = target.point - anchor_rate(a, b, row.ra, row.rb);
+      rhs.at[0] = point.x;
+      rhs.at[1] = point.y;
+      rhs.at[2] = point.z;
+      if (layout.hinge >= 0) {
+        for (int k = 0; k < 2; ++k) rhs.at[layout.hinge + k] = target.hinge[k] - spin(a, b, row.hinge[k]);
+      }
+      if (layout.swing >= 0) rhs.at[layout.swing] = target.hinge[0] - spin(a, b, row.hinge[0]);
+      if (layout.limit >= 0) rhs.at[layout.limit] = target.limit - spin(a, b, row.limit);
+    }
+    solve_joint_tree(tree, tree.rhs);
+    if (!release_pulling_rows(bodies, rows, tree, impulses_of)) break;
+  }
+  for (size_t p = 0; p < tree.row_of.size(); ++p) {
+    JointRow& row = rows[tree.row_of[p]];
+    SolverBody& sa = bodies[row.a];
+    SolverBody& sb = bodies[row.b];
+    BodyRates& a = rate_of(sa);
+    BodyRates& b = rate_of(sb);
+    Impulses impulse = impulses_of(row);
+    const NodeLayout layout = layout_of(row);
+    const Column& lambda = tree.rhs[p];
+    const Vec3 point{lambda.at[0], lambda.at[1], lambda.at[2]};
+    impulse.point += point;
+    apply_point(sa, sb, a, b, row.ra, row.rb, point);
+    if (layout.hinge >= 0) {
+      for (int k = 0; k < 2; ++k) {
+        impulse.hinge[k] += lambda.at[layout.hinge + k];
+        apply_turn(a, b, row.hinge[k], lambda.at[layout.hinge + k]);
+      }
+    }
+    // What rounding left on the wrong side of zero, taken back row by row.
+    if (layout.swing >= 0) {
+      const Fixed total = clamp_swing(impulse.hinge[0] + lambda.at[layout.swing]);
+      apply_turn(a, b, row.hinge[0], total - impulse.hinge[0]);
+      impulse.hinge[0] = total;
+    }
+    if (layout.limit >= 0) {
+      const Fixed total = clamp_limit(row, impulse.limit + lambda.at[layout.limit]);
+      apply_turn(a, b, row.limit, total - impulse.limit);
+      impulse.limit = total;
+    }
+  }
+}
+
+// One pass over the joints on one rate: the rows the tree leaves out one
+// by one, then the tree (or, where the joints close a loop, every row one
+// by one).
+template <class Rate, class TargetsOf, class ImpulsesOf>
+void solve_pass(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree, Rate rate_of,
+                TargetsOf targets_of, ImpulsesOf impulses_of) {
+  bool promoted = false;
+  for (JointRow& row : rows) {
     SolverBody& a = bodies[row.a];
     SolverBody& b = bodies[row.b];
-    auto [point_impulse, hinge_impulse] = impulse_of(row);
-    apply_point_block(a, b, rate_of(a), rate_of(b), row, tree.rhs[p], tree.angular_rhs[p].value, point_impulse, hinge_impulse);
+    const Impulses impulse = impulses_of(row);
+    solve_rows(a, b, rate_of(a), rate_of(b), row, targets_of(row), impulse, tree.exact);
+    // A swing or limit that the step's start did not engage and that now
+    // binds (a blow this step drove the limb into it) joins the tree.
+    if (!tree.exact || row.released) continue;
+    if (row.swing_active && !row.swing_in_tree && impulse.hinge[0] != Fixed{}) row.swing_in_tree = promoted = true;
+    if (row.limit_side != 0 && !row.limit_in_tree && impulse.limit != Fixed{}) row.limit_in_tree = promoted = true;
   }
+  if (!tree.exact) return;
+  if (promoted) {
+    for (JointRow& row : rows) {
+      if (row.joint->type != JointType::max_distance) set_tree_axes(row);
+    }
+    factor_joint_tree(bodies, rows, tree);
+  }
+  solve_tree(bodies, rows, tree, rate_of, targets_of, impulses_of);
+}
+
+BodyRates& velocity_of(SolverBody& body) { return body.velocity; }
+BodyRates& push_of(SolverBody& body) { return body.push; }
+
+// The joint's rows in the tree solve (JointRow::tree_axes): J v =
+// linear . (v_b - v_a) + angular_b . w_b + angular_a . w_a.
+void set_tree_axes(JointRow& row) {
+  const Vec3 unit[3] = {{Fixed::one(), {}, {}}, {{}, Fixed::one(), {}}, {{}, {}, Fixed::one()}};
+  // The point block: e . (v_b + w_b x r_b - v_a - w_a x r_a) per axis e.
+  for (int k = 0; k < 3; ++k) row.tree_axes[k] = {unit[k], -cross(row.ra, unit[k]), cross(row.rb, unit[k])};
+  const auto angular = [](const AngularPart& part) { return TreeAxis{Vec3{}, -part.axis, part.axis}; };
+  const NodeLayout layout = layout_of(row);
+  if (layout.hinge >= 0) {
+    for (int k = 0; k < 2; ++k) row.tree_axes[layout.hinge + k] = angular(row.hinge[k]);
+  }
+  if (layout.swing >= 0) row.tree_axes[layout.swing] = angular(row.hinge[0]);
+  if (layout.limit >= 0) row.tree_axes[layout.limit] = angular(row.limit);
+  row.tree_size = static_cast<uint8_t>(3 + (layout.hinge >= 0 ? 2 : 0) + (layout.swing >= 0 ? 1 : 0) +
+                                       (layout.limit >= 0 ? 1 : 0));
 }
 
 }  // namespace
@@ -333,6 +458,10 @@ void prepare_joint_rows(const Settings& settings, const std::vector<Body>& bodie
         } else {
           row.hinge_push_target[0] = recovery(past, factor, inverse_dt, max_speed);
         }
+        // In the tree solve (engaged) where it binds at the rates the step
+        // starts with, or is past, or held last step; else row by row.
+        const Fixed rate = spin(body_rates(body_a), body_rates(body_b), row.hinge[0]);
+        row.swing_in_tree = past > Fixed{} || rate <= row.hinge_target[0] || joint.hinge_impulse[0] > Fixed{};
       } else {
         joint.hinge_impulse[0] = Fixed{};
       }
@@ -355,10 +484,7 @@ void prepare_joint_rows(const Settings& settings, const std::vector<Body>& bodie
       }
       if (joint.limited) {
         const Fixed angle = hinge_angle(joint, body_a, body_b);
-        // A cone twists about the mean of its two axes (b's own axis when
-        // swung, a's at rest); a hinge's axes agree.
-        const Vec3 twist_axis = joint.type == JointType::cone ? axis_b : axis_a;
-        row.limit = make_twist(a, b, twist_axis);
+        row.limit = make_twist(a, b, joint.type == JointType::cone ? twist_rate_axis(axis_a, axis_b) : axis_a);
         pair_with_point(row, row.limit, row.limit_anchor, row.limit_mass);
         // The limit nearer to where the angle is heading (its rate at the
         // velocities the step starts the solve with: a fast turn toward the
@@ -381,27 +507,16 @@ void prepare_joint_rows(const Settings& settings, const std::vector<Body>& bodie
         if ((lower && joint.limit_impulse < Fixed{}) || (!lower && joint.limit_impulse > Fixed{})) {
           joint.limit_impulse = Fixed{};
         }
+        // Engaged (in the tree solve) as the swing is.
+        const Fixed rate = spin(body_rates(body_a), body_rates(body_b), row.limit);
+        row.limit_in_tree = past > Fixed{} || (lower ? rate <= row.limit_target : rate >= row.limit_target) ||
+                            joint.limit_impulse != Fixed{};
       }
     }
     rows.push_back(row);
   }
-  // Hinges alone on their movable bodies are folded (JointRow::folded).
-  std::vector<uint32_t>& blocks_on = tree.queue;  // per slot: point blocks on the body
-  blocks_on.assign(bodies.size(), 0);
-  for (const JointRow& row : rows) {
-    if (row.joint->type == JointType::max_distance) continue;
-    for (const uint32_t body : {row.a, row.b}) {
-      if (!immovable(solver_bodies[body])) ++blocks_on[body];
-    }
-  }
   for (JointRow& row : rows) {
-    if (row.joint->type != JointType::hinge) continue;
-    const bool alone = (immovable(solver_bodies[row.a]) || blocks_on[row.a] == 1) &&
-                       (immovable(solver_bodies[row.b]) || blocks_on[row.b] == 1);
-    if (alone) {
-      row.folded = true;
-      fold_hinge_rows(row);
-    }
+    if (row.joint->type != JointType::max_distance) set_tree_axes(row);
   }
   factor_joint_tree(solver_bodies, rows, tree);
 }
@@ -428,46 +543,11 @@ void warm_start_joints(std::vector<SolverBody>& bodies, const std::vector<JointR
 }
 
 void solve_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree) {
-  for (JointRow& row : rows) {
-    SolverBody& a = bodies[row.a];
-    SolverBody& b = bodies[row.b];
-    Joint& joint = *row.joint;
-    const Targets target{row.point_target, row.rope_target, {row.hinge_target[0], row.hinge_target[1]},
-                         row.limit_target, row.rope_active, row.limit_side != 0, row.swing_active};
-    solve_rows(a, b, a.velocity, b.velocity, row, target,
-               {joint.point_impulse, joint.distance_impulse, joint.hinge_impulse, joint.limit_impulse}, !tree.exact);
-  }
-  if (!tree.exact) return;
-  solve_tree(
-      bodies, rows, tree, [](SolverBody& body) -> BodyRates& { return body.velocity; },
-      [](const JointRow& row, Fixed (&hinge)[2]) {
-        hinge[0] = row.hinge_target[0];
-        hinge[1] = row.hinge_target[1];
-        return row.point_target;
-      },
-      [](JointRow& row) { return std::tie(row.joint->point_impulse, row.joint->hinge_impulse); });
+  solve_pass(bodies, rows, tree, velocity_of, velocity_targets, velocity_impulses);
 }
 
 void push_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree) {
-  for (JointRow& row : rows) {
-    SolverBody& a = bodies[row.a];
-    SolverBody& b = bodies[row.b];
-    const Targets target{row.point_push_target, row.rope_push_target,
-                         {row.hinge_push_target[0], row.hinge_push_target[1]}, row.limit_push_target,
-                         row.rope_push_target != Fixed{}, row.limit_side != 0, row.swing_active};
-    solve_rows(a, b, a.push, b.push, row, target,
-               {row.point_push_impulse, row.rope_push_impulse, row.hinge_push_impulse, row.limit_push_impulse},
-               !tree.exact);
-  }
-  if (!tree.exact) return;
-  solve_tree(
-      bodies, rows, tree, [](SolverBody& body) -> BodyRates& { return body.push; },
-      [](const JointRow& row, Fixed (&hinge)[2]) {
-        hinge[0] = row.hinge_push_target[0];
-        hinge[1] = row.hinge_push_target[1];
-        return row.point_push_target;
-      },
-      [](JointRow& row) { return std::tie(row.point_push_impulse, row.hinge_push_impulse); });
+  solve_pass(bodies, rows, tree, push_of, push_targets, push_impulses);
 }
 
 bool joints_to_push(const std::vector<JointRow>& rows) {

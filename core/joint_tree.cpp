@@ -11,20 +11,93 @@ namespace {
 
 constexpr uint32_t unvisited = UINT32_MAX;
 
-Mat33 skew(Vec3 r) { return {{Vec3{Fixed{}, -r.z, r.y}, Vec3{r.z, Fixed{}, -r.x}, Vec3{-r.y, r.x, Fixed{}}}}; }
-
 bool has_point_block(const JointRow& row) { return row.joint->type != JointType::max_distance; }
 
-// The joint's arm on `body` and the sign of its impulse there (-1 on a, +1 on b).
-Vec3 arm_on(const JointRow& row, uint32_t body) { return body == row.a ? row.ra : row.rb; }
-Fixed sign_on(const JointRow& row, uint32_t body) { return body == row.a ? -Fixed::one() : Fixed::one(); }
+// Row p of a joint on one of its bodies: the angular part.
+Vec3 angular_on(const JointRow& row, int p, uint32_t body) {
+  return body == row.a ? row.tree_axes[p].angular_a : row.tree_axes[p].angular_b;
+}
 
-// K_ij through one shared body: s_i s_j (1/m 1 - [r_i]x I^-1 [r_j]x).
-Mat33 coupling(const SolverBody& body, Vec3 ri, Vec3 rj, Fixed sign) {
-  const Fixed m = body.inverse_mass;
-  const Mat33 linear{{Vec3{m, Fixed{}, Fixed{}}, Vec3{Fixed{}, m, Fixed{}}, Vec3{Fixed{}, Fixed{}, m}}};
-  const Mat33 k = linear - skew(ri) * (body.inverse_inertia * skew(rj));
-  return sign < Fixed{} ? Mat33{} - k : k;
+// K_ij through one shared body B: entry (p, q) = l_p . l_q / m_B + w_p .
+// I_B^-1 w_q, for row p of joint i and row q of joint j (i may be j). The
+// linear parts are the point block's unit axes (+-e_k: -e_k on body a) and
+// nothing for angular rows, so l_p . l_q / m_B is s_i s_j / m_B where p = q
+// < 3, and 0 elsewhere.
+Block coupling(const SolverBody& body, const JointRow& ri, const JointRow& rj, uint32_t slot) {
+  Block k{};
+  Vec3 turn[max_tree_axes];
+  for (int q = 0; q < rj.tree_size; ++q) turn[q] = body.inverse_inertia * angular_on(rj, q, slot);
+  for (int p = 0; p < ri.tree_size; ++p) {
+    const Vec3 wp = angular_on(ri, p, slot);
+    for (int q = 0; q < rj.tree_size; ++q) k.at[p][q] = dot(wp, turn[q]);
+  }
+  const bool same_side = (slot == ri.a) == (slot == rj.a);
+  for (int p = 0; p < 3; ++p) k.at[p][p] += same_side ? body.inverse_mass : -body.inverse_mass;
+  return k;
+}
+
+// Block products over the used n x m parts (n, m <= 6), each entry a sum
+// of products rounded once per three terms (dot3: one rounding for n <= 3,
+// as the 3x3 point blocks had; two above).
+inline Fixed dot_n(const Fixed* a, const Fixed* b, int n) {
+  const Fixed low = dot(Vec3{a[0], a[1], a[2]}, Vec3{b[0], b[1], b[2]});
+  if (n <= 3) return low;
+  const Fixed zero;
+  return low + dot(Vec3{a[3], n > 4 ? a[4] : zero, n > 5 ? a[5] : zero}, Vec3{b[3], n > 4 ? b[4] : zero, n > 5 ? b[5] : zero});
+}
+Block transposed(const Block& a, int n, int m) {
+  Block t{};
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < m; ++j) t.at[j][i] = a.at[i][j];
+  }
+  return t;
+}
+Mat33 mat33(const Block& a) {
+  return {{Vec3{a.at[0][0], a.at[0][1], a.at[0][2]}, Vec3{a.at[1][0], a.at[1][1], a.at[1][2]},
+           Vec3{a.at[2][0], a.at[2][1], a.at[2][2]}}};
+}
+// A 3x3 matrix as a block (the rest zero).
+Block block_of(const Mat33& m) {
+  Block b{};
+  for (int i = 0; i < 3; ++i) {
+    const Vec3 row = m.rows[static_cast<size_t>(i)];
+    b.at[i][0] = row.x;
+    b.at[i][1] = row.y;
+    b.at[i][2] = row.z;
+  }
+  return b;
+}
+// (n x k) times (k x m).
+Block product(const Block& a, const Block& b, int n, int k, int m) {
+  if (n == 3 && k == 3 && m == 3) return block_of(mat33(a) * mat33(b));  // point blocks: as Mat33
+  Block c{};
+  const Block bt = transposed(b, k, m);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < m; ++j) c.at[i][j] = dot_n(a.at[i], bt.at[j], k);
+  }
+  return c;
+}
+void subtract(Block& a, const Block& b, int n, int m) {
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < m; ++j) a.at[i][j] -= b.at[i][j];
+  }
+}
+// (n x m) times a column of m, into y (its first n).
+inline void product(const Block& a, const Column& x, int n, int m, Column& y) {
+  const auto row = [&a](int i) { return Vec3{a.at[i][0], a.at[i][1], a.at[i][2]}; };
+  if (n == 3 && m == 3) {  // two point blocks: unrolled
+    const Vec3 v{x.at[0], x.at[1], x.at[2]};
+    y.at[0] = dot(row(0), v);
+    y.at[1] = dot(row(1), v);
+    y.at[2] = dot(row(2), v);
+    return;
+  }
+  if (m <= 3) {
+    const Vec3 low{x.at[0], x.at[1], x.at[2]};
+    for (int i = 0; i < n; ++i) y.at[i] = dot(row(i), low);
+    return;
+  }
+  for (int i = 0; i < n; ++i) y.at[i] = dot_n(a.at[i], x.at, m);
 }
 
 // Lists, per movable body, the point-block rows on it (a counting sort:
@@ -122,13 +195,12 @@ void list_couplings(const std::vector<SolverBody>& bodies, const std::vector<Joi
         const JointRow& ri = rows[tree.body_rows[x]];
         const JointRow& rj = rows[tree.body_rows[y]];
         uint32_t pi = tree.position_of[tree.body_rows[x]], pj = tree.position_of[tree.body_rows[y]];
-        const Fixed sign = sign_on(ri, body) * sign_on(rj, body);
-        Mat33 block = coupling(bodies[body], arm_on(ri, body), arm_on(rj, body), sign);  // K_ij
+        Block block = coupling(bodies[body], ri, rj, body);  // K_ij
         if (pj < pi) {
           std::swap(pi, pj);
-          block = transpose(block);
+          block = transposed(block, ri.tree_size, rj.tree_size);
         }
-        tree.unsorted.push_back({pj, block});
+        tree.unsorted.push_back({pj, block, {}});
         tree.owner.push_back(pi);
       }
     }
@@ -144,7 +216,7 @@ void list_couplings(const std::vector<SolverBody>& bodies, const std::vector<Joi
 }
 
 // The block stored between positions i < j, or null (fill-in: not a tree).
-Mat33* block_between(JointTree& tree, uint32_t i, uint32_t j) {
+Block* block_between(JointTree& tree, uint32_t i, uint32_t j) {
   for (uint32_t c = tree.couplings_begin[i]; c < tree.couplings_begin[i + 1]; ++c) {
     if (tree.couplings[c].other == j) return &tree.couplings[c].block;
   }
@@ -181,6 +253,46 @@ Mat33 inverse_spd(const Mat33& k) {
   return {{Vec3{i00, i10, i20}, Vec3{i10, i11, i21}, Vec3{i20, i21, i22}}};
 }
 
+Block inverse_spd(const Block& k, int n) {
+  if (n == 3) return block_of(inverse_spd(mat33(k)));  // a point block: the 3x3 form
+  // K = L D L^T, L unit lower triangular: d_j = k_jj - sum_{m<j} l_jm^2 d_m,
+  // l_ij = (k_ij - sum_{m<j} l_im l_jm d_m) / d_j (i > j).
+  Fixed l[max_tree_axes][max_tree_axes] = {};
+  Fixed d[max_tree_axes] = {}, e[max_tree_axes] = {};
+  for (int j = 0; j < n; ++j) {
+    Fixed dj = k.at[j][j];
+    for (int m = 0; m < j; ++m) dj -= l[j][m] * l[j][m] * d[m];
+    d[j] = dj;
+    if (dj <= Fixed{}) continue;  // a dependent row: dropped (its l column stays 0)
+    e[j] = Fixed::one() / dj;
+    for (int i = j + 1; i < n; ++i) {
+      Fixed kij = k.at[i][j];
+      for (int m = 0; m < j; ++m) kij -= l[i][m] * l[j][m] * d[m];
+      l[i][j] = kij / dj;
+    }
+  }
+  // L^-1, unit lower triangular: a_ij = -sum_{m=j}^{i-1} l_im a_mj.
+  Fixed a[max_tree_axes][max_tree_axes] = {};
+  for (int i = 0; i < n; ++i) {
+    a[i][i] = Fixed::one();
+    for (int j = 0; j < i; ++j) {
+      Fixed sum;
+      for (int m = j; m < i; ++m) sum = mul_add(l[i][m], a[m][j], sum);
+      a[i][j] = -sum;
+    }
+  }
+  // K^-1 = L^-T D^-1 L^-1: (K^-1)_ij = sum_{m >= max(i, j)} a_mi e_m a_mj.
+  Block inverse{};
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j <= i; ++j) {
+      Fixed sum;
+      for (int m = i; m < n; ++m) sum = mul_add(a[m][i] * e[m], a[m][j], sum);
+      inverse.at[i][j] = inverse.at[j][i] = sum;
+    }
+  }
+  return inverse;
+}
+
 void factor_joint_tree(const std::vector<SolverBody>& bodies, const std::vector<JointRow>& rows, JointTree& tree) {
   tree.exact = false;
   tree.row_of.clear();
@@ -190,55 +302,92 @@ void factor_joint_tree(const std::vector<SolverBody>& bodies, const std::vector<
   if (tree.row_of.empty()) return;
   list_couplings(bodies, rows, tree);
   const size_t n = tree.row_of.size();
+  tree.size.resize(n);
   tree.pivot.resize(n);
   tree.pivot_inverse.resize(n);
-  for (size_t p = 0; p < n; ++p) tree.pivot[p] = rows[tree.row_of[p]].point_k;
+  for (size_t p = 0; p < n; ++p) {
+    const JointRow& row = rows[tree.row_of[p]];
+    tree.size[p] = row.tree_size;
+    // K_ii: the point block's K as prepare_joint_rows formed it, and the
+    // angular rows' entries through each movable body.
+    Block& pivot = tree.pivot[p];
+    pivot = Block{};
+    if (row.tree_size > 3) {
+      for (const uint32_t body : {row.a, row.b}) {
+        if (immovable(bodies[body])) continue;
+        const Block part = coupling(bodies[body], row, row, body);
+        for (int i = 0; i < row.tree_size; ++i) {
+          for (int j = 0; j < row.tree_size; ++j) pivot.at[i][j] += part.at[i][j];
+        }
+      }
+    }
+    const Block point = block_of(row.point_k);
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) pivot.at[i][j] = point.at[i][j];
+    }
+  }
   // K = L D L^T, leaves first: eliminating k subtracts K_ik D_k^-1 K_kj
   // from every pair of its later neighbours i, j.
   for (uint32_t k = 0; k < n; ++k) {
-    const Mat33 inverse_pivot = inverse_spd(tree.pivot[k]);
-    tree.pivot_inverse[k] = inverse_pivot;
+    const int nk = tree.size[k];
+    tree.pivot_inverse[k] = inverse_spd(tree.pivot[k], nk);
     const uint32_t begin = tree.couplings_begin[k], end = tree.couplings_begin[k + 1];
     for (uint32_t x = begin; x < end; ++x) {
-      const JointTree::Coupling ci = tree.couplings[x];
-      const Mat33 left = transpose(ci.block) * inverse_pivot;  // K_ik D_k^-1
+      const JointTree::Coupling& ci = tree.couplings[x];
+      const int ni = tree.size[ci.other];
+      // K_ik D_k^-1 (ni x nk).
+      const Block left = product(transposed(ci.block, nk, ni), tree.pivot_inverse[k], ni, nk, nk);
       for (uint32_t y = x; y < end; ++y) {
-        const JointTree::Coupling cj = tree.couplings[y];
-        const Mat33 update = left * cj.block;  // K_ik D_k^-1 K_kj
+        const JointTree::Coupling& cj = tree.couplings[y];
+        const int nj = tree.size[cj.other];
+        const Block update = product(left, cj.block, ni, nk, nj);  // K_ik D_k^-1 K_kj
         if (ci.other == cj.other) {
-          tree.pivot[ci.other] = tree.pivot[ci.other] - update;
+          subtract(tree.pivot[ci.other], update, ni, nj);
           continue;
         }
         const bool i_first = ci.other < cj.other;
-        Mat33* between = i_first ? block_between(tree, ci.other, cj.other) : block_between(tree, cj.other, ci.other);
+        Block* between = i_first ? block_between(tree, ci.other, cj.other) : block_between(tree, cj.other, ci.other);
         if (between == nullptr) return;  // fill-in: the order is not a tree's
-        *between = *between - (i_first ? update : transpose(update));
+        subtract(*between, i_first ? update : transposed(update, ni, nj), i_first ? ni : nj, i_first ? nj : ni);
       }
     }
   }
+  for (uint32_t k = 0; k < n; ++k) {
+    for (uint32_t c = tree.couplings_begin[k]; c < tree.couplings_begin[k + 1]; ++c) {
+      JointTree::Coupling& coupling = tree.couplings[c];
+      coupling.block_transposed = transposed(coupling.block, tree.size[k], tree.size[coupling.other]);
+    }
+  }
   tree.rhs.resize(n);
-  tree.angular_rhs.resize(n);
   tree.exact = true;
 }
 
-void solve_joint_tree(JointTree& tree) {
+void solve_joint_tree(JointTree& tree, std::vector<Column>& b) {
   const size_t n = tree.row_of.size();
-  std::vector<Vec3>& b = tree.rhs;
+  Column scaled, change;
   // Forward: b_i -= K_ik D_k^-1 b_k for each later neighbour i of k.
   for (uint32_t k = 0; k < n; ++k) {
-    const Vec3 scaled = tree.pivot_inverse[k] * b[k];
+    const int nk = tree.size[k];
+    product(tree.pivot_inverse[k], b[k], nk, nk, scaled);
     for (uint32_t c = tree.couplings_begin[k]; c < tree.couplings_begin[k + 1]; ++c) {
       const JointTree::Coupling& coupling = tree.couplings[c];
-      b[coupling.other] -= transpose(coupling.block) * scaled;
+      const int ni = tree.size[coupling.other];
+      product(coupling.block_transposed, scaled, ni, nk, change);
+      Column& target = b[coupling.other];
+      for (int i = 0; i < ni; ++i) target.at[i] -= change.at[i];
     }
   }
   // Back: x_k = D_k^-1 (b_k - sum K_ki x_i over the later neighbours i).
   for (size_t k = n; k-- > 0;) {
-    Vec3 rest = b[k];
+    const int nk = tree.size[k];
+    Column& rest = b[k];
     for (uint32_t c = tree.couplings_begin[k]; c < tree.couplings_begin[k + 1]; ++c) {
-      rest -= tree.couplings[c].block * b[tree.couplings[c].other];
+      const JointTree::Coupling& coupling = tree.couplings[c];
+      product(coupling.block, b[coupling.other], nk, tree.size[coupling.other], change);
+      for (int i = 0; i < nk; ++i) rest.at[i] -= change.at[i];
     }
-    b[k] = tree.pivot_inverse[k] * rest;
+    product(tree.pivot_inverse[k], rest, nk, nk, scaled);
+    rest = scaled;
   }
 }
 

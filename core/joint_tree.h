@@ -1,21 +1,24 @@
-// The joints' point blocks solved exactly, all at once, where the joints
+// The joints' equality rows solved exactly, all at once, where the joints
 // join the bodies in trees (chains, ragdolls, bridges anchored at both
 // ends): sequential impulses on a 25-link chain holding a 100 kg ball let
 // it stretch by 34 cm at 10 iterations (each pass moves an impulse one link
 // further); solving K lambda = b for every joint of the tree together holds
 // it exactly in one pass.
 //
-// K = J M^-1 J^T has a 3x3 block per pair of joints that share a movable
-// body B: s_i s_j (1/m_B 1 - [r_i]x I_B^-1 [r_j]x), s = -1 where B is the
-// joint's body a, +1 where it is b, r the joint's arm on B. A static,
-// kinematic or sleeping body couples nothing. Eliminated leaves first (a
-// body's joints before the joint that holds it, bodies deepest first in
-// the tree), every joint's remaining neighbours share one body, so they
-// are coupled already: the block LDL^T factorisation makes no fill-in and
-// costs O(joints) 3x3 products (Baraff, "Linear-time dynamics using
-// Lagrange multipliers", 1996, in joint space). Where joints close a loop
-// among movable bodies there is no such order; those steps fall back to
-// sequential impulses, joint by joint. Internal to core/.
+// Each joint is one node of up to six rows (JointRow::tree_axes): its point
+// block (3), a hinge's two angular rows, and the swing and twist limits that
+// are engaged this step. Each row is a Jacobian (linear and angular parts
+// on each body). K = J M^-1 J^T has a block per pair of joints that share a
+// movable body B, entry (p, q) = l_p . l_q / m_B + w_p . I_B^-1 w_q for
+// their rows' parts l, w on B. A static, kinematic or sleeping body couples
+// nothing. Eliminated leaves first (a body's joints before the joint that
+// holds it, bodies deepest first in the tree), every joint's remaining
+// neighbours share one body, so they are coupled already: the block LDL^T
+// factorisation makes no fill-in and costs O(joints) block products
+// (Baraff, "Linear-time dynamics using Lagrange multipliers", 1996, in
+// joint space). Where joints close a loop among movable bodies there is no
+// such order; those steps fall back to sequential impulses, joint by joint.
+// Internal to core/.
 #pragma once
 
 #include <cstdint>
@@ -28,46 +31,65 @@ namespace bitstep {
 struct JointRow;
 struct SolverBody;
 
+// One row of a joint in the tree solve: J v = linear . (v_b - v_a) +
+// angular_b . w_b + angular_a . w_a.
+struct TreeAxis {
+  Vec3 linear;               // on b; -linear on a
+  Vec3 angular_a, angular_b;
+};
+
+constexpr int max_tree_axes = 6;
+
+// An n x m block (n, m <= 6) of K or of its factorisation, and a node's
+// column of values.
+struct Block {
+  Fixed at[max_tree_axes][max_tree_axes];
+};
+struct Column {
+  Fixed at[max_tree_axes];
+};
+
 struct JointTree {
-  // Per point block (rows of point and hinge joints), in elimination
-  // order: its row, the inverse of its pivot, and its couplings to the
-  // blocks eliminated after it (K_{k,i}, row k, column i).
+  // Per joint (node), in elimination order: its row, its number of rows,
+  // the inverse of its pivot, and its couplings to the nodes eliminated
+  // after it (K_{k,i}: node k's rows by node i's).
   struct Coupling {
     uint32_t other;  // position in the order
-    Mat33 block;
+    Block block;             // K_{k,i}
+    Block block_transposed;  // K_{i,k}, for the forward pass
   };
   std::vector<uint32_t> row_of;            // position -> joint row
-  std::vector<Mat33> pivot_inverse;        // D_k^-1
+  std::vector<uint8_t> size;               // position -> its rows
+  std::vector<Block> pivot_inverse;        // D_k^-1
   std::vector<uint32_t> couplings_begin;   // position -> its couplings; one past the last at the end
   std::vector<Coupling> couplings;
-  bool exact = false;                      // false: loops, or no point blocks
+  bool exact = false;                      // false: loops, or no joints with a point block
   // Workspace, kept from step to step.
-  std::vector<Mat33> pivot;
-  std::vector<Vec3> rhs;
-  struct AngularRhs {
-    Fixed value[2];  // a hinge's angular rows' right-hand side (joint_solver.cpp)
-  };
-  std::vector<AngularRhs> angular_rhs;
-  std::vector<uint32_t> parent, depth, key_order, position_of, body_rows, body_rows_begin, queue;
-  std::vector<uint64_t> keys;
+  std::vector<Block> pivot;
+  std::vector<Column> rhs;
+  std::vector<uint32_t> parent, depth, position_of, body_rows, body_rows_begin, queue;
   std::vector<Coupling> unsorted;
   std::vector<uint32_t> owner;  // per unsorted coupling: the position it belongs to
 };
 
-// The inverse of a symmetric positive definite 3x3 block (a joint's K or a
-// pivot of the tree's factorisation) by its LDL^T: six divisions and a
-// few dozen products, rounded as they go. inverse() (fixed/mat33.h) is
-// exact through big integers and cost ~200,000 instructions a call: 88%
-// of a 26-joint chain's step. Where a pivot is not positive (a block that
-// rounding left indefinite) it falls back to inverse().
+// The inverse of a symmetric positive definite 3x3 block (a joint's K) by
+// its LDL^T: six divisions and a few dozen products, rounded as they go.
+// inverse() (fixed/mat33.h) is exact through big integers and cost ~200,000
+// instructions a call: 88% of a 26-joint chain's step. Where a pivot is not
+// positive (a block that rounding left indefinite) it falls back to
+// inverse().
 Mat33 inverse_spd(const Mat33& k);
 
-// Orders and factorises the point blocks of `rows` (the bodies' inverse
-// masses and inertias, and the rows' arms, as prepare_joint_rows left them).
+// The same for an n x n block (n <= 6). A pivot that is not positive (rows
+// that depend on the others, as rounding may leave them) drops its row: it
+// gets no impulse.
+Block inverse_spd(const Block& k, int n);
+
+// Orders and factorises the joints of `rows` (the bodies' inverse masses
+// and inertias, and the rows' axes, as prepare_joint_rows left them).
 void factor_joint_tree(const std::vector<SolverBody>& bodies, const std::vector<JointRow>& rows, JointTree& tree);
 
-// lambda = K^-1 b for the point blocks, b per position in tree.rhs; the
-// result overwrites tree.rhs.
-void solve_joint_tree(JointTree& tree);
+// lambda = K^-1 b, b per position in `b`; the result overwrites it.
+void solve_joint_tree(JointTree& tree, std::vector<Column>& b);
 
 }  // namespace bitstep

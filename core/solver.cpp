@@ -639,8 +639,13 @@ void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::ve
     if (!parallel ||
         !run_ordered_sweeps(*executor, steps, scratch.sweeps.movable, solver_bodies, rows, manifold_rows, scratch.sweeps)) {
       for (int pass = 0; pass < settings.position_iterations; ++pass) {
-        push_joints(solver_bodies, joint_rows, joints.tree);
+        // The joints last: contacts pushed after them pressed ragdoll
+        // limbs past their limits (an elbow 20 degrees for a second in a
+        // pile; in 12 piles of ragdolls.json, 263 joint-steps of 60,000
+        // more than 2 degrees past, 71 with the joints last) and left
+        // deeper overlaps at 10 s (4.7 mm on average, 3.9 mm).
         sweep(solver_bodies, rows, pass, solve_push);
+        push_joints(solver_bodies, joint_rows, joints.tree);
       }
     }
   }
