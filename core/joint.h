@@ -48,6 +48,10 @@ struct JointDef {
   // N s: a joint whose constraint impulse in a step exceeds this breaks
   // (is removed at the end of the step). 0: never.
   Fixed break_impulse;
+  // N m: the most torque the joint's friction puts against b turning
+  // relative to a (a hinge: about its axis; point and cone: about any
+  // axis), 0..1e6. 0: none. Ropes have none.
+  Fixed friction_torque;
 };
 
 // A joint as the world keeps it (state: hashed, saved, dumped). Anchors
@@ -66,6 +70,7 @@ struct Joint {
   Fixed lower_angle, upper_angle;
   Fixed swing_angle;  // cone
   Fixed break_impulse;
+  Fixed friction_torque;
   // Accumulated impulses: the point rows (N s, world axes), the rope's,
   // the hinge's two angular rows (N m s; a cone's swing row in the first)
   // and its limit's (a cone's twist limit).

@@ -148,6 +148,27 @@ Impulses push_impulses(JointRow& row) {
 Fixed clamp_swing(Fixed total) { return max(total, Fixed{}); }
 Fixed clamp_limit(const JointRow& row, Fixed total) { return row.limit_side > 0 ? max(total, Fixed{}) : min(total, Fixed{}); }
 
+// The joint's friction on the velocities: the impulse that stops b
+// turning relative to a, its accumulated total kept within friction_torque
+// dt (a hinge's about its axis, the others' by the total's length).
+void solve_friction(const SolverBody& sa, const SolverBody& sb, BodyRates& a, BodyRates& b, JointRow& row,
+                    Fixed max_impulse) {
+  if (row.joint->type == JointType::hinge) {
+    const Fixed total = max(min(row.friction_impulse.x - row.friction_hinge.mass * spin(a, b, row.friction_hinge), max_impulse),
+                            -max_impulse);
+    apply_turn(a, b, row.friction_hinge, total - row.friction_impulse.x);
+    row.friction_impulse.x = total;
+    return;
+  }
+  Vec3 total = row.friction_impulse - row.friction_mass * (b.angular - a.angular);
+  const Fixed size = length(total);
+  if (size > max_impulse) total = total * (max_impulse / size);
+  const Vec3 change = total - row.friction_impulse;
+  a.angular -= sa.inverse_inertia * change;
+  b.angular += sb.inverse_inertia * change;
+  row.friction_impulse = total;
+}
+
 // The rows of one joint solved one by one: the swing, the hinge's two
 // angular rows, the limit, the rope, then the point block, so that the
 // anchors' coincidence has the last word. With the tree solve (in_tree),
@@ -513,6 +534,15 @@ void prepare_joint_rows(const Settings& settings, const std::vector<Body>& bodie
                             joint.limit_impulse != Fixed{};
       }
     }
+    if (joint.friction_torque > Fixed{} && joint.type != JointType::max_distance) {
+      row.friction = true;
+      row.friction_max = joint.friction_torque * settings.dt;
+      if (joint.type == JointType::hinge) {
+        row.friction_hinge = make_twist(a, b, rotate(body_a.pose.orientation, joint.local_axis_a));
+      } else {
+        row.friction_mass = inverse_spd(a.inverse_inertia + b.inverse_inertia);
+      }
+    }
     rows.push_back(row);
   }
   for (JointRow& row : rows) {
@@ -543,6 +573,12 @@ void warm_start_joints(std::vector<SolverBody>& bodies, const std::vector<JointR
 }
 
 void solve_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree) {
+  for (JointRow& row : rows) {
+    if (!row.friction) continue;
+    SolverBody& a = bodies[row.a];
+    SolverBody& b = bodies[row.b];
+    solve_friction(a, b, a.velocity, b.velocity, row, row.friction_max);
+  }
   solve_pass(bodies, rows, tree, velocity_of, velocity_targets, velocity_impulses);
 }
 

@@ -66,6 +66,16 @@ struct JointRow {
   Fixed limit_mass;
   Fixed limit_target, limit_push_target;
   int limit_side = 0;       // +1: at the lower limit (impulse >= 0), -1: at the upper (<= 0), 0: none
+  // Friction against b turning relative to a (Joint::friction_torque),
+  // solved in the velocity iterations only, from zero each step (not
+  // warm-started: no state): a hinge's about its axis (friction_hinge),
+  // a point or cone joint's about every axis at once, M = (I_a^-1 +
+  // I_b^-1)^-1, its impulse's length at most friction_torque dt.
+  bool friction = false;
+  Fixed friction_max;  // N m s: friction_torque dt
+  AngularPart friction_hinge;
+  Mat33 friction_mass;
+  Vec3 friction_impulse;
   // Split impulses, this solve's only.
   Vec3 point_push_impulse;
   Fixed rope_push_impulse, hinge_push_impulse[2], limit_push_impulse;

@@ -204,6 +204,10 @@ JointResult World::create_joint(const JointDef& def) {
     result.error = "length: outside 0..1000 m";
   } else if (def.break_impulse < Fixed{}) {
     result.error = "break_impulse: negative";
+  } else if (def.friction_torque < Fixed{} || def.friction_torque > 1000000.0_fx) {
+    result.error = "friction_torque: outside 0..1000000 N m";
+  } else if (def.type == JointType::max_distance && def.friction_torque != Fixed{}) {
+    result.error = "friction_torque: a rope has no friction";
   } else {
     const Vec3 anchor_b = def.type == JointType::max_distance ? def.anchor_b : def.anchor_a;
     result.error = reach_error("anchor_a", def.body_a, def.anchor_a);
@@ -240,6 +244,7 @@ JointResult World::create_joint(const JointDef& def) {
   }
   if (def.type == JointType::cone) joint.swing_angle = def.swing_angle;
   joint.break_impulse = def.break_impulse;
+  joint.friction_torque = def.friction_torque;
   uint32_t index;
   if (!free_joint_slots_.empty()) {
     index = free_joint_slots_.back();

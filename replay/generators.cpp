@@ -462,6 +462,7 @@ GeneratedStructure generate_ragdoll(const RagdollParams& params) {
   // n tenths of a millimetre at scale 1, scaled: rounded once, then once more.
   const auto length_of = [&](int n) { return Fixed::from_ratio(n, 10000) * s; };
   const Fixed whole_mass = Fixed::from_int(75) * s * s * s;  // kg
+  const Fixed scale4 = s * s * s * s;
   const Quat q = params.orientation;
   for (int k = 0; k < params.count; ++k) {
     const Vec3 pelvis = params.position + params.spacing * Fixed::from_int(k);
@@ -499,6 +500,7 @@ GeneratedStructure generate_ragdoll(const RagdollParams& params) {
       def.lower_angle = radians(spec.lower);
       def.upper_angle = radians(spec.upper);
       if (spec.type == JointType::cone) def.swing_angle = radians(spec.swing);
+      def.friction_torque = params.joint_friction * scale4;
       out.joints.push_back(std::move(joint));
     }
   }

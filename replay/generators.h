@@ -189,6 +189,11 @@ struct GeneratedStructure {
 };
 GeneratedStructure generate_chain(const ChainParams& params);
 
+// N m at scale 1: enough to stop a limb swinging on its own (a head hanging
+// at its swing limit circled the cone for 10 s without it), far below what
+// holds a limb up against gravity (~3 N m for a forearm held level).
+inline constexpr Fixed ragdoll_joint_friction = 1.0_fx;
+
 // Ragdolls: `count` humans of 11 parts joined by 10 joints, standing upright
 // along +y and facing +z (their left is +x) unless `orientation` turns the
 // whole body (e.g. 90 degrees about x: lying on the back). `position` is the
@@ -225,6 +230,9 @@ struct RagdollParams {
   // friction (Bullet's ragdoll demo damps its parts 0.05 and 0.85).
   Fixed linear_damping;
   Fixed angular_damping;
+  // N m at scale 1 (x scale^4: torques go as mass x length): every joint's
+  // friction_torque.
+  Fixed joint_friction = ragdoll_joint_friction;
 };
 inline constexpr int ragdoll_parts_count = 11;
 inline constexpr int ragdoll_joints_count = 10;

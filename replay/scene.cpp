@@ -302,6 +302,9 @@ GeneratedStructure read_ragdoll(ObjectReader& reader, const MaterialTable& mater
   read_optional(reader, "asleep", p.asleep);
   read_optional(reader, "linear_damping", p.linear_damping, Bound::non_negative);
   read_optional(reader, "angular_damping", p.angular_damping, Bound::non_negative);
+  if (const Node* friction = reader.find("joint_friction")) {
+    p.joint_friction = read_fixed_within(*friction, Fixed{}, Fixed::from_int(1000), "N m");
+  }
   read_optional(reader, "count", p.count, 1, 1000);
   read_place(reader, "position", p.position);
   read_optional_within(reader, "spacing", p.spacing, -max_distance, max_distance, "m");
@@ -606,6 +609,12 @@ JointSpec read_joint_spec(const json::Node& node, const BodyResolver& resolve_bo
     const Node& swing = reader.require("swing");
     def.swing_angle = mul_div(read_fixed_within(swing, Fixed{}, Fixed::from_int(180), "degrees"), pi, Fixed::from_int(180));
     read_limits(reader.require("twist"), def);
+  }
+  if (def.type != JointType::max_distance) {
+    // N m, against the bodies turning relative to each other.
+    if (const Node* friction = reader.find("friction")) {
+      def.friction_torque = read_fixed_within(*friction, Fixed{}, Fixed::from_int(1000000), "N m");
+    }
   }
   read_optional(reader, "break_impulse", def.break_impulse, Bound::non_negative);
   reader.finish();

@@ -219,6 +219,7 @@ void describe_joint(V& v, J& joint, const Bodies& bodies) {
   v.fixed("upper_angle", joint.upper_angle);
   v.fixed("swing_angle", joint.swing_angle);
   v.fixed("break_impulse", joint.break_impulse);
+  v.fixed("friction_torque", joint.friction_torque);
   // The impulses accumulated last step, which warm-start the next.
   v.vec("point_impulse", joint.point_impulse);
   v.fixed("distance_impulse", joint.distance_impulse);
