@@ -58,7 +58,9 @@ class BitstepEngine final : public Engine {
 
   int add_joint(const JointSpec& spec) override {
     JointDef def;
-    def.type = spec.kind == JointKind::hinge ? JointType::hinge : JointType::point;
+    def.type = spec.kind == JointKind::hinge ? JointType::hinge
+               : spec.kind == JointKind::cone  ? JointType::cone
+                                               : JointType::point;
     def.body_a = ids_[static_cast<size_t>(spec.body_a)];
     def.body_b = ids_[static_cast<size_t>(spec.body_b)];
     def.anchor_a = def.anchor_b = fx(spec.anchor);
@@ -66,6 +68,8 @@ class BitstepEngine final : public Engine {
     def.limited = spec.limited;
     def.lower_angle = fx(spec.lower);
     def.upper_angle = fx(spec.upper);
+    def.swing_angle = fx(spec.swing);
+    def.friction_torque = fx(spec.friction);
     const JointResult created = world_.create_joint(def);
     if (!created.ok()) throw std::runtime_error("bench joint: " + created.error);
     return joints_++;

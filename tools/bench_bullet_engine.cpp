@@ -30,6 +30,7 @@
 // no deactivation (the benchmark runs without sleep), and the pair rules.
 #include <btBulletDynamicsCommon.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -221,7 +222,25 @@ class BulletEngine final : public Engine {
       // Bullet's hinge angle (useReferenceFrameA false) is a's turn relative
       // to b, the opposite sign of the spec's (b's relative to a).
       if (spec.limited) hinge->setLimit(bt(-spec.upper), bt(-spec.lower));
+      // Friction as Bullet's examples make it: a motor held at zero speed
+      // whose impulse is at most the friction torque over the step.
+      if (spec.friction > 0) hinge->enableAngularMotor(true, 0, bt(spec.friction) * dt_);
       constraint = std::move(hinge);
+    } else if (spec.kind == JointKind::cone) {
+      // btConeTwistConstraint twists about its frames' x axes: each body's
+      // frame at the anchor, x along the twist axis. Its twist span is
+      // symmetric (the larger of the spec's two limits); it has no
+      // friction setting (its motor drives toward a target pose).
+      const btVector3 axis = bt(spec.axis).normalized();
+      const auto frame_in = [&](const btTransform& t) {
+        const btVector3 x = t.getBasis().transpose() * axis;
+        btVector3 y, z;
+        btPlaneSpace1(x, y, z);
+        return btTransform(btMatrix3x3(x.x(), y.x(), z.x(), x.y(), y.y(), z.y(), x.z(), y.z(), z.z()), t.inverse() * anchor);
+      };
+      auto cone = std::make_unique<btConeTwistConstraint>(a, b, frame_in(ta), frame_in(tb));
+      cone->setLimit(bt(spec.swing), bt(spec.swing), bt(std::max(-spec.lower, spec.upper)));
+      constraint = std::move(cone);
     } else {
       constraint = std::make_unique<btPoint2PointConstraint>(a, b, ta.inverse() * anchor, tb.inverse() * anchor);
     }

@@ -561,13 +561,13 @@ class Bench {
   }
 
   std::string this_build_hash(const std::string& path, int steps) const {
-    std::vector<BodySpec> specs;
+    SceneSpecs specs;
     std::string reason;
     if (!specs_from_scene_file(path, specs, reason)) return "error: " + reason;
     for (const Variant& v : bitstep_variants()) {
       if (v.name != default_variant) continue;
       auto engine = v.make(StepConfig{});
-      for (const BodySpec& spec : specs) engine->add_body(spec);
+      specs.add_to(*engine);
       for (int i = 0; i < steps; ++i) engine->step();
       return fmt::format("{:016x}", engine->state_hash());
     }

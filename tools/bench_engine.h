@@ -47,7 +47,7 @@ struct BodyState {
   V3 angular_velocity{0, 0, 0};
 };
 
-enum class JointKind { point, hinge };
+enum class JointKind { point, hinge, cone };
 
 // A joint between two bodies (indices from add_body), in the world frame at
 // the moment of creation. The joined bodies do not collide with each other.
@@ -55,10 +55,12 @@ struct JointSpec {
   JointKind kind = JointKind::point;
   int body_a = 0, body_b = 0;
   V3 anchor{0, 0, 0};  // m, world: the point both bodies share
-  V3 axis{0, 0, 1};    // hinge: the axis, world (unit)
-  bool limited = false;  // hinge: b's turn about the axis relative to a kept in [lower, upper]
+  V3 axis{0, 0, 1};    // hinge: the axis; cone: the twist axis (world, unit)
+  bool limited = false;  // hinge: b's turn about the axis relative to a kept in [lower, upper]; a cone's always is
   double lower = 0;      // rad, <= 0
   double upper = 0;      // rad, >= 0
+  double swing = 0;      // rad: cone: how far b's twist axis may swing from a's
+  double friction = 0;   // N m against b turning relative to a (Bullet: hinges only)
 };
 
 // The step every engine is given: the same dt, iteration count and gravity.

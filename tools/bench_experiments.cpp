@@ -363,12 +363,15 @@ void watch(Run& run, double seconds, bool stop_when_fallen = false) {
 ExperimentResult scene_file(const Variant& variant, const StepConfig& config, const RunOptions& options,
                             const std::string& file, double seconds, bool stop_when_fallen = false) {
   Run run(variant, config);
-  std::vector<BodySpec> specs;
+  SceneSpecs specs;
   std::string reason;
   if (!specs_from_scene_file(options.scenes_dir + "/" + file, specs, reason)) {
     throw std::runtime_error(reason);
   }
-  run.add_all(specs);
+  run.add_all(specs.bodies);
+  for (const JointSpec& joint : specs.joints) {
+    if (run.engine->add_joint(joint) < 0) throw std::runtime_error("the engine has no joints");
+  }
   watch(run, seconds, stop_when_fallen);
   return run.result;
 }
@@ -536,10 +539,10 @@ ExperimentResult thrown(const Variant& variant, const StepConfig& config, const 
   params.speed = 20.0_fx;
   scene.bodies = generate_throw(params).bodies;
   std::vector<BodySpec> specs{ground()};
-  std::vector<BodySpec> thrown_specs;
+  SceneSpecs thrown_specs;
   std::string reason;
   if (!specs_from_scene(scene, "thrown cubes", thrown_specs, reason)) throw std::runtime_error(reason);
-  specs.insert(specs.end(), thrown_specs.begin(), thrown_specs.end());
+  specs.insert(specs.end(), thrown_specs.bodies.begin(), thrown_specs.bodies.end());
   run.add_all(specs);
   const double half = 0.25;
   double deepest = 0;

@@ -90,12 +90,12 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (command == "hash" || command == "memory" || command == "speed") {
-    std::vector<BodySpec> specs;
+    SceneSpecs specs;
     std::string reason;
     if (!specs_from_scene_file(target, specs, reason)) return fail(program + ": " + reason);
     const long loaded_kib = peak_resident_kib();
     auto engine = variant->make(config);
-    for (const BodySpec& spec : specs) engine->add_body(spec);
+    specs.add_to(*engine);
     if (command == "speed") {
       if (from < 0 || steps < 1 || from > 100000 || steps > 100000) return fail(program + ": --from 0-100000, --steps 1-100000");
       const StepTimes t = ms_per_step(*engine, static_cast<int>(from), static_cast<int>(steps));

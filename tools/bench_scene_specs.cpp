@@ -1,6 +1,7 @@
 #include "tools/bench_scene_specs.h"
 
 #include <cmath>
+#include <stdexcept>
 #include <variant>
 
 #include "core/world.h"
@@ -30,7 +31,14 @@ ShapeSpec to_spec(const Shape& shape) {
 
 }  // namespace
 
-bool specs_from_scene_file(const std::string& path, std::vector<BodySpec>& specs, std::string& reason) {
+void SceneSpecs::add_to(Engine& engine) const {
+  for (const BodySpec& body : bodies) engine.add_body(body);
+  for (const JointSpec& joint : joints) {
+    if (engine.add_joint(joint) < 0) throw std::runtime_error("the engine has no joints");
+  }
+}
+
+bool specs_from_scene_file(const std::string& path, SceneSpecs& specs, std::string& reason) {
   auto loaded = load_scene_file(path);
   if (const SceneError* error = std::get_if<SceneError>(&loaded)) {
     reason = error->message();
@@ -39,13 +47,16 @@ bool specs_from_scene_file(const std::string& path, std::vector<BodySpec>& specs
   return specs_from_scene(std::get<Scene>(loaded), path, specs, reason);
 }
 
-bool specs_from_scene(const Scene& scene, const std::string& path, std::vector<BodySpec>& specs,
-                      std::string& reason) {
+bool specs_from_scene(const Scene& scene, const std::string& path, SceneSpecs& out, std::string& reason) {
   World world(scene.settings);
   if (!build_world(scene, world, reason)) return false;
+  std::vector<BodySpec>& specs = out.bodies;
   specs.clear();
+  out.joints.clear();
+  std::vector<int> spec_of(world.bodies().size(), -1);
   for (const Body& body : world.bodies()) {
     if (!body.alive) continue;
+    spec_of[static_cast<size_t>(&body - world.bodies().data())] = static_cast<int>(specs.size());
     if (body.type == BodyType::kinematic) {
       reason = path + ": kinematic bodies are not part of the benchmark's body specs";
       return false;
@@ -68,6 +79,26 @@ bool specs_from_scene(const Scene& scene, const std::string& path, std::vector<B
     spec.dynamic_friction = to_double(body.material.dynamic_friction);
     spec.restitution = to_double(body.material.restitution);
     specs.push_back(spec);
+  }
+  for (const Joint& joint : world.joints()) {
+    if (!joint.alive) continue;
+    if (joint.type == JointType::max_distance) {
+      reason = path + ": ropes are not part of the benchmark's joint specs";
+      return false;
+    }
+    const Body& a = world.bodies()[joint.body_a];
+    JointSpec spec;
+    spec.kind = joint.type == JointType::hinge ? JointKind::hinge : joint.type == JointType::cone ? JointKind::cone : JointKind::point;
+    spec.body_a = spec_of[joint.body_a];
+    spec.body_b = spec_of[joint.body_b];
+    spec.anchor = to_double(a.pose.apply(joint.local_anchor_a));
+    spec.axis = to_double(rotate(a.pose.orientation, joint.local_axis_a));
+    spec.limited = joint.limited;
+    spec.lower = to_double(joint.lower_angle);
+    spec.upper = to_double(joint.upper_angle);
+    spec.swing = to_double(joint.swing_angle);
+    spec.friction = to_double(joint.friction_torque);
+    out.joints.push_back(spec);
   }
   return true;
 }
