@@ -737,13 +737,13 @@ const std::vector<Experiment>& experiments() {
       {"heap_rest", "stability", "farthest move 30-40 s (m)", "heaps of 27 cubes dropped into a pen (quick: 2 of 24)",
        false, heap_rest},
       {"pendulum", "joints", "relative error of the period",
-       "1 kg ball on a point joint 1 m below an anchor, from 5 degrees, 10 s (quick: 6 s)", false, pendulum},
+       "1 kg ball on a point joint 1 m below an anchor, from 5 degrees, 10 s (quick: 6 s)", true, pendulum},
       {"chain_stretch", "joints", "max stretch of the chain (m)",
-       "25 links of 1 kg, 0.5 m, on point joints, 100 kg ball at the end, 5 s (quick: 2 s)", false, chain_stretch},
+       "25 links of 1 kg, 0.5 m, on point joints, 100 kg ball at the end, 5 s (quick: 2 s)", true, chain_stretch},
       {"hinge_limit", "joints", "max overshoot past a limit (degrees)",
        "1 m arm on a hinge limited to -30..45 degrees, started at 20 rad/s toward +45 (no force input), 3 s "
        "(quick: 1 s)",
-       false, hinge_limit},
+       true, hinge_limit},
   };
   return list;
 }
