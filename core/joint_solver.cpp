@@ -1,7 +1,6 @@
 #include "core/joint_solver.h"
 
 #include <algorithm>
-#include <tuple>
 
 namespace bitstep {
 
@@ -151,9 +150,9 @@ Fixed clamp_limit(const JointRow& row, Fixed total) { return row.limit_side > 0 
 // The joint's friction on the velocities: the impulse that stops b
 // turning relative to a, its accumulated total kept within friction_torque
 // dt (a hinge's about its axis, the others' by the total's length).
-void solve_friction(const SolverBody& sa, const SolverBody& sb, BodyRates& a, BodyRates& b, JointRow& row,
-                    Fixed max_impulse) {
-  if (row.joint->type == JointType::hinge) {
+void solve_friction(const SolverBody& sa, const SolverBody& sb, BodyRates& a, BodyRates& b, JointRow& row) {
+  const Fixed max_impulse = row.friction_max;
+  if (row.joint->type == JointType::hinge) {  // the total about the axis in friction_impulse.x
     const Fixed total = max(min(row.friction_impulse.x - row.friction_hinge.mass * spin(a, b, row.friction_hinge), max_impulse),
                             -max_impulse);
     apply_turn(a, b, row.friction_hinge, total - row.friction_impulse.x);
@@ -343,29 +342,29 @@ void solve_pass(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, Jo
     // A swing or limit that the step's start did not engage and that now
     // binds (a blow this step drove the limb into it) joins the tree.
     if (!tree.exact || row.released) continue;
-    if (row.swing_active && !row.swing_in_tree && impulse.hinge[0] != Fixed{}) row.swing_in_tree = promoted = true;
-    if (row.limit_side != 0 && !row.limit_in_tree && impulse.limit != Fixed{}) row.limit_in_tree = promoted = true;
+    const bool swing_joins = row.swing_active && !row.swing_in_tree && impulse.hinge[0] != Fixed{};
+    const bool limit_joins = row.limit_side != 0 && !row.limit_in_tree && impulse.limit != Fixed{};
+    if (!swing_joins && !limit_joins) continue;
+    row.swing_in_tree = row.swing_in_tree || swing_joins;
+    row.limit_in_tree = row.limit_in_tree || limit_joins;
+    set_tree_axes(row);
+    promoted = true;
   }
   if (!tree.exact) return;
-  if (promoted) {
-    for (JointRow& row : rows) {
-      if (row.joint->type != JointType::max_distance) set_tree_axes(row);
-    }
-    factor_joint_tree(bodies, rows, tree);
-  }
+  if (promoted) factor_joint_tree(bodies, rows, tree);
   solve_tree(bodies, rows, tree, rate_of, targets_of, impulses_of);
 }
 
 BodyRates& velocity_of(SolverBody& body) { return body.velocity; }
 BodyRates& push_of(SolverBody& body) { return body.push; }
 
-// The joint's rows in the tree solve (JointRow::tree_axes): J v =
-// linear . (v_b - v_a) + angular_b . w_b + angular_a . w_a.
+// The joint's rows in the tree solve (JointRow::tree_axes), their angular
+// parts on each body.
 void set_tree_axes(JointRow& row) {
   const Vec3 unit[3] = {{Fixed::one(), {}, {}}, {{}, Fixed::one(), {}}, {{}, {}, Fixed::one()}};
   // The point block: e . (v_b + w_b x r_b - v_a - w_a x r_a) per axis e.
-  for (int k = 0; k < 3; ++k) row.tree_axes[k] = {unit[k], -cross(row.ra, unit[k]), cross(row.rb, unit[k])};
-  const auto angular = [](const AngularPart& part) { return TreeAxis{Vec3{}, -part.axis, part.axis}; };
+  for (int k = 0; k < 3; ++k) row.tree_axes[k] = {-cross(row.ra, unit[k]), cross(row.rb, unit[k])};
+  const auto angular = [](const AngularPart& part) { return TreeAxis{-part.axis, part.axis}; };
   const NodeLayout layout = layout_of(row);
   if (layout.hinge >= 0) {
     for (int k = 0; k < 2; ++k) row.tree_axes[layout.hinge + k] = angular(row.hinge[k]);
@@ -577,7 +576,7 @@ void solve_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, 
     if (!row.friction) continue;
     SolverBody& a = bodies[row.a];
     SolverBody& b = bodies[row.b];
-    solve_friction(a, b, a.velocity, b.velocity, row, row.friction_max);
+    solve_friction(a, b, a.velocity, b.velocity, row);
   }
   solve_pass(bodies, rows, tree, velocity_of, velocity_targets, velocity_impulses);
 }

@@ -75,7 +75,7 @@ struct JointRow {
   Fixed friction_max;  // N m s: friction_torque dt
   AngularPart friction_hinge;
   Mat33 friction_mass;
-  Vec3 friction_impulse;
+  Vec3 friction_impulse;  // a hinge's in x
   // Split impulses, this solve's only.
   Vec3 point_push_impulse;
   Fixed rope_push_impulse, hinge_push_impulse[2], limit_push_impulse;

@@ -31,10 +31,11 @@ namespace bitstep {
 struct JointRow;
 struct SolverBody;
 
-// One row of a joint in the tree solve: J v = linear . (v_b - v_a) +
-// angular_b . w_b + angular_a . w_a.
+// One row of a joint in the tree solve, its angular parts on each body. The
+// linear parts need no storing: a point block's row k has +e_k on b and
+// -e_k on a, an angular row none (J v = e_k . (v_b - v_a) + angular_b . w_b
+// + angular_a . w_a, or without the first term).
 struct TreeAxis {
-  Vec3 linear;               // on b; -linear on a
   Vec3 angular_a, angular_b;
 };
 

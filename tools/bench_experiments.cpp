@@ -369,9 +369,7 @@ ExperimentResult scene_file(const Variant& variant, const StepConfig& config, co
     throw std::runtime_error(reason);
   }
   run.add_all(specs.bodies);
-  for (const JointSpec& joint : specs.joints) {
-    if (run.engine->add_joint(joint) < 0) throw std::runtime_error("the engine has no joints");
-  }
+  specs.add_joints(*run.engine);
   watch(run, seconds, stop_when_fallen);
   return run.result;
 }

@@ -33,6 +33,10 @@ ShapeSpec to_spec(const Shape& shape) {
 
 void SceneSpecs::add_to(Engine& engine) const {
   for (const BodySpec& body : bodies) engine.add_body(body);
+  add_joints(engine);
+}
+
+void SceneSpecs::add_joints(Engine& engine) const {
   for (const JointSpec& joint : joints) {
     if (engine.add_joint(joint) < 0) throw std::runtime_error("the engine has no joints");
   }

@@ -16,6 +16,8 @@ struct SceneSpecs {
   std::vector<JointSpec> joints;
   // Adds the bodies, then the joints; throws where the engine has no joints.
   void add_to(Engine& engine) const;
+  // The joints only, after the bodies were added; throws as add_to.
+  void add_joints(Engine& engine) const;
 };
 
 // Builds the scene in bitstep once, then describes each body as bitstep made
