@@ -1,7 +1,8 @@
 // Box-box: the separating axis test over 15 axes (Gottschalk's OBB test, as in
 // qu3e's q3BoxtoBox and Box2D's polygon collider), then either the incident
 // face clipped against the reference face's side planes (up to 4 points) or
-// one point between two crossing edges.
+// one point between two crossing edges (an edge axis along a face normal is
+// that face's contact: collide_internal.h).
 #include "core/collide_internal.h"
 
 namespace bitstep::collide_detail {
@@ -176,7 +177,7 @@ int collide_box_box(const WorldShape& a, const WorldShape& b, Fixed speculative_
     if (s > speculative_distance) return 0;
     if (s > face_b.separation) face_b = {s, j};
   }
-  const bool reference_b = face_b.separation > face_a.separation + margin(face_a.separation);
+  bool reference_b = face_b.separation > face_a.separation + margin(face_a.separation);
   const Fixed face_separation = reference_b ? face_b.separation : face_a.separation;
 
   // Edge axes l = a_i x b_j (in A's frame), not normalised: the separation
@@ -196,13 +197,33 @@ int collide_box_box(const WorldShape& a, const WorldShape& b, Fixed speculative_
       if (s > edge.separation) edge = {s, 3 * i + j};
     }
   }
+  int k = reference_b ? face_b.index : face_a.index;
   if (edge.index >= 0) {
-    return edge_contact(rot_a, rot_b, ea, eb, d, a.pose.position, edge.index / 3, edge.index % 3, speculative_distance,
-                        out);
+    // Does the edge axis lie along a face normal (collide_internal.h,
+    // face_aligned_edge_sq_tolerance)? n in A's frame and in B's.
+    const Vec3 l = cross(unit_axis(edge.index / 3), c.column(edge.index % 3));
+    const Vec3 n_a = l / length(l), n_b = ct * n_a;
+    const Fixed aligned = Fixed::one() - face_aligned_edge_sq_tolerance;
+    int face = -1;
+    bool face_of_b = false;
+    for (int m = 0; m < 3 && face < 0; ++m) {
+      if (get(n_a, m) * get(n_a, m) >= aligned) face = m;
+    }
+    for (int m = 0; m < 3 && face < 0; ++m) {
+      if (get(n_b, m) * get(n_b, m) >= aligned) {
+        face = m;
+        face_of_b = true;
+      }
+    }
+    if (face < 0) {
+      return edge_contact(rot_a, rot_b, ea, eb, d, a.pose.position, edge.index / 3, edge.index % 3,
+                          speculative_distance, out);
+    }
+    k = face;
+    reference_b = face_of_b;
   }
 
   // Face contact, in the reference box's frame.
-  const int k = reference_b ? face_b.index : face_a.index;
   const Mat33& rot_r = reference_b ? rot_b : rot_a;
   const Vec3 er = reference_b ? eb : ea, ei = reference_b ? ea : eb;
   const Vec3 t = reference_b ? t_b : t_a;      // incident centre

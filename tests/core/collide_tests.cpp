@@ -241,6 +241,41 @@ TEST_CASE("two boxes crossing edge to edge: one point between the edges", "[coll
   require_swap_consistent(a, b, rotation_tolerance);
 }
 
+// A box's face lying 10 mm deep across a long box's edge (a ragdoll's chest
+// on a stair's edge), turned in its face plane by a small angle either way
+// and tilted 0.25 degrees along the edge. The edge-edge axis separates least
+// (the long box's far ends reach deeper along the face normal), but its one
+// point sat at one end of the nearly parallel edges or the other as the
+// angle changed sign, 32 cm apart: the face's clipped contact instead, two
+// points along the edge with the same feature ids at every angle.
+TEST_CASE("a box lying across a long box's edge: the face's two points, whichever way it is turned", "[collide]") {
+  const Placed stair = place(box_shape(0.25_fx, 0.25_fx, 2.0_fx), Vec3::zero());
+  const Vec3 edge{0.25_fx, 0.25_fx, Fixed{}};
+  const Fixed degree = 0.017453292519943295_fx;
+  const Quat leaning = about(z_axis, -40.0_fx * degree);  // its face (-y) faces the edge from beyond it
+  std::vector<FeatureId> first_features;
+  for (const Fixed turn : {-1.7_fx, -0.5_fx, 0.5_fx, 1.7_fx}) {
+    const Vec3 face_normal = rotate(leaning, -y_axis);
+    const Vec3 across = rotate(leaning, x_axis);
+    const Quat pose = about(across, 0.25_fx * degree) * about(face_normal, turn * degree) * leaning;
+    const Vec3 normal = rotate(pose, -y_axis);
+    const Placed chest = place(box_shape(0.12_fx, 0.1_fx, 0.16_fx), edge - normal * (0.1_fx - 0.01_fx), pose);
+    const Manifold m = run(stair, chest);
+    INFO("turned " << turn << " degrees: " << describe(m));
+    REQUIRE(m.point_count == 2);
+    CHECK(near(m.normal, -normal, 0.0001_fx));  // the chest's face normal, from the stair to the chest
+    for (int i = 0; i < 2; ++i) {
+      const ContactPoint& p = m.points[static_cast<size_t>(i)];
+      CHECK(near(p.depth, 0.01_fx, 0.001_fx));
+      CHECK(abs(p.position.z) > 0.15_fx);  // at the ends of the chest's face along the edge
+    }
+    CHECK(m.points[0].position.z * m.points[1].position.z < Fixed{});  // one at each end
+    if (first_features.empty()) first_features = sorted_features(m);
+    CHECK(sorted_features(m) == first_features);
+    require_swap_consistent(stair, chest, rotation_tolerance);
+  }
+}
+
 TEST_CASE("separated boxes: nothing beyond the speculative distance, negative depth within it", "[collide]") {
   const Placed far = place(cube_shape(0.5_fx), v3({}, 0.53_fx, {}));
   CHECK(run(ground_box, far).point_count == 0);

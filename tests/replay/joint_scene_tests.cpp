@@ -742,11 +742,12 @@ TEST_CASE("ragdolls.json: ragdolls onto a pile and down a staircase", "[scene][j
 
 // The issue's ragdoll case: ten ragdolls dropped onto a heap and down a
 // staircase, sleep on (motion), joint friction 1 N m. Measured (60 Hz, 10
-// iterations): KE 0.0002 J at 5 s, every body asleep at 5.3 s; at rest no
-// limb 0.1 degree past a limit; during the falls 89 of 60,000 joint-steps
-// more than 2 degrees past a limit, 9.9 degrees at most (limbs pinned
-// between falling bodies). The deepest contact asleep is 6.8 mm: an upper
-// arm pinned under the heap's 20 kg top box (core/README.md, Joints).
+// iterations): KE 0.0016 J at 5 s, every body asleep at 5.9 s; at rest no
+// limb 0.1 degree past a limit and no overlap deeper than 1.2 mm; during the
+// falls 85 of 60,000 joint-steps more than 2 degrees past a limit, 13.8
+// degrees at most (limbs pinned between falling bodies). This heap is a
+// lucky one: in twelve copies with the ragdolls moved by up to 3 cm the
+// deepest overlap at 10 s is 0.7 to 19 mm and three are still awake.
 TEST_CASE("ten ragdolls dropped on a heap and stairs come to rest within their limits", "[joint][ragdoll][slow]") {
   World world = test::world_of("ragdolls.json");
   const double degree = 3.14159265358979 / 180;
@@ -789,5 +790,5 @@ TEST_CASE("ten ragdolls dropped on a heap and stairs come to rest within their l
   CHECK(resting_past < 0.5);
   CHECK(past_two_degrees * 100 < joint_steps);  // under 1%
   CHECK(worst_past < 20.0);
-  CHECK(test::to_double(end.max_penetration) < 0.01);
+  CHECK(test::to_double(end.max_penetration) < 0.002);  // the slop (0) + 2 mm
 }
