@@ -8,6 +8,7 @@
 #include "fixed/u128.h"
 #include "tools/bench_command.h"
 #include "tools/bench_fixed.h"
+#include "tools/bench_queries.h"
 #include "tools/bench_sleep.h"
 #include "tools/fixed_accuracy.h"
 #include "tools/known_answer.h"
@@ -43,6 +44,7 @@ constexpr const char* usage =
     "                           results,sweep,scale,speed,costs,determinism; --threads N: the workers of\n"
     "                           the speed table's threaded column (default 2)\n"
     "  bench fixed [--quick]    ns/op of fixed-point operations next to float and double\n"
+    "  bench queries [--quick]  us per ray, sphere cast and overlap over 100 to 10,000 bodies\n"
     "  bench sleep [--quick] [--still] [--scenes DIR]\n"
     "                           ms/step of scenes awake and asleep (sleep motion, or still)\n"
     "  version                  engine version and build options\n"
@@ -93,6 +95,9 @@ int main(int argc, char** argv) {
   if (command == "verify") return bitstep::verify_command(argc - 2, argv + 2);
   if (command == "diff") return bitstep::diff_command(argc - 2, argv + 2);
   if (command == "selftest") return selftest(argc - 2, argv + 2);
+  if (command == "bench" && argc >= 3 && std::string_view(argv[2]) == "queries") {
+    return bitstep::run_bench_queries(argc - 3, argv + 3);
+  }
   if (command == "bench" && argc >= 3 && std::string_view(argv[2]) == "fixed") {
     return bitstep::run_bench_fixed(argc - 3, argv + 3);
   }

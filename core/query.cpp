@@ -1,0 +1,206 @@
+#include "core/query.h"
+
+#include <algorithm>
+#include <tuple>
+
+#include "core/collide.h"
+#include "core/collide_internal.h"
+
+namespace bitstep {
+
+namespace {
+
+using collide_detail::get;
+
+// Leaves per node of the tree: a few shape tests cost less than a level.
+constexpr uint32_t leaf_size = 4;
+// Deep enough for any tree built here (a depth of log2(leaves / 4) + 1).
+constexpr int max_depth = 64;
+
+// Twice the centre of a box along an axis (no halving: only compared).
+Fixed doubled_centre(const Aabb& b, int axis) { return get(b.min, axis) + get(b.max, axis); }
+
+// The ray of a translation: unit direction and length, or none for a zero
+// translation or one beyond the casts' reach.
+std::optional<Ray> ray_of(Vec3 origin, Vec3 translation) {
+  const Vec3 limit{max_ray_length, max_ray_length, max_ray_length};
+  if (translation == Vec3{} || abs(translation.x) > limit.x || abs(translation.y) > limit.y ||
+      abs(translation.z) > limit.z) {
+    return std::nullopt;
+  }
+  const Fixed length = bitstep::length(translation);
+  if (length == Fixed{} || length > max_ray_length) return std::nullopt;
+  return Ray{origin, normalize(translation), length};
+}
+
+// The order of answers: nearest first, then by body slot and shape index.
+bool before(const QueryHit& a, const QueryHit& b) {
+  return std::tie(a.fraction, a.body.index, a.shape) < std::tie(b.fraction, b.body.index, b.shape);
+}
+
+}  // namespace
+
+WorldQuery::WorldQuery(const World& world) : world_(&world) {
+  const std::vector<Body>& bodies = world.bodies();
+  for (uint32_t slot = 0; slot < bodies.size(); ++slot) {
+    const Body& body = bodies[slot];
+    if (!body.alive) continue;
+    for (uint32_t s = 0; s < body.shapes.size(); ++s) {
+      const Leaf leaf{slot, s, shape_aabb({&body.shapes[s], compose(body.pose, body.shapes[s].local)})};
+      (body.shapes[s].type == ShapeType::plane ? planes_ : leaves_).push_back(leaf);
+    }
+  }
+  if (!leaves_.empty()) {
+    nodes_.reserve(2 * leaves_.size() / leaf_size + 1);
+    build(0, static_cast<uint32_t>(leaves_.size()));
+  }
+}
+
+// Splits leaves[first, first + count) at the median of their centres along
+// the widest spread of centres; ties by body slot and shape index, so the
+// two halves are the same sets on every platform.
+uint32_t WorldQuery::build(uint32_t first, uint32_t count) {
+  const uint32_t index = static_cast<uint32_t>(nodes_.size());
+  nodes_.push_back({});
+  Aabb bounds = leaves_[first].bounds;
+  Aabb centres{{doubled_centre(bounds, 0), doubled_centre(bounds, 1), doubled_centre(bounds, 2)}, {}};
+  centres.max = centres.min;
+  for (uint32_t i = first; i < first + count; ++i) {
+    const Aabb& b = leaves_[i].bounds;
+    bounds = bounds.merged(b);
+    const Vec3 c{doubled_centre(b, 0), doubled_centre(b, 1), doubled_centre(b, 2)};
+    centres = centres.merged({c, c});
+  }
+  if (count <= leaf_size) {
+    nodes_[index] = {bounds, first, count, 0, 0};
+    return index;
+  }
+  const Vec3 spread = centres.max - centres.min;
+  const int axis = spread.x >= spread.y && spread.x >= spread.z ? 0 : (spread.y >= spread.z ? 1 : 2);
+  const uint32_t half = count / 2;
+  const auto key = [axis](const Leaf& l) { return std::tuple(doubled_centre(l.bounds, axis), l.body, l.shape); };
+  std::nth_element(leaves_.begin() + first, leaves_.begin() + first + half, leaves_.begin() + first + count,
+                   [&](const Leaf& a, const Leaf& b) { return key(a) < key(b); });
+  const uint32_t left = build(first, half);
+  const uint32_t right = build(first + half, count - half);
+  nodes_[index] = {bounds, 0, 0, left, right};
+  return index;
+}
+
+WorldShape WorldQuery::placed(const Leaf& leaf) const {
+  const Body& body = world_->bodies()[leaf.body];
+  return {&body.shapes[leaf.shape], compose(body.pose, body.shapes[leaf.shape].local)};
+}
+
+QueryHit WorldQuery::hit_of(const Leaf& leaf, const Ray& ray, const RayEntry& entry, Fixed radius) const {
+  const Body& body = world_->bodies()[leaf.body];
+  const Vec3 centre = ray.origin + ray.direction * entry.distance;
+  return {{leaf.body, body.generation}, leaf.shape, min(entry.distance / ray.length, Fixed::one()),
+          centre - entry.normal * radius, entry.normal};
+}
+
+// Calls visit(leaf) for every leaf of the tree whose bounds pass
+// `enters`, skipping every node whose bounds do not.
+template <typename Enters, typename Visit>
+void WorldQuery::descend(Enters&& enters, Visit&& visit) const {
+  if (nodes_.empty()) return;
+  uint32_t stack[max_depth * 2];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    if (!enters(node.bounds)) continue;
+    if (node.count > 0) {
+      for (uint32_t i = node.first; i < node.first + node.count; ++i) {
+        if (enters(leaves_[i].bounds)) visit(leaves_[i]);
+      }
+      continue;
+    }
+    stack[top++] = node.right;
+    stack[top++] = node.left;
+  }
+}
+
+// Calls visit(leaf) for every plane and every leaf whose bounds, grown by
+// radius, the ray enters within its length (which visit may shorten).
+template <typename Visit>
+void WorldQuery::visit_along(const Ray& ray, Fixed radius, Visit&& visit) const {
+  for (const Leaf& plane : planes_) visit(plane);
+  Fixed distance;
+  descend([&](const Aabb& bounds) { return ray_enters(bounds.expanded(radius), ray, distance); }, visit);
+}
+
+std::optional<QueryHit> WorldQuery::cast_nearest(Fixed radius, Vec3 origin, Vec3 translation) const {
+  const std::optional<Ray> full = ray_of(origin, translation);
+  if (!full || radius < Fixed{}) return std::nullopt;
+  Ray ray = *full;  // shortened to the nearest hit so far: farther boxes are skipped
+  std::optional<QueryHit> nearest;
+  visit_along(ray, radius, [&](const Leaf& leaf) {
+    RayEntry entry;
+    if (!ray_enters(placed(leaf), ray, radius, entry)) return;
+    QueryHit hit = hit_of(leaf, *full, entry, radius);
+    if (nearest && !before(hit, *nearest)) return;
+    nearest = hit;
+    ray.length = entry.distance;
+  });
+  return nearest;
+}
+
+void WorldQuery::cast_all(Fixed radius, Vec3 origin, Vec3 translation, std::vector<QueryHit>& hits) const {
+  hits.clear();
+  const std::optional<Ray> ray = ray_of(origin, translation);
+  if (!ray || radius < Fixed{}) return;
+  visit_along(*ray, radius, [&](const Leaf& leaf) {
+    RayEntry entry;
+    if (ray_enters(placed(leaf), *ray, radius, entry)) hits.push_back(hit_of(leaf, *ray, entry, radius));
+  });
+  std::sort(hits.begin(), hits.end(), before);
+}
+
+std::optional<QueryHit> WorldQuery::cast_ray(Vec3 origin, Vec3 translation) const {
+  return cast_nearest(Fixed{}, origin, translation);
+}
+void WorldQuery::cast_ray_all(Vec3 origin, Vec3 translation, std::vector<QueryHit>& hits) const {
+  cast_all(Fixed{}, origin, translation, hits);
+}
+std::optional<QueryHit> WorldQuery::cast_sphere(Fixed radius, Vec3 origin, Vec3 translation) const {
+  return cast_nearest(radius, origin, translation);
+}
+void WorldQuery::cast_sphere_all(Fixed radius, Vec3 origin, Vec3 translation, std::vector<QueryHit>& hits) const {
+  cast_all(radius, origin, translation, hits);
+}
+
+// Calls visit(leaf) for every plane and leaf whose bounds overlap `box`.
+template <typename Visit>
+void WorldQuery::visit_overlapping(const Aabb& box, Visit&& visit) const {
+  for (const Leaf& plane : planes_) {
+    if (plane.bounds.overlaps(box)) visit(plane);
+  }
+  descend([&](const Aabb& bounds) { return bounds.overlaps(box); }, visit);
+}
+
+void WorldQuery::overlap_box(const Aabb& box, std::vector<BodyId>& bodies) const {
+  bodies.clear();
+  std::vector<uint32_t> slots;
+  visit_overlapping(box, [&](const Leaf& leaf) { slots.push_back(leaf.body); });
+  std::sort(slots.begin(), slots.end());
+  slots.erase(std::unique(slots.begin(), slots.end()), slots.end());
+  for (const uint32_t slot : slots) bodies.push_back({slot, world_->bodies()[slot].generation});
+}
+
+void WorldQuery::overlap_shape(const Shape& shape, const Pose& pose, std::vector<ShapeOverlap>& overlaps) const {
+  overlaps.clear();
+  const WorldShape query{&shape, pose};
+  visit_overlapping(shape_aabb(query), [&](const Leaf& leaf) {
+    Manifold m;
+    if (collide(query, placed(leaf), Fixed{}, m) == 0) return;
+    Fixed depth;
+    for (int i = 0; i < m.point_count; ++i) depth = max(depth, m.points[static_cast<size_t>(i)].depth);
+    if (depth > Fixed{}) overlaps.push_back({{leaf.body, world_->bodies()[leaf.body].generation}, leaf.shape, depth});
+  });
+  std::sort(overlaps.begin(), overlaps.end(), [](const ShapeOverlap& a, const ShapeOverlap& b) {
+    return std::tie(a.body.index, a.shape) < std::tie(b.body.index, b.shape);
+  });
+}
+
+}  // namespace bitstep
