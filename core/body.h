@@ -42,6 +42,20 @@ struct Material {
   Fixed rolling_resistance = 0.001_fx;
 };
 
+// Which bodies collide: a body is on `layers` (bits 0..31) and collides
+// with bodies on `collides_with`. Two bodies touch only when each is on a
+// layer the other collides with (Box2D's category and mask bits). A pair
+// they keep apart makes no contact, and queries can skip layers too
+// (core/query.h). Set at creation.
+struct CollisionFilter {
+  uint32_t layers = 1;
+  uint32_t collides_with = UINT32_MAX;
+  friend bool operator==(const CollisionFilter&, const CollisionFilter&) = default;
+};
+inline bool collide_together(const CollisionFilter& a, const CollisionFilter& b) {
+  return (a.layers & b.collides_with) != 0 && (b.layers & a.collides_with) != 0;
+}
+
 struct BodyDef {
   BodyType type = BodyType::dynamic;
   Pose pose;  // of the body frame, in which the shapes' local poses are given
@@ -56,6 +70,7 @@ struct BodyDef {
   Fixed linear_damping;   // 1/s
   Fixed angular_damping;  // 1/s
   bool asleep = false;    // start asleep (dynamic, at rest): a wall built to stand (first seed)
+  CollisionFilter filter;
 };
 
 // What a body is made of, in dense per-slot arrays (structure of records).
@@ -76,6 +91,7 @@ struct Body {
   Fixed linear_damping;
   Fixed angular_damping;
   std::vector<Shape> shapes;      // local poses relative to the centre of mass
+  CollisionFilter filter;
   // Sleep (core/sleep.h). A sleeping body is not integrated, has zero
   // velocity, and is immovable to the bodies that touch it.
   bool asleep = false;

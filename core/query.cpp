@@ -121,21 +121,32 @@ void WorldQuery::descend(Enters&& enters, Visit&& visit) const {
   }
 }
 
-// Calls visit(leaf) for every plane and every leaf whose bounds, grown by
-// radius, the ray enters within its length (which visit may shorten).
-template <typename Visit>
-void WorldQuery::visit_along(const Ray& ray, Fixed radius, Visit&& visit) const {
-  for (const Leaf& plane : planes_) visit(plane);
-  Fixed distance;
-  descend([&](const Aabb& bounds) { return ray_enters(bounds.expanded(radius), ray, distance); }, visit);
+bool WorldQuery::sees(const Leaf& leaf, const QueryFilter& filter) const {
+  const Body& body = world_->bodies()[leaf.body];
+  if ((body.filter.layers & filter.layers) == 0) return false;
+  return !(filter.ignore.index == leaf.body && filter.ignore.generation == body.generation);
 }
 
-std::optional<QueryHit> WorldQuery::cast_nearest(Fixed radius, Vec3 origin, Vec3 translation) const {
+// Calls visit(leaf) for every plane and every leaf whose bounds, grown by
+// radius, the ray enters within its length (which visit may shorten), of
+// the bodies the filter sees.
+template <typename Visit>
+void WorldQuery::visit_along(const Ray& ray, Fixed radius, const QueryFilter& filter, Visit&& visit) const {
+  auto seen = [&](const Leaf& leaf) {
+    if (sees(leaf, filter)) visit(leaf);
+  };
+  for (const Leaf& plane : planes_) seen(plane);
+  Fixed distance;
+  descend([&](const Aabb& bounds) { return ray_enters(bounds.expanded(radius), ray, distance); }, seen);
+}
+
+std::optional<QueryHit> WorldQuery::cast_nearest(Fixed radius, Vec3 origin, Vec3 translation,
+                                                 const QueryFilter& filter) const {
   const std::optional<Ray> full = ray_of(origin, translation);
   if (!full || radius < Fixed{}) return std::nullopt;
   Ray ray = *full;  // shortened to the nearest hit so far: farther boxes are skipped
   std::optional<QueryHit> nearest;
-  visit_along(ray, radius, [&](const Leaf& leaf) {
+  visit_along(ray, radius, filter, [&](const Leaf& leaf) {
     RayEntry entry;
     if (!ray_enters(placed(leaf), ray, radius, entry)) return;
     QueryHit hit = hit_of(leaf, *full, entry, radius);
@@ -146,52 +157,61 @@ std::optional<QueryHit> WorldQuery::cast_nearest(Fixed radius, Vec3 origin, Vec3
   return nearest;
 }
 
-void WorldQuery::cast_all(Fixed radius, Vec3 origin, Vec3 translation, std::vector<QueryHit>& hits) const {
+void WorldQuery::cast_all(Fixed radius, Vec3 origin, Vec3 translation, std::vector<QueryHit>& hits,
+                          const QueryFilter& filter) const {
   hits.clear();
   const std::optional<Ray> ray = ray_of(origin, translation);
   if (!ray || radius < Fixed{}) return;
-  visit_along(*ray, radius, [&](const Leaf& leaf) {
+  visit_along(*ray, radius, filter, [&](const Leaf& leaf) {
     RayEntry entry;
     if (ray_enters(placed(leaf), *ray, radius, entry)) hits.push_back(hit_of(leaf, *ray, entry, radius));
   });
   std::sort(hits.begin(), hits.end(), before);
 }
 
-std::optional<QueryHit> WorldQuery::cast_ray(Vec3 origin, Vec3 translation) const {
-  return cast_nearest(Fixed{}, origin, translation);
+std::optional<QueryHit> WorldQuery::cast_ray(Vec3 origin, Vec3 translation, const QueryFilter& filter) const {
+  return cast_nearest(Fixed{}, origin, translation, filter);
 }
-void WorldQuery::cast_ray_all(Vec3 origin, Vec3 translation, std::vector<QueryHit>& hits) const {
-  cast_all(Fixed{}, origin, translation, hits);
+void WorldQuery::cast_ray_all(Vec3 origin, Vec3 translation, std::vector<QueryHit>& hits,
+                              const QueryFilter& filter) const {
+  cast_all(Fixed{}, origin, translation, hits, filter);
 }
-std::optional<QueryHit> WorldQuery::cast_sphere(Fixed radius, Vec3 origin, Vec3 translation) const {
-  return cast_nearest(radius, origin, translation);
+std::optional<QueryHit> WorldQuery::cast_sphere(Fixed radius, Vec3 origin, Vec3 translation,
+                                                const QueryFilter& filter) const {
+  return cast_nearest(radius, origin, translation, filter);
 }
-void WorldQuery::cast_sphere_all(Fixed radius, Vec3 origin, Vec3 translation, std::vector<QueryHit>& hits) const {
-  cast_all(radius, origin, translation, hits);
+void WorldQuery::cast_sphere_all(Fixed radius, Vec3 origin, Vec3 translation, std::vector<QueryHit>& hits,
+                                 const QueryFilter& filter) const {
+  cast_all(radius, origin, translation, hits, filter);
 }
 
-// Calls visit(leaf) for every plane and leaf whose bounds overlap `box`.
+// Calls visit(leaf) for every plane and leaf whose bounds overlap `box`,
+// of the bodies the filter sees.
 template <typename Visit>
-void WorldQuery::visit_overlapping(const Aabb& box, Visit&& visit) const {
+void WorldQuery::visit_overlapping(const Aabb& box, const QueryFilter& filter, Visit&& visit) const {
+  auto seen = [&](const Leaf& leaf) {
+    if (sees(leaf, filter)) visit(leaf);
+  };
   for (const Leaf& plane : planes_) {
-    if (plane.bounds.overlaps(box)) visit(plane);
+    if (plane.bounds.overlaps(box)) seen(plane);
   }
-  descend([&](const Aabb& bounds) { return bounds.overlaps(box); }, visit);
+  descend([&](const Aabb& bounds) { return bounds.overlaps(box); }, seen);
 }
 
-void WorldQuery::overlap_box(const Aabb& box, std::vector<BodyId>& bodies) const {
+void WorldQuery::overlap_box(const Aabb& box, std::vector<BodyId>& bodies, const QueryFilter& filter) const {
   bodies.clear();
   std::vector<uint32_t> slots;
-  visit_overlapping(box, [&](const Leaf& leaf) { slots.push_back(leaf.body); });
+  visit_overlapping(box, filter, [&](const Leaf& leaf) { slots.push_back(leaf.body); });
   std::sort(slots.begin(), slots.end());
   slots.erase(std::unique(slots.begin(), slots.end()), slots.end());
   for (const uint32_t slot : slots) bodies.push_back({slot, world_->bodies()[slot].generation});
 }
 
-void WorldQuery::overlap_shape(const Shape& shape, const Pose& pose, std::vector<ShapeOverlap>& overlaps) const {
+void WorldQuery::overlap_shape(const Shape& shape, const Pose& pose, std::vector<ShapeOverlap>& overlaps,
+                               const QueryFilter& filter) const {
   overlaps.clear();
   const WorldShape query{&shape, pose};
-  visit_overlapping(shape_aabb(query), [&](const Leaf& leaf) {
+  visit_overlapping(shape_aabb(query), filter, [&](const Leaf& leaf) {
     Manifold m;
     if (collide(query, placed(leaf), Fixed{}, m) == 0) return;
     Fixed depth;

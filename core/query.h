@@ -29,6 +29,14 @@ struct QueryHit {
   Vec3 normal;         // the shape's outward unit normal there (-direction when starting inside)
 };
 
+// Which bodies a query sees: those on any of `layers` (their
+// CollisionFilter::layers, core/body.h), but not `ignore` (a car's rays
+// skip the car). By default every body.
+struct QueryFilter {
+  uint32_t layers = UINT32_MAX;
+  BodyId ignore;
+};
+
 struct ShapeOverlap {
   BodyId body;
   uint32_t shape = 0;
@@ -44,21 +52,24 @@ class WorldQuery {
   // solid: a ray starting inside one meets it at fraction 0. A zero
   // translation, an origin beyond 65,536 m or a translation longer than
   // 131,072 m meets nothing.
-  std::optional<QueryHit> cast_ray(Vec3 origin, Vec3 translation) const;
-  void cast_ray_all(Vec3 origin, Vec3 translation, std::vector<QueryHit>& hits) const;
+  std::optional<QueryHit> cast_ray(Vec3 origin, Vec3 translation, const QueryFilter& filter = {}) const;
+  void cast_ray_all(Vec3 origin, Vec3 translation, std::vector<QueryHit>& hits, const QueryFilter& filter = {}) const;
 
   // A sphere of `radius` moved from `origin` along `translation`: where its
   // surface first touches each shape (`point`), the fraction of the move at
   // which it does.
-  std::optional<QueryHit> cast_sphere(Fixed radius, Vec3 origin, Vec3 translation) const;
-  void cast_sphere_all(Fixed radius, Vec3 origin, Vec3 translation, std::vector<QueryHit>& hits) const;
+  std::optional<QueryHit> cast_sphere(Fixed radius, Vec3 origin, Vec3 translation,
+                                      const QueryFilter& filter = {}) const;
+  void cast_sphere_all(Fixed radius, Vec3 origin, Vec3 translation, std::vector<QueryHit>& hits,
+                       const QueryFilter& filter = {}) const;
 
   // Bodies with a shape whose bounds overlap `box`, by slot.
-  void overlap_box(const Aabb& box, std::vector<BodyId>& bodies) const;
+  void overlap_box(const Aabb& box, std::vector<BodyId>& bodies, const QueryFilter& filter = {}) const;
 
   // Shapes that `shape` placed at `pose` overlaps (the narrowphase's exact
   // test, touching not counted), by body slot and shape index.
-  void overlap_shape(const Shape& shape, const Pose& pose, std::vector<ShapeOverlap>& overlaps) const;
+  void overlap_shape(const Shape& shape, const Pose& pose, std::vector<ShapeOverlap>& overlaps,
+                     const QueryFilter& filter = {}) const;
 
  private:
   struct Leaf {
@@ -76,12 +87,14 @@ class WorldQuery {
   QueryHit hit_of(const Leaf& leaf, const Ray& ray, const RayEntry& entry, Fixed radius) const;
   template <typename Enters, typename Visit>
   void descend(Enters&& enters, Visit&& visit) const;
+  bool sees(const Leaf& leaf, const QueryFilter& filter) const;
   template <typename Visit>
-  void visit_along(const Ray& ray, Fixed radius, Visit&& visit) const;
+  void visit_along(const Ray& ray, Fixed radius, const QueryFilter& filter, Visit&& visit) const;
   template <typename Visit>
-  void visit_overlapping(const Aabb& box, Visit&& visit) const;
-  std::optional<QueryHit> cast_nearest(Fixed radius, Vec3 origin, Vec3 translation) const;
-  void cast_all(Fixed radius, Vec3 origin, Vec3 translation, std::vector<QueryHit>& hits) const;
+  void visit_overlapping(const Aabb& box, const QueryFilter& filter, Visit&& visit) const;
+  std::optional<QueryHit> cast_nearest(Fixed radius, Vec3 origin, Vec3 translation, const QueryFilter& filter) const;
+  void cast_all(Fixed radius, Vec3 origin, Vec3 translation, std::vector<QueryHit>& hits,
+                const QueryFilter& filter) const;
 
   const World* world_;
   std::vector<Leaf> leaves_;

@@ -85,6 +85,7 @@ CreateResult World::create_body(const BodyDef& def) {
   body.linear_velocity = def.linear_velocity;
   body.angular_velocity = def.angular_velocity;
   body.material = def.material;
+  body.filter = def.filter;
   body.linear_damping = def.linear_damping;
   body.angular_damping = def.angular_damping;
   body.shapes = def.shapes;
@@ -480,24 +481,28 @@ void World::find_contacts() {
     proxies_.push_back({i, extent.bounds.expanded(margin), needs_contacts(body)});
   }
   find_pairs(proxies_, pairs_, broadphase_scratch_);
-  update_contacts(bodies_, pairs_without_joined(), settings_, turn_speed_, contacts_, previous_contacts_,
+  update_contacts(bodies_, contact_pairs(), settings_, turn_speed_, contacts_, previous_contacts_,
                   narrowphase_cache_);
 }
 
 // Two bodies joined by a joint do not collide (a chain's links meet at
-// their joints; Box2D's collideConnected off). The broadphase keeps its
-// pairs for reuse, so they are filtered into a copy, and only when there
-// are joints.
-const std::vector<BodyPair>& World::pairs_without_joined() {
+// their joints; Box2D's collideConnected off), nor two whose collision
+// filters keep them apart. The broadphase keeps its pairs for reuse, so
+// they are filtered into a copy, and only when there are joints or filters.
+const std::vector<BodyPair>& World::contact_pairs() {
   joined_.clear();
   for (const Joint& j : joints_) {
     if (j.alive) joined_.push_back({std::min(j.body_a, j.body_b), std::max(j.body_a, j.body_b)});
   }
-  if (joined_.empty()) return pairs_;
+  const bool filtered = std::any_of(bodies_.begin(), bodies_.end(),
+                                    [](const Body& b) { return b.alive && b.filter != CollisionFilter{}; });
+  if (joined_.empty() && !filtered) return pairs_;
   std::sort(joined_.begin(), joined_.end());
   contact_pairs_.clear();
   for (const BodyPair& pair : pairs_) {
-    if (!std::binary_search(joined_.begin(), joined_.end(), pair)) contact_pairs_.push_back(pair);
+    if (std::binary_search(joined_.begin(), joined_.end(), pair)) continue;
+    if (!collide_together(bodies_[pair.a].filter, bodies_[pair.b].filter)) continue;
+    contact_pairs_.push_back(pair);
   }
   return contact_pairs_;
 }

@@ -118,7 +118,7 @@ class World {
   void step_standard();
   void step_guendelman();
   void find_contacts();
-  const std::vector<BodyPair>& pairs_without_joined();
+  const std::vector<BodyPair>& contact_pairs();
   void solve_contacts();
   void wake_islands_of(const std::vector<uint32_t>& slots);
   void wake_if_asleep(uint32_t slot);
@@ -135,7 +135,7 @@ class World {
   // Per-step scratch, kept to reuse its memory (not state: rebuilt every step).
   std::vector<BroadphaseProxy> proxies_;
   std::vector<BodyPair> pairs_;
-  std::vector<BodyPair> joined_, contact_pairs_;  // pairs_without_joined's
+  std::vector<BodyPair> joined_, contact_pairs_;  // contact_pairs's
   BroadphaseScratch broadphase_scratch_;
   std::vector<Contact> previous_contacts_;  // workspace of update_contacts
   std::vector<Fixed> turn_speed_;           // per slot: |w| times the body's reach (m/s), this step

@@ -85,6 +85,20 @@ MassKeys find_density_or_mass(ObjectReader& reader) {
   return keys;
 }
 
+// "layers" and "collides_with": arrays of layer numbers 0..31 (each a bit
+// of the body's CollisionFilter, core/body.h); absent, the defaults (layer
+// 0, colliding with every layer).
+uint32_t read_layer_bits(const Node& node) {
+  if (node.kind != Kind::array) fail(node, std::string("expected an array of layer numbers 0..31, got ") + json::describe(node.kind));
+  uint32_t bits = 0;
+  for (const Node& layer : node.children) bits |= uint32_t{1} << read_int(layer, 0, 31);
+  return bits;
+}
+void read_filter(ObjectReader& reader, CollisionFilter& filter) {
+  if (const Node* layers = reader.find("layers")) filter.layers = read_layer_bits(*layers);
+  if (const Node* with = reader.find("collides_with")) filter.collides_with = read_layer_bits(*with);
+}
+
 SceneBody read_body(const Node& node, const MaterialTable& materials) {
   ObjectReader reader(node);
   SceneBody body;
@@ -105,6 +119,7 @@ SceneBody read_body(const Node& node, const MaterialTable& materials) {
   read_optional(reader, "linear_damping", def.linear_damping, Bound::non_negative);
   read_optional(reader, "angular_damping", def.angular_damping, Bound::non_negative);
   read_optional(reader, "asleep", def.asleep);
+  read_filter(reader, def.filter);
   const Node& shapes = reader.require("shapes");
   if (shapes.kind != Kind::array) fail(shapes, std::string("expected an array of shapes, got ") + json::describe(shapes.kind));
   for (const Node& shape : shapes.children) def.shapes.push_back(read_shape(shape));
@@ -323,6 +338,9 @@ GeneratedStructure read_generator(const Node& node, const MaterialTable& materia
   const size_t type = read_choice(reader.require("type"), {"stack", "pyramid", "wall", "jenga", "dominoes", "tables",
                                                            "throw", "chain", "ragdoll"});
   GeneratedStructure generated = readers[type](reader, materials);
+  CollisionFilter filter;
+  read_filter(reader, filter);
+  for (SceneBody& body : generated.bodies) body.def.filter = filter;
   reader.finish();
   for (const SceneBody& body : generated.bodies) {
     const EnvelopeError envelope = check_envelope(body.def);

@@ -93,7 +93,7 @@ class ByteReader {
     if (!test()) fail(reason());
   }
   template <class F>
-  void trailing(bool, F&& describe) {
+  void trailing(bool, bool, F&& describe) {
     if (!done()) describe();
   }
 

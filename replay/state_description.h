@@ -26,8 +26,9 @@
 //                                            above hi or above what the bytes left could hold
 //   items(name, count, describe(i))          `count` items whose count was given before
 //   require(test, reason)                    the reader refuses a state where test() is false
-//   trailing(present, describe)              a block at the end that the writer writes when
-//                                            `present` and the reader reads when bytes are left
+//   trailing(present, in_dump, describe)     a block at the end that the writer writes when
+//                                            `present` and the reader reads when bytes are left;
+//                                            the dump shows it when present or `in_dump`
 #pragma once
 
 #include <array>
@@ -255,7 +256,7 @@ void describe_free_slots(V& v, const char* name, Slots& slots, const Items& item
 // list, every contact (key, normal, points with feature ids, positions,
 // depths and accumulated impulses, which warm-start the next step), and
 // every joint slot (bodies, frames, limits, accumulated impulses) with the
-// free joint slots.
+// free joint slots, and every body's collision filter.
 template <class V, bool Reading>
 void describe_state(V& v, const StateParts<Reading>& state) {
   using namespace state_description;
@@ -272,13 +273,24 @@ void describe_state(V& v, const StateParts<Reading>& state) {
     const size_t i = static_cast<size_t>(&contact - state.contacts.data());
     describe_contact(v, contact, state.bodies, i == 0 ? nullptr : &contact - 1);
   });
-  // Joints last, and only in a world that has had one: a world without
-  // has the bytes (and the hash) it had before joints existed.
+  // Joints, then collision filters, last and only in a world that has them
+  // (filters: a live body off the default layers): a world without has the
+  // bytes (and the hash) it had before they existed. Filters are written
+  // after the joints' block, empty or not.
+  bool filtered = false;
+  for (const Body& body : state.bodies) filtered = filtered || (body.alive && body.filter != CollisionFilter{});
   constexpr size_t joint_bytes = 5;  // a dead slot: alive, generation
-  v.trailing(!state.joints.empty() || !state.free_joint_slots.empty(), [&] {
+  v.trailing(!state.joints.empty() || !state.free_joint_slots.empty() || filtered, true, [&] {
     v.list("joints", state.joints, joint_bytes, UINT32_MAX, "slot",
            [&](auto& joint) { describe_joint(v, joint, state.bodies); });
     describe_free_slots(v, "free_joint_slots", state.free_joint_slots, state.joints);
+  });
+  v.trailing(filtered, false, [&] {
+    v.items("filters", state.bodies.size(), [&](size_t i) {
+      auto& filter = state.bodies[i].filter;
+      v.integer("layers", filter.layers, 4, 0, UINT32_MAX);
+      v.integer("collides_with", filter.collides_with, 4, 0, UINT32_MAX);
+    });
   });
 }
 

@@ -146,8 +146,8 @@ class JsonWriter {
   template <class Test, class Reason>
   void require(Test&&, Reason&&) {}  // a world's own state holds
   template <class F>
-  void trailing(bool, F&& describe) {
-    describe();  // the dump always has the joints, empty or not
+  void trailing(bool present, bool in_dump, F&& describe) {
+    if (present || in_dump) describe();  // the joints always, empty or not; the filters where there are any
   }
 
  private:

@@ -67,7 +67,7 @@ struct ByteWriter {
   template <class Test, class Reason>
   void require(Test&&, Reason&&) {}  // a world's own state holds
   template <class F>
-  void trailing(bool present, F&& describe) {
+  void trailing(bool present, bool, F&& describe) {
     if (present) describe();
   }
 };

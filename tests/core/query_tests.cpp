@@ -89,7 +89,7 @@ TEST_CASE("a ray meets a turned box where the rotated face is", "[query]") {
   CHECK(std::abs(to_double(hit->normal.y) - std::sqrt(0.5)) < 1e-7);
 }
 
-TEST_CASE("a ray grazing a sphere touches it; one a micron off misses", "[query]") {
+TEST_CASE("a ray grazing a sphere touches it, one a micron off misses", "[query]") {
   TestWorld t;
   t.add_sphere(Vec3{}, Fixed::one());
   const WorldQuery query(t.world);
@@ -109,7 +109,7 @@ TEST_CASE("a ray grazing a sphere touches it; one a micron off misses", "[query]
   CHECK(std::abs(to_double(far->point.x) + 0.8) < 1e-6);
 }
 
-TEST_CASE("a ray along a capsule's axis meets its cap; across it, its side; inside, at 0", "[query]") {
+TEST_CASE("a ray along a capsule's axis meets its cap, across it its side, from inside it at 0", "[query]") {
   TestWorld t;
   t.add_capsule({}, 0.5_fx, Fixed::one());  // along y: the segment y -1..1, radius 0.5
   const WorldQuery query(t.world);
@@ -333,4 +333,23 @@ TEST_CASE("the README's query example runs and answers", "[query]") {
   std::vector<bitstep::BodyId> near;
   query.overlap_box({{-1.0_fx, 0.0_fx, -1.0_fx}, {1.0_fx, 2.0_fx, 1.0_fx}}, near);
   CHECK(near.size() == 1u);  // the ground (the box is at z = 3)
+}
+
+TEST_CASE("a query sees only the layers it asks for, and not the body it ignores", "[query][filter]") {
+  TestWorld t;
+  const BodyId near_box = t.add_box({2.0_fx, Fixed{}, Fixed{}}, {0.5_fx, 0.5_fx, 0.5_fx});
+  BodyDef def;
+  def.pose.position = {4.0_fx, Fixed{}, Fixed{}};
+  def.shapes.push_back({ShapeType::sphere, {}, 0.5_fx, {}, {}});
+  def.filter.layers = 0b100;  // layer 2
+  const BodyId sphere = t.world.create_body(def).id;
+  const WorldQuery query(t.world);
+  const Vec3 origin{}, along{10.0_fx, Fixed{}, Fixed{}};
+  CHECK(query.cast_ray(origin, along)->body == near_box);
+  CHECK(query.cast_ray(origin, along, {0b100, {}})->body == sphere);   // layer 2 only
+  CHECK(query.cast_ray(origin, along, {UINT32_MAX, near_box})->body == sphere);  // ignoring the box
+  CHECK_FALSE(query.cast_ray(origin, along, {0b1000, {}}));           // layer 3: nobody
+  std::vector<BodyId> bodies;
+  query.overlap_box({{Fixed{}, -Fixed::one(), -Fixed::one()}, {5.0_fx, Fixed::one(), Fixed::one()}}, bodies, {0b1, {}});
+  CHECK(bodies == std::vector<BodyId>{near_box});
 }

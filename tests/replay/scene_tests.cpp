@@ -213,7 +213,8 @@ TEST_CASE("scene errors name the file, the JSON path and the reason", "[scene]")
   SECTION("unknown key") {
     CHECK(error_of(scene_text(R"({"colour": "red", )" + unit_box + "}")) ==
           "f.json: $.bodies[0].colour: unknown key (known keys: name, type, position, orientation, velocity, "
-          "angular_velocity, density, mass, material, linear_damping, angular_damping, asleep, shapes)");
+          "angular_velocity, density, mass, material, linear_damping, angular_damping, asleep, layers, collides_with, "
+          "shapes)");
     CHECK(error_of(R"({"format": "bitstep-scene", "version": 1, "setings": {}})") ==
           "f.json: $.setings: unknown key (known keys: format, version, description, settings, materials, bodies, "
           "generators, joints)");
@@ -355,7 +356,7 @@ TEST_CASE("scene errors name the file, the JSON path and the reason", "[scene]")
           "\"tables\", \"throw\", \"chain\" or \"ragdoll\", got \"tower\"");
     CHECK(error_of(R"({"format": "bitstep-scene", "version": 1, "generators": [{"type": "stack", "base": 3}]})") ==
           "f.json: $.generators[0].base: unknown key (known keys: type, name, material, density, mass, asleep, count, "
-          "half_extents, position, overlap, direction)");
+          "half_extents, position, overlap, direction, layers, collides_with)");
     CHECK(error_of(R"({"format": "bitstep-scene", "version": 1, "generators": [{"type": "throw", "count": 100,
                        "spread": [0, 0, 0]}]})") ==
           "f.json: $.generators[0]: no free spot for body 1 after 1000 draws: make \"spread\" larger or \"count\" "
@@ -577,4 +578,19 @@ TEST_CASE("mutated scenes load or fail cleanly", "[scene]") {
   }
   CHECK(refused > 0);
   CHECK(loaded > 0);
+}
+
+TEST_CASE("collision filters: layer numbers in scenes and generators, errors with their paths", "[scene][filter]") {
+  const Scene scene = load_ok(scene_text(R"({"name": "a", "layers": [1, 3], "collides_with": [0], )" + unit_box + "}",
+                                         R"("generators": [{"type": "stack", "count": 2, "layers": [4]}], )"));
+  REQUIRE(scene.bodies.size() == 3u);
+  CHECK(scene.bodies[0].def.filter == CollisionFilter{0b1010, 0b1});
+  CHECK(scene.bodies[1].def.filter == CollisionFilter{0b10000, UINT32_MAX});
+  CHECK(scene.bodies[2].def.filter == CollisionFilter{0b10000, UINT32_MAX});
+  const Scene plain = load_ok(scene_text("{" + unit_box + "}"));
+  CHECK(plain.bodies[0].def.filter == CollisionFilter{});
+  CHECK(error_of(scene_text(R"({"layers": [32], )" + unit_box + "}")) ==
+        "f.json: $.bodies[0].layers[0]: outside 0..31");
+  CHECK(error_of(scene_text(R"({"collides_with": 3, )" + unit_box + "}")) ==
+        "f.json: $.bodies[0].collides_with: expected an array of layer numbers 0..31, got a number");
 }
