@@ -71,6 +71,9 @@ struct BodyDef {
   Fixed angular_damping;  // 1/s
   bool asleep = false;    // start asleep (dynamic, at rest): a wall built to stand (first seed)
   CollisionFilter filter;
+  // Its shapes report what overlaps them (core/sensor.h) and make no
+  // contact: a trigger volume. They still give the body its mass.
+  bool sensor = false;
 };
 
 // What a body is made of, in dense per-slot arrays (structure of records).
@@ -92,6 +95,7 @@ struct Body {
   Fixed angular_damping;
   std::vector<Shape> shapes;      // local poses relative to the centre of mass
   CollisionFilter filter;
+  bool sensor = false;
   // Sleep (core/sleep.h). A sleeping body is not integrated, has zero
   // velocity, and is immovable to the bodies that touch it.
   bool asleep = false;

@@ -62,7 +62,7 @@ World::World(const Settings& settings) : settings_(settings) {}
 
 World World::from_state(const Settings& settings, uint64_t step_count, std::vector<Body> bodies,
                         std::vector<uint32_t> free_slots, std::vector<Contact> contacts, std::vector<Joint> joints,
-                        std::vector<uint32_t> free_joint_slots) {
+                        std::vector<uint32_t> free_joint_slots, std::vector<SensorOverlap> sensor_overlaps) {
   World world(settings);
   world.step_count_ = step_count;
   world.bodies_ = std::move(bodies);
@@ -70,6 +70,7 @@ World World::from_state(const Settings& settings, uint64_t step_count, std::vect
   world.contacts_ = std::move(contacts);
   world.joints_ = std::move(joints);
   world.free_joint_slots_ = std::move(free_joint_slots);
+  world.sensor_overlaps_ = std::move(sensor_overlaps);
   return world;
 }
 
@@ -86,6 +87,7 @@ CreateResult World::create_body(const BodyDef& def) {
   body.angular_velocity = def.angular_velocity;
   body.material = def.material;
   body.filter = def.filter;
+  body.sensor = def.sensor;
   body.linear_damping = def.linear_damping;
   body.angular_damping = def.angular_damping;
   body.shapes = def.shapes;
@@ -168,6 +170,8 @@ bool World::remove_body(BodyId id) {
   }
   // Contacts of the removed body go now, so a new body in this slot does not inherit them.
   std::erase_if(contacts_, [&](const Contact& c) { return c.key.body_a == id.index || c.key.body_b == id.index; });
+  std::erase_if(sensor_overlaps_,
+                [&](const SensorOverlap& o) { return o.key.body_a == id.index || o.key.body_b == id.index; });
   wake_islands_of(touched);
   return true;
 }
@@ -324,6 +328,10 @@ void World::wake_islands_of(const std::vector<uint32_t>& slots) {
 }
 
 void World::step() {
+  // The events compare what touches and overlaps before and after the step.
+  touching_keys(contacts_, keys_before_);
+  sensor_keys_before_.clear();
+  for (const SensorOverlap& o : sensor_overlaps_) sensor_keys_before_.push_back(o.key);
   std::vector<BodyRates>& start = solver_scratch_.start_velocities;
   start.resize(bodies_.size());
   for (size_t i = 0; i < bodies_.size(); ++i) start[i] = {bodies_[i].linear_velocity, bodies_[i].angular_velocity};
@@ -340,6 +348,12 @@ void World::step() {
     if (joints_[j].alive && over_break_impulse(joints_[j])) remove_joint({j, joints_[j].generation});
   }
   ++step_count_;
+  events_.clear();
+  touching_keys(contacts_, keys_after_);
+  append_changes(keys_before_, keys_after_, EventKind::contact_begin, EventKind::contact_end, events_);
+  keys_after_.clear();
+  for (const SensorOverlap& o : sensor_overlaps_) keys_after_.push_back(o.key);
+  append_changes(sensor_keys_before_, keys_after_, EventKind::sensor_begin, EventKind::sensor_end, events_);
 }
 
 void World::step_standard() {
@@ -483,6 +497,8 @@ void World::find_contacts() {
   find_pairs(proxies_, pairs_, broadphase_scratch_);
   update_contacts(bodies_, contact_pairs(), settings_, turn_speed_, contacts_, previous_contacts_,
                   narrowphase_cache_);
+  const bool sensors = std::any_of(bodies_.begin(), bodies_.end(), [](const Body& b) { return b.alive && b.sensor; });
+  if (sensors || !sensor_overlaps_.empty()) update_sensor_overlaps(bodies_, pairs_, sensor_overlaps_, previous_overlaps_);
 }
 
 // Two bodies joined by a joint do not collide (a chain's links meet at
@@ -494,14 +510,16 @@ const std::vector<BodyPair>& World::contact_pairs() {
   for (const Joint& j : joints_) {
     if (j.alive) joined_.push_back({std::min(j.body_a, j.body_b), std::max(j.body_a, j.body_b)});
   }
-  const bool filtered = std::any_of(bodies_.begin(), bodies_.end(),
-                                    [](const Body& b) { return b.alive && b.filter != CollisionFilter{}; });
+  const bool filtered = std::any_of(bodies_.begin(), bodies_.end(), [](const Body& b) {
+    return b.alive && (b.filter != CollisionFilter{} || b.sensor);
+  });
   if (joined_.empty() && !filtered) return pairs_;
   std::sort(joined_.begin(), joined_.end());
   contact_pairs_.clear();
   for (const BodyPair& pair : pairs_) {
     if (std::binary_search(joined_.begin(), joined_.end(), pair)) continue;
     if (!collide_together(bodies_[pair.a].filter, bodies_[pair.b].filter)) continue;
+    if (bodies_[pair.a].sensor || bodies_[pair.b].sensor) continue;  // sensors push nothing (core/sensor.h)
     contact_pairs_.push_back(pair);
   }
   return contact_pairs_;

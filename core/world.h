@@ -11,6 +11,7 @@
 #include "core/envelope.h"
 #include "core/integrate.h"
 #include "core/joint.h"
+#include "core/sensor.h"
 #include "core/settings.h"
 #include "core/sleep.h"
 #include "core/solver.h"
@@ -46,7 +47,8 @@ class World {
   // has checked that contacts and free slots refer to existing slots.
   static World from_state(const Settings& settings, uint64_t step_count, std::vector<Body> bodies,
                           std::vector<uint32_t> free_slots, std::vector<Contact> contacts,
-                          std::vector<Joint> joints = {}, std::vector<uint32_t> free_joint_slots = {});
+                          std::vector<Joint> joints = {}, std::vector<uint32_t> free_joint_slots = {},
+                          std::vector<SensorOverlap> sensor_overlaps = {});
 
   // Validates the definition against the world envelope first; on error the
   // world is unchanged.
@@ -90,6 +92,11 @@ class World {
   const std::vector<Joint>& joints() const { return joints_; }
   const std::vector<uint32_t>& free_joint_slots() const { return free_joint_slots_; }
   StepStats stats() const;
+  // What overlaps the sensors' shapes (state), and what began and ended in
+  // the last step: contacts first, then sensors, each in key order. A
+  // removed body's contacts and overlaps end without an event.
+  const std::vector<SensorOverlap>& sensor_overlaps() const { return sensor_overlaps_; }
+  const std::vector<WorldEvent>& events() const { return events_; }
 
   // Exact reuse of last step's broadphase pairs where no body's bounds or
   // margin changed by a bit (broadphase.h), of its narrowphase results where
@@ -132,12 +139,16 @@ class World {
   std::vector<Contact> contacts_;     // sorted by (body a, body b, shape a, shape b)
   std::vector<Joint> joints_;
   std::vector<uint32_t> free_joint_slots_;
+  std::vector<SensorOverlap> sensor_overlaps_;  // sorted by key
+  std::vector<WorldEvent> events_;              // the last step's (not state: the next step's are new)
   // Per-step scratch, kept to reuse its memory (not state: rebuilt every step).
   std::vector<BroadphaseProxy> proxies_;
   std::vector<BodyPair> pairs_;
   std::vector<BodyPair> joined_, contact_pairs_;  // contact_pairs's
   BroadphaseScratch broadphase_scratch_;
   std::vector<Contact> previous_contacts_;  // workspace of update_contacts
+  std::vector<SensorOverlap> previous_overlaps_;  // workspace of update_sensor_overlaps
+  std::vector<ContactKey> keys_before_, sensor_keys_before_, keys_after_;  // the events' workspace
   std::vector<Fixed> turn_speed_;           // per slot: |w| times the body's reach (m/s), this step
   // Per slot, what find_contacts takes from a body's shapes, which never
   // change while it lives (a slot's next occupant has a new generation):

@@ -120,6 +120,7 @@ SceneBody read_body(const Node& node, const MaterialTable& materials) {
   read_optional(reader, "angular_damping", def.angular_damping, Bound::non_negative);
   read_optional(reader, "asleep", def.asleep);
   read_filter(reader, def.filter);
+  read_optional(reader, "sensor", def.sensor);
   const Node& shapes = reader.require("shapes");
   if (shapes.kind != Kind::array) fail(shapes, std::string("expected an array of shapes, got ") + json::describe(shapes.kind));
   for (const Node& shape : shapes.children) def.shapes.push_back(read_shape(shape));

@@ -58,6 +58,7 @@ struct StateParts {
   Ref<std::vector<Contact>> contacts;
   Ref<std::vector<Joint>> joints;
   Ref<std::vector<uint32_t>> free_joint_slots;
+  Ref<std::vector<SensorOverlap>> sensor_overlaps;
 };
 
 namespace state_description {
@@ -256,7 +257,8 @@ void describe_free_slots(V& v, const char* name, Slots& slots, const Items& item
 // list, every contact (key, normal, points with feature ids, positions,
 // depths and accumulated impulses, which warm-start the next step), and
 // every joint slot (bodies, frames, limits, accumulated impulses) with the
-// free joint slots, and every body's collision filter.
+// free joint slots, every body's collision filter and sensor flag, and what
+// overlaps the sensors.
 template <class V, bool Reading>
 void describe_state(V& v, const StateParts<Reading>& state) {
   using namespace state_description;
@@ -273,12 +275,14 @@ void describe_state(V& v, const StateParts<Reading>& state) {
     const size_t i = static_cast<size_t>(&contact - state.contacts.data());
     describe_contact(v, contact, state.bodies, i == 0 ? nullptr : &contact - 1);
   });
-  // Joints, then collision filters, last and only in a world that has them
-  // (filters: a live body off the default layers): a world without has the
-  // bytes (and the hash) it had before they existed. Filters are written
-  // after the joints' block, empty or not.
-  bool filtered = false;
-  for (const Body& body : state.bodies) filtered = filtered || (body.alive && body.filter != CollisionFilter{});
+  // Joints, then collision filters and sensors, last and only in a world
+  // that has them (a live body off the default layers or a sensor): a world
+  // without has the bytes (and the hash) it had before they existed. The
+  // filters are written after the joints' block, empty or not.
+  bool filtered = !state.sensor_overlaps.empty();
+  for (const Body& body : state.bodies) {
+    filtered = filtered || (body.alive && (body.filter != CollisionFilter{} || body.sensor));
+  }
   constexpr size_t joint_bytes = 5;  // a dead slot: alive, generation
   v.trailing(!state.joints.empty() || !state.free_joint_slots.empty() || filtered, true, [&] {
     v.list("joints", state.joints, joint_bytes, UINT32_MAX, "slot",
@@ -287,9 +291,29 @@ void describe_state(V& v, const StateParts<Reading>& state) {
   });
   v.trailing(filtered, false, [&] {
     v.items("filters", state.bodies.size(), [&](size_t i) {
-      auto& filter = state.bodies[i].filter;
-      v.integer("layers", filter.layers, 4, 0, UINT32_MAX);
-      v.integer("collides_with", filter.collides_with, 4, 0, UINT32_MAX);
+      auto& body = state.bodies[i];
+      v.integer("layers", body.filter.layers, 4, 0, UINT32_MAX);
+      v.integer("collides_with", body.filter.collides_with, 4, 0, UINT32_MAX);
+      v.integer("sensor", body.sensor, 1, 0, 1);
+    });
+    // What overlaps the sensors: between a live sensor's and a live
+    // non-sensor's existing shapes, strictly in key order.
+    constexpr size_t overlap_bytes = 4 * 4;
+    v.list("sensor_overlaps", state.sensor_overlaps, overlap_bytes, UINT32_MAX, nullptr, [&](auto& overlap) {
+      const ContactKey& k = overlap.key;
+      v.integers("bodies", overlap.key.body_a, overlap.key.body_b, 4, UINT32_MAX);
+      v.integers("shapes", overlap.key.shape_a, overlap.key.shape_b, 4, UINT16_MAX);
+      v.require(
+          [&] {
+            const auto& bodies = state.bodies;
+            return k.body_a < k.body_b && k.body_b < bodies.size() && bodies[k.body_a].alive &&
+                   bodies[k.body_b].alive && bodies[k.body_a].sensor != bodies[k.body_b].sensor &&
+                   k.shape_a < bodies[k.body_a].shapes.size() && k.shape_b < bodies[k.body_b].shapes.size();
+          },
+          [] { return std::string("a sensor overlap refers to a body or shape that does not exist, or no sensor"); });
+      const size_t i = static_cast<size_t>(&overlap - state.sensor_overlaps.data());
+      v.require([&] { return i == 0 || state.sensor_overlaps[i - 1].key < k; },
+                [] { return std::string("sensor overlaps out of order"); });
     });
   });
 }

@@ -39,7 +39,20 @@ struct RunOptions {
   long long trace_every = 1;
   std::string trace_format;     // "csv", "jsonl", or empty: from the extension
   int threads = 1;              // --threads: workers stepping the world (the same bits for any count)
+  bool events = false;          // --events: each step's contact and sensor events
 };
+
+constexpr const char* event_names[] = {"contact begin", "contact end", "sensor begin", "sensor end"};
+
+// "step 42: contact begin "box.3" (shape 0) - "ground" (shape 0)"
+std::string event_line(uint64_t step, const WorldEvent& e, const Scene& scene) {
+  auto name = [&](uint32_t slot) {
+    return slot < scene.bodies.size() && !scene.bodies[slot].name.empty() ? "\"" + scene.bodies[slot].name + "\""
+                                                                          : "body " + std::to_string(slot);
+  };
+  return fmt::format("step {}: {} {} (shape {}) - {} (shape {})", step, event_names[static_cast<int>(e.kind)],
+                     name(e.key.body_a), e.key.shape_a, name(e.key.body_b), e.key.shape_b);
+}
 
 double to_double(Fixed f) { return static_cast<double>(f.raw()) * 0x1p-32; }
 
@@ -77,6 +90,8 @@ std::string parse_options(int argc, char** argv, RunOptions& o) {
       o.restore_path = argv[++i];
     } else if (arg == "--settings" && has_value) {
       o.settings = argv[++i];
+    } else if (arg == "--events") {
+      o.events = true;
     } else if (arg == "--trace" && has_value) {
       o.trace_path = argv[++i];
     } else if (arg == "--trace-every" && has_value) {
@@ -220,6 +235,7 @@ int run_scene_command(int argc, char** argv) {
   long long steps_in_second = 0;
   IntervalMaxima maxima;
   long long all_asleep_step = -1;  // the world's step counter when every dynamic body first slept
+  std::vector<std::string> event_json;  // --events --json
   for (long long step = 1; step <= steps; ++step) {
     const auto began = Clock::now();
     world.step();
@@ -229,6 +245,17 @@ int run_scene_command(int argc, char** argv) {
     maxima.add(stats, max_drift(world, start));
     if (all_asleep_step < 0 && all_asleep(stats)) all_asleep_step = static_cast<long long>(world.step_count());
     if (trace) trace->record(world);
+    if (options.events) {
+      for (const WorldEvent& e : world.events()) {
+        if (options.json) {
+          event_json.push_back(fmt::format("{{\"step\": {}, \"kind\": \"{}\", \"bodies\": [{}, {}], \"shapes\": [{}, {}]}}",
+                                           world.step_count(), event_names[static_cast<int>(e.kind)], e.key.body_a,
+                                           e.key.body_b, e.key.shape_a, e.key.shape_b));
+        } else {
+          fmt::print("{}\n", event_line(world.step_count(), e, scene));
+        }
+      }
+    }
     if (step == options.snapshot_at) {
       const std::vector<uint8_t> image = snapshot(world);
       if (!write_file_atomically(options.snapshot_path, std::string(image.begin(), image.end()), reason)) {
@@ -282,7 +309,13 @@ int run_scene_command(int argc, char** argv) {
   for (size_t i = 0; i < hashes.size(); ++i) {
     fmt::print("{}{{\"step\": {}, \"hash\": \"{:016x}\"}}", i == 0 ? "" : ", ", hashes[i].first, hashes[i].second);
   }
-  fmt::print("], \"all_asleep_step\": {}, \"final_hash\": \"{:016x}\"}}\n", all_asleep_json(all_asleep_step), final_hash);
+  fmt::print("]");
+  if (options.events) {
+    fmt::print(", \"events\": [");
+    for (size_t i = 0; i < event_json.size(); ++i) fmt::print("{}{}", i == 0 ? "" : ", ", event_json[i]);
+    fmt::print("]");
+  }
+  fmt::print(", \"all_asleep_step\": {}, \"final_hash\": \"{:016x}\"}}\n", all_asleep_json(all_asleep_step), final_hash);
   return 0;
 }
 

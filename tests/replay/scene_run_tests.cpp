@@ -151,7 +151,8 @@ TEST_CASE("wall128 stands 2,000 steps: no brick moves 1 cm", "[scene-run][slow]"
 TEST_CASE("every shipped scene runs 2 s inside the envelope without an overflow", "[scene-run]") {
   for (const char* name : {"bounce.json", "stack20.json", "stack50.json", "pyramid20.json", "wall128.json", "jenga.json",
                            "dominoes.json", "tables.json", "thrown.json", "incline.json", "slide_stop.json",
-                           "spheres.json", "playground.json", "chains.json", "bridge.json", "ragdolls.json"}) {
+                           "spheres.json", "playground.json", "chains.json", "bridge.json", "ragdolls.json",
+                           "sensors.json"}) {
     INFO(name);
     World world = load_world(name);
 #if defined(NDEBUG)

@@ -214,7 +214,7 @@ TEST_CASE("scene errors name the file, the JSON path and the reason", "[scene]")
     CHECK(error_of(scene_text(R"({"colour": "red", )" + unit_box + "}")) ==
           "f.json: $.bodies[0].colour: unknown key (known keys: name, type, position, orientation, velocity, "
           "angular_velocity, density, mass, material, linear_damping, angular_damping, asleep, layers, collides_with, "
-          "shapes)");
+          "sensor, shapes)");
     CHECK(error_of(R"({"format": "bitstep-scene", "version": 1, "setings": {}})") ==
           "f.json: $.setings: unknown key (known keys: format, version, description, settings, materials, bodies, "
           "generators, joints)");

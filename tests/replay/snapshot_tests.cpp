@@ -243,3 +243,32 @@ TEST_CASE("a world with collision filters restores and continues identically", "
   const World unchanged = world_of("stack20.json");
   CHECK(state_hash(unchanged) == unfiltered);
 }
+
+// Sensor overlaps are state: restored while a cube is inside the zone, the
+// world reports it leaving at the same step, with the same hash chain.
+TEST_CASE("a world with sensors restores mid-overlap and reports the same events", "[snapshot][sensor]") {
+  World straight = world_of("sensors.json");
+  std::vector<uint64_t> chain;
+  std::vector<std::vector<WorldEvent>> events;
+  std::vector<uint8_t> image;
+  for (int step = 1; step <= 120; ++step) {
+    straight.step();
+    chain.push_back(state_hash(straight));
+    events.push_back(straight.events());
+    if (step == 40) {
+      REQUIRE_FALSE(straight.sensor_overlaps().empty());  // cube.1 is inside the zone
+      image = snapshot(straight);
+    }
+  }
+  World world;
+  REQUIRE_FALSE(restore(image, world).has_value());
+  REQUIRE(world.sensor_overlaps().size() == 1u);
+  int sensor_ends = 0;
+  for (int step = 41; step <= 120; ++step) {
+    world.step();
+    REQUIRE(state_hash(world) == chain[static_cast<size_t>(step - 1)]);
+    REQUIRE(world.events() == events[static_cast<size_t>(step - 1)]);
+    for (const WorldEvent& e : world.events()) sensor_ends += e.kind == EventKind::sensor_end ? 1 : 0;
+  }
+  CHECK(sensor_ends == 4);  // cube.1, cube.2, cube.3 and the ball leave the zone after step 40
+}
