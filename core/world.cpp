@@ -6,6 +6,7 @@
 #include "core/contact_update.h"
 #include "core/integrate.h"
 #include "core/mass.h"
+#include "core/query.h"
 #include "core/solver.h"
 
 namespace bitstep {
@@ -62,7 +63,8 @@ World::World(const Settings& settings) : settings_(settings) {}
 
 World World::from_state(const Settings& settings, uint64_t step_count, std::vector<Body> bodies,
                         std::vector<uint32_t> free_slots, std::vector<Contact> contacts, std::vector<Joint> joints,
-                        std::vector<uint32_t> free_joint_slots, std::vector<SensorOverlap> sensor_overlaps) {
+                        std::vector<uint32_t> free_joint_slots, std::vector<SensorOverlap> sensor_overlaps,
+                        std::vector<Car> cars) {
   World world(settings);
   world.step_count_ = step_count;
   world.bodies_ = std::move(bodies);
@@ -71,6 +73,7 @@ World World::from_state(const Settings& settings, uint64_t step_count, std::vect
   world.joints_ = std::move(joints);
   world.free_joint_slots_ = std::move(free_joint_slots);
   world.sensor_overlaps_ = std::move(sensor_overlaps);
+  world.cars_ = std::move(cars);
   return world;
 }
 
@@ -170,6 +173,9 @@ bool World::remove_body(BodyId id) {
   }
   // Contacts of the removed body go now, so a new body in this slot does not inherit them.
   std::erase_if(contacts_, [&](const Contact& c) { return c.key.body_a == id.index || c.key.body_b == id.index; });
+  for (Car& car : cars_) {
+    if (car.def.chassis.index == id.index) car.alive = false;
+  }
   std::erase_if(sensor_overlaps_,
                 [&](const SensorOverlap& o) { return o.key.body_a == id.index || o.key.body_b == id.index; });
   wake_islands_of(touched);
@@ -303,6 +309,24 @@ void World::apply_force(BodyId id, Vec3 force, Vec3 world_point) {
   add_force(bodies_[id.index], force, world_point, settings_.dt);
 }
 
+CarId World::create_car(const CarDef& def, std::string& error) {
+  error = car_def_error(def, bodies_);
+  if (!error.empty()) return {};
+  Car car;
+  car.alive = true;
+  car.def = def;
+  cars_.push_back(std::move(car));
+  return {static_cast<uint32_t>(cars_.size() - 1)};
+}
+
+void World::set_car_controls(CarId id, CarControls controls) {
+  if (id.index >= cars_.size() || !cars_[id.index].alive) return;
+  controls.throttle = clamp(controls.throttle, -Fixed::one(), Fixed::one());
+  controls.brake = clamp(controls.brake, Fixed{}, Fixed::one());
+  controls.steer = clamp(controls.steer, -Fixed::one(), Fixed::one());
+  cars_[id.index].controls = controls;
+}
+
 void World::set_velocity(BodyId id, Vec3 linear, Vec3 angular) {
   if (!is_alive(id)) return;
   Body& body = bodies_[id.index];
@@ -332,6 +356,12 @@ void World::step() {
   touching_keys(contacts_, keys_before_);
   sensor_keys_before_.clear();
   for (const SensorOverlap& o : sensor_overlaps_) sensor_keys_before_.push_back(o.key);
+  // Cars first: their wheel forces join the pending forces (core/car.h).
+  if (std::any_of(cars_.begin(), cars_.end(), [](const Car& car) { return car.alive; })) {
+    woken_by_cars_.clear();
+    drive_cars(WorldQuery(*this), settings_.dt, bodies_, cars_, woken_by_cars_);
+    for (const uint32_t slot : woken_by_cars_) wake_if_asleep(slot);
+  }
   std::vector<BodyRates>& start = solver_scratch_.start_velocities;
   start.resize(bodies_.size());
   for (size_t i = 0; i < bodies_.size(); ++i) start[i] = {bodies_[i].linear_velocity, bodies_[i].angular_velocity};

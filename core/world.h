@@ -6,6 +6,7 @@
 
 #include "core/body.h"
 #include "core/broadphase.h"
+#include "core/car.h"
 #include "core/contact.h"
 #include "core/contact_update.h"
 #include "core/envelope.h"
@@ -48,7 +49,7 @@ class World {
   static World from_state(const Settings& settings, uint64_t step_count, std::vector<Body> bodies,
                           std::vector<uint32_t> free_slots, std::vector<Contact> contacts,
                           std::vector<Joint> joints = {}, std::vector<uint32_t> free_joint_slots = {},
-                          std::vector<SensorOverlap> sensor_overlaps = {});
+                          std::vector<SensorOverlap> sensor_overlaps = {}, std::vector<Car> cars = {});
 
   // Validates the definition against the world envelope first; on error the
   // world is unchanged.
@@ -75,6 +76,13 @@ class World {
   void apply_impulse(BodyId id, Vec3 impulse, Vec3 world_point);
   void apply_force(BodyId id, Vec3 force, Vec3 world_point);
   void set_velocity(BodyId id, Vec3 linear, Vec3 angular);
+  // A raycast car on a live dynamic chassis (core/car.h): checked first
+  // (car_def_error); on error the world is unchanged and the id invalid.
+  CarId create_car(const CarDef& def, std::string& error);
+  // The driver's controls, clamped to their ranges, kept until changed.
+  void set_car_controls(CarId id, CarControls controls);
+  // Cars in creation order; a car whose chassis is removed is dead.
+  const std::vector<Car>& cars() const { return cars_; }
   // Wakes the body's island (no-op when it is awake or sleep is off).
   void wake(BodyId id);
 
@@ -140,6 +148,7 @@ class World {
   std::vector<Joint> joints_;
   std::vector<uint32_t> free_joint_slots_;
   std::vector<SensorOverlap> sensor_overlaps_;  // sorted by key
+  std::vector<Car> cars_;
   std::vector<WorldEvent> events_;              // the last step's (not state: the next step's are new)
   // Per-step scratch, kept to reuse its memory (not state: rebuilt every step).
   std::vector<BroadphaseProxy> proxies_;
@@ -149,6 +158,7 @@ class World {
   std::vector<Contact> previous_contacts_;  // workspace of update_contacts
   std::vector<SensorOverlap> previous_overlaps_;  // workspace of update_sensor_overlaps
   std::vector<ContactKey> keys_before_, sensor_keys_before_, keys_after_;  // the events' workspace
+  std::vector<uint32_t> woken_by_cars_;
   std::vector<Fixed> turn_speed_;           // per slot: |w| times the body's reach (m/s), this step
   // Per slot, what find_contacts takes from a body's shapes, which never
   // change while it lives (a slot's next occupant has a new generation):

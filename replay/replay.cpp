@@ -93,9 +93,9 @@ Input read_input(const Node& node, const Scene& scene, BodyNames& names) {
   input.step = read_int(reader.require("step"), 1, max_steps);
   static constexpr Input::Kind kinds[] = {Input::Kind::impulse, Input::Kind::force,     Input::Kind::set_velocity,
                                           Input::Kind::spawn,   Input::Kind::remove,    Input::Kind::wake,
-                                          Input::Kind::add_joint, Input::Kind::remove_joint};
+                                          Input::Kind::add_joint, Input::Kind::remove_joint, Input::Kind::drive};
   input.kind = kinds[read_choice(reader.require("type"), {"impulse", "force", "set_velocity", "spawn", "remove", "wake",
-                                                          "add_joint", "remove_joint"})];
+                                                          "add_joint", "remove_joint", "drive"})];
   const auto body = [&] { return read_body_ref(reader.require("body"), names); };
   switch (input.kind) {
     case Input::Kind::impulse:
@@ -130,6 +130,17 @@ Input read_input(const Node& node, const Scene& scene, BodyNames& names) {
     case Input::Kind::remove_joint:
       input.joint.name = read_string(reader.require("joint"));
       break;
+    case Input::Kind::drive: {
+      const Node& car = reader.require("car");
+      const std::string& name = read_string(car);
+      const auto found = std::find_if(scene.cars.begin(), scene.cars.end(), [&](const SceneCar& c) { return c.name == name; });
+      if (found == scene.cars.end()) fail(car, "no car named " + json::quote(name) + " in the scene");
+      input.car = static_cast<uint32_t>(found - scene.cars.begin());
+      if (const Node* n = reader.find("throttle")) input.controls.throttle = read_fixed_within(*n, -Fixed::one(), Fixed::one(), "");
+      if (const Node* n = reader.find("brake")) input.controls.brake = read_fixed_within(*n, Fixed{}, Fixed::one(), "");
+      if (const Node* n = reader.find("steer")) input.controls.steer = read_fixed_within(*n, -Fixed::one(), Fixed::one(), "");
+      break;
+    }
   }
   reader.finish();
   return input;
@@ -297,6 +308,16 @@ bool build_world(const Scene& scene, World& world, std::string& reason) {
     }
     ids.push_back(created.id);
   }
+  for (size_t k = 0; k < scene.cars.size(); ++k) {
+    CarDef def = scene.cars[k].def;
+    def.chassis = scene.cars[k].chassis < ids.size() ? ids[scene.cars[k].chassis] : BodyId{};
+    std::string error;
+    world.create_car(def, error);
+    if (!error.empty()) {
+      reason = "car " + std::to_string(k) + " (" + json::quote(scene.cars[k].name) + "): " + error;
+      return false;
+    }
+  }
   for (size_t k = 0; k < scene.joints.size(); ++k) {
     const SceneJoint& joint = scene.joints[k];
     JointDef def = joint.def;
@@ -358,6 +379,7 @@ void apply_inputs(World& world, const std::vector<Input>& inputs, int64_t step, 
       case Input::Kind::remove_joint:
         if (input.joint_number < run.joints.size()) world.remove_joint(run.joints[input.joint_number]);
         break;
+      case Input::Kind::drive: world.set_car_controls({input.car}, input.controls); break;
     }
   }
 }

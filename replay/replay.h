@@ -22,7 +22,7 @@ namespace bitstep {
 // when the slot is empty. add_joint's bodies are slots in the same way; a
 // joint the world refuses then (World::create_joint) is not added.
 struct Input {
-  enum class Kind { impulse, force, set_velocity, spawn, remove, wake, add_joint, remove_joint };
+  enum class Kind { impulse, force, set_velocity, spawn, remove, wake, add_joint, remove_joint, drive };
   int64_t step = 1;
   Kind kind = Kind::impulse;
   uint32_t body = 0;
@@ -34,6 +34,8 @@ struct Input {
   // joint.name only.
   JointSpec joint;
   uint32_t joint_number = 0;  // add_joint, remove_joint: the joint, numbered as in InputRun::joints
+  uint32_t car = 0;           // drive: the scene's car
+  CarControls controls;       // drive: the controls from this step on
   json::Node source; // the input as written, kept for writing the replay back exactly
 };
 

@@ -352,6 +352,47 @@ GeneratedStructure read_generator(const Node& node, const MaterialTable& materia
   return generated;
 }
 
+// --- cars -------------------------------------------------------------------
+
+// One car: its chassis (a dynamic body, by name), its wheels, and the
+// CarDef fields over their defaults, each within car_def_error's ranges.
+SceneCar read_car(const Node& node, const Scene& scene, const std::map<std::string, uint32_t>& bodies) {
+  ObjectReader reader(node);
+  SceneCar car;
+  car.name = read_string(reader.require("name"));
+  const Node& chassis = reader.require("chassis");
+  const auto found = bodies.find(read_string(chassis));
+  if (found == bodies.end()) fail(chassis, "no body named " + json::quote(read_string(chassis)));
+  if (scene.bodies[found->second].def.type != BodyType::dynamic) fail(chassis, "the chassis must be a dynamic body");
+  car.chassis = found->second;
+  CarDef& def = car.def;
+  const Node& wheels = reader.require("wheels");
+  if (wheels.kind != Kind::array || wheels.children.empty() || wheels.children.size() > 8) {
+    fail(wheels, "expected an array of 1..8 wheels");
+  }
+  const Fixed reach = envelope::max_size + envelope::max_size;
+  for (const Node& wheel_node : wheels.children) {
+    ObjectReader wheel(wheel_node);
+    WheelDef w;
+    w.attachment = read_vec3_within(wheel.require("attachment"), -reach, reach, "m");
+    read_optional(wheel, "driven", w.driven);
+    read_optional(wheel, "steered", w.steered);
+    wheel.finish();
+    def.wheels.push_back(w);
+  }
+  read_optional_within(reader, "wheel_radius", def.wheel_radius, 0.05_fx, 5.0_fx, "m");
+  read_optional_within(reader, "rest_length", def.rest_length, Fixed{}, 5.0_fx, "m");
+  read_optional_within(reader, "stiffness", def.stiffness, Fixed{}, 10000000.0_fx, "N/m");
+  read_optional_within(reader, "damping", def.damping, Fixed{}, 1000000.0_fx, "N s/m");
+  read_optional_within(reader, "grip", def.grip, Fixed{}, 10.0_fx, "");
+  read_optional_within(reader, "drive_force", def.drive_force, Fixed{}, 1000000.0_fx, "N");
+  read_optional_within(reader, "brake_force", def.brake_force, Fixed{}, 1000000.0_fx, "N");
+  read_optional_within(reader, "max_steer", def.max_steer, Fixed{}, 1.5_fx, "rad");
+  read_optional(reader, "rays_per_wheel", def.rays_per_wheel, 1, 8);
+  reader.finish();
+  return car;
+}
+
 // --- joints ---------------------------------------------------------------
 
 // A joint's point given either in the world ("anchor", "anchor_b") or in its
@@ -489,6 +530,16 @@ Scene read_scene(const Node& root) {
   }
   scene.joints.insert(scene.joints.end(), std::make_move_iterator(generated_joints.begin()),
                       std::make_move_iterator(generated_joints.end()));
+  if (const Node* cars = reader.find("cars")) {
+    if (cars->kind != Kind::array) fail(*cars, std::string("expected an array of cars, got ") + json::describe(cars->kind));
+    std::set<std::string> car_names;
+    for (const Node& car : cars->children) {
+      scene.cars.push_back(read_car(car, scene, names));
+      if (!car_names.insert(scene.cars.back().name).second) {
+        fail(*car.member("name"), "duplicate car name " + json::quote(scene.cars.back().name));
+      }
+    }
+  }
   reader.finish();
   return scene;
 }

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/body.h"
+#include "core/car.h"
 #include "core/joint.h"
 #include "core/settings.h"
 #include "replay/json_tree.h"
@@ -33,10 +34,19 @@ struct SceneJoint {
   uint32_t body_a = 0, body_b = 0;  // indices into Scene::bodies
 };
 
+// A raycast car (core/car.h) on a scene body. def.chassis is filled by
+// build_world.
+struct SceneCar {
+  std::string name;   // replay "drive" inputs name it
+  uint32_t chassis = 0;  // index into Scene::bodies
+  CarDef def;
+};
+
 struct Scene {
   Settings settings;
   std::vector<SceneBody> bodies;    // creation order: "bodies" first, then each generator's
   std::vector<SceneJoint> joints;   // creation order: "joints" first, then each generator's
+  std::vector<SceneCar> cars;       // "cars", in order: in a new world scene car k is car k
   MaterialTable materials;          // "materials", for bodies spawned later
 };
 

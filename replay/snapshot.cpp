@@ -129,11 +129,13 @@ World read_world(std::span<const uint8_t> payload) {
   std::vector<Joint> joints;
   std::vector<uint32_t> free_joint_slots;
   std::vector<SensorOverlap> sensor_overlaps;
+  std::vector<Car> cars;
   describe_state(r, StateParts<true>{step_count, settings, bodies, free_slots, contacts, joints, free_joint_slots,
-                                     sensor_overlaps});
+                                     sensor_overlaps, cars});
   if (!r.done()) r.fail("bytes left after the state");
   return World::from_state(settings, step_count, std::move(bodies), std::move(free_slots), std::move(contacts),
-                           std::move(joints), std::move(free_joint_slots), std::move(sensor_overlaps));
+                           std::move(joints), std::move(free_joint_slots), std::move(sensor_overlaps),
+                           std::move(cars));
 }
 
 }  // namespace

@@ -38,6 +38,7 @@
 #include <vector>
 
 #include "core/body.h"
+#include "core/car.h"
 #include "core/contact.h"
 #include "core/envelope.h"
 #include "core/joint.h"
@@ -59,6 +60,7 @@ struct StateParts {
   Ref<std::vector<Joint>> joints;
   Ref<std::vector<uint32_t>> free_joint_slots;
   Ref<std::vector<SensorOverlap>> sensor_overlaps;
+  Ref<std::vector<Car>> cars;
 };
 
 namespace state_description {
@@ -196,6 +198,38 @@ void describe_contact(V& v, C& c, const Bodies& bodies, Before* before) {
   });
 }
 
+template <class V, class C, class Bodies>
+void describe_car(V& v, C& car, const Bodies& bodies) {
+  v.integer("alive", car.alive, 1, 0, 1);
+  if (!car.alive) return;
+  auto& def = car.def;
+  v.integer("chassis", def.chassis.index, 4, 0, UINT32_MAX);
+  v.integer("chassis_generation", def.chassis.generation, 4, 0, UINT32_MAX);
+  v.require([&] { return def.chassis.index < bodies.size() && bodies[def.chassis.index].alive &&
+                         bodies[def.chassis.index].generation == def.chassis.generation; },
+            [] { return std::string("a car's chassis is not a live body"); });
+  v.fixed("wheel_radius", def.wheel_radius);
+  v.fixed("rest_length", def.rest_length);
+  v.fixed("stiffness", def.stiffness);
+  v.fixed("damping", def.damping);
+  v.fixed("grip", def.grip);
+  v.fixed("drive_force", def.drive_force);
+  v.fixed("brake_force", def.brake_force);
+  v.fixed("max_steer", def.max_steer);
+  v.integer("rays_per_wheel", def.rays_per_wheel, 1, 1, 8);
+  v.list("wheels", def.wheels, 3 * 8 + 2, 8, nullptr, [&](auto& wheel) {
+    v.vec("attachment", wheel.attachment);
+    v.integer("driven", wheel.driven, 1, 0, 1);
+    v.integer("steered", wheel.steered, 1, 0, 1);
+  });
+  v.require([&] { return car_def_error(def, bodies).empty(); }, [&] { return "a car: " + car_def_error(def, bodies); });
+  v.object("controls", [&] {
+    v.fixed("throttle", car.controls.throttle);
+    v.fixed("brake", car.controls.brake);
+    v.fixed("steer", car.controls.steer);
+  });
+}
+
 template <class V, class J, class Bodies>
 void describe_joint(V& v, J& joint, const Bodies& bodies) {
   v.integer("alive", joint.alive, 1, 0, 1);
@@ -257,8 +291,8 @@ void describe_free_slots(V& v, const char* name, Slots& slots, const Items& item
 // list, every contact (key, normal, points with feature ids, positions,
 // depths and accumulated impulses, which warm-start the next step), and
 // every joint slot (bodies, frames, limits, accumulated impulses) with the
-// free joint slots, every body's collision filter and sensor flag, and what
-// overlaps the sensors.
+// free joint slots, every body's collision filter and sensor flag, what
+// overlaps the sensors, and the cars.
 template <class V, bool Reading>
 void describe_state(V& v, const StateParts<Reading>& state) {
   using namespace state_description;
@@ -279,7 +313,7 @@ void describe_state(V& v, const StateParts<Reading>& state) {
   // that has them (a live body off the default layers or a sensor): a world
   // without has the bytes (and the hash) it had before they existed. The
   // filters are written after the joints' block, empty or not.
-  bool filtered = !state.sensor_overlaps.empty();
+  bool filtered = !state.sensor_overlaps.empty() || !state.cars.empty();
   for (const Body& body : state.bodies) {
     filtered = filtered || (body.alive && (body.filter != CollisionFilter{} || body.sensor));
   }
@@ -315,6 +349,12 @@ void describe_state(V& v, const StateParts<Reading>& state) {
       v.require([&] { return i == 0 || state.sensor_overlaps[i - 1].key < k; },
                 [] { return std::string("sensor overlaps out of order"); });
     });
+  });
+  // Cars last, in a world that has had one (core/car.h): the definitions
+  // and the controls (what the wheels found is found again each step).
+  constexpr size_t car_bytes = 1;  // a dead car: alive
+  v.trailing(!state.cars.empty(), false, [&] {
+    v.list("cars", state.cars, car_bytes, UINT32_MAX, nullptr, [&](auto& car) { describe_car(v, car, state.bodies); });
   });
 }
 

@@ -78,7 +78,8 @@ void serialize_state(const World& world, std::vector<uint8_t>& out) {
   const uint64_t step = world.step_count();
   ByteWriter writer{out};
   describe_state(writer, StateParts<false>{step, world.settings(), world.bodies(), world.free_slots(), world.contacts(),
-                                             world.joints(), world.free_joint_slots(), world.sensor_overlaps()});
+                                             world.joints(), world.free_joint_slots(), world.sensor_overlaps(),
+                                             world.cars()});
 }
 
 uint64_t state_hash(const World& world) {

@@ -15,6 +15,7 @@
 #include "replay/state_hash.h"
 #include "replay/thread_pool.h"
 #include "tests/replay/test_scenes.h"
+#include "tests/test_support.h"
 
 using namespace bitstep;
 
@@ -224,6 +225,9 @@ TEST_CASE("malformed replays are refused with the file, the JSON path and the re
       {head + "\"scene_hash\": " + hash + ", \"steps\": 1, \"hashes\": [" + hash +
            "], \"inputs\": [{\"step\": 1, \"type\": \"impulse\", \"body\": 1, \"impulse\": [1e9, 0, 0], \"point\": [0, 0, 0]}]}",
        "$.inputs[0].impulse"},
+      {head + "\"scene_hash\": " + hash + ", \"steps\": 1, \"hashes\": [" + hash +
+           "], \"inputs\": [{\"step\": 1, \"type\": \"drive\", \"car\": \"car.0\", \"throttle\": 1}]}",
+       "$.inputs[0].car: no car named \"car.0\" in the scene"},
       {"{\"format\": \"bitstep-scene\", \"version\": 1}", "$.format: expected \"bitstep-replay\""},
       {"{\"format\": \"bitstep-replay\", \"version\": 2}", "$.version: unsupported version 2"},
       {"{\"format\": \"bitstep-replay\", \"version\": 1, \"scene\": \"missing.json\"}", "missing.json: cannot read"},
@@ -514,4 +518,29 @@ TEST_CASE("inputs at their bounds replay in every build", "[replay][envelope]") 
   CHECK(hashes.size() == 30);
   CHECK(world.bodies().size() == 3);  // the spawn was admitted
   for (const Body& body : world.bodies()) CHECK(length(body.linear_velocity) <= envelope::max_linear_speed);
+}
+
+// The car's golden replay: its drive inputs set the controls from their
+// step on; the course is crossed, the crates pushed, the car stopped.
+TEST_CASE("car.replay.json drives the course: drive inputs steer the run", "[replay][car]") {
+  auto loaded = load_replay_file(scenes_dir + "/car.replay.json", true);
+  if (const auto* error = std::get_if<ReplayError>(&loaded)) FAIL(error->message());
+  const Replay& replay = std::get<Replay>(loaded);
+  REQUIRE(replay.inputs.size() == 4u);
+  CHECK(replay.inputs[0].kind == Input::Kind::drive);
+  CHECK(replay.inputs[0].controls.throttle == 0.7_fx);
+  CHECK(replay.inputs[3].controls.brake == Fixed::one());
+  World world(replay.scene.settings);
+  std::string reason;
+  REQUIRE(build_world(replay.scene, world, reason));
+  InputRun run(world);
+  for (int64_t step = 1; step <= replay.steps; ++step) {
+    apply_inputs(world, replay.inputs, step, run);
+    world.step();
+    if (step == 600) CHECK(world.cars()[0].controls.throttle == 0.5_fx);
+  }
+  const Body& chassis = world.bodies()[replay.scene.cars[0].chassis];
+  CHECK(bitstep::test::to_double(chassis.pose.position.z) > 60.0);   // past the crates' first place (48 m)
+  CHECK(bitstep::test::to_double(length(chassis.linear_velocity)) < 0.01);  // braked to rest
+  for (const WheelState& wheel : world.cars()[0].wheels) CHECK(wheel.on_ground);
 }

@@ -152,7 +152,7 @@ TEST_CASE("every shipped scene runs 2 s inside the envelope without an overflow"
   for (const char* name : {"bounce.json", "stack20.json", "stack50.json", "pyramid20.json", "wall128.json", "jenga.json",
                            "dominoes.json", "tables.json", "thrown.json", "incline.json", "slide_stop.json",
                            "spheres.json", "playground.json", "chains.json", "bridge.json", "ragdolls.json",
-                           "sensors.json"}) {
+                           "sensors.json", "car.json"}) {
     INFO(name);
     World world = load_world(name);
 #if defined(NDEBUG)

@@ -10,6 +10,7 @@
 #include "core/world.h"
 #include "fixed/decimal.h"
 #include "replay/generators.h"
+#include "replay/replay.h"
 #include "replay/scene.h"
 #include "fixed/splitmix64.h"
 
@@ -217,7 +218,7 @@ TEST_CASE("scene errors name the file, the JSON path and the reason", "[scene]")
           "sensor, shapes)");
     CHECK(error_of(R"({"format": "bitstep-scene", "version": 1, "setings": {}})") ==
           "f.json: $.setings: unknown key (known keys: format, version, description, settings, materials, bodies, "
-          "generators, joints)");
+          "generators, joints, cars)");
     CHECK(error_of(scene_text(R"({"shapes": [{"type": "sphere", "radius": 1, "half_extents": [1, 1, 1]}]})")) ==
           "f.json: $.bodies[0].shapes[0].half_extents: unknown key (known keys: type, radius, position, orientation)");
   }
@@ -593,4 +594,32 @@ TEST_CASE("collision filters: layer numbers in scenes and generators, errors wit
         "f.json: $.bodies[0].layers[0]: outside 0..31");
   CHECK(error_of(scene_text(R"({"collides_with": 3, )" + unit_box + "}")) ==
         "f.json: $.bodies[0].collides_with: expected an array of layer numbers 0..31, got a number");
+}
+
+TEST_CASE("cars: a chassis by name, wheels, parameters in range, errors with their paths", "[scene][car]") {
+  const std::string chassis = R"({"name": "c", "mass": 1000, "shapes": [{"type": "box", "half_extents": [0.9, 0.3, 2]}]})";
+  const std::string wheels = R"("wheels": [{"attachment": [0.8, -0.3, 1.4], "steered": true}, {"attachment": [0, -0.3, -1.4], "driven": true}])";
+  const Scene scene = load_ok(scene_text(chassis, R"("cars": [{"name": "car", "chassis": "c", "grip": 0.9, "rays_per_wheel": 3, )" + wheels + "}], "));
+  REQUIRE(scene.cars.size() == 1u);
+  CHECK(scene.cars[0].name == "car");
+  CHECK(scene.cars[0].chassis == 0u);
+  CHECK(scene.cars[0].def.grip == 0.9_fx);
+  CHECK(scene.cars[0].def.rays_per_wheel == 3);
+  REQUIRE(scene.cars[0].def.wheels.size() == 2u);
+  CHECK(scene.cars[0].def.wheels[0].steered);
+  CHECK(scene.cars[0].def.wheels[1].driven);
+  CHECK(scene.cars[0].def.stiffness == CarDef{}.stiffness);  // defaults from the struct
+  World world;
+  std::string reason;
+  REQUIRE(build_world(scene, world, reason));
+  CHECK(world.cars().size() == 1u);
+  CHECK(error_of(scene_text(chassis, R"("cars": [{"name": "car", "chassis": "d", )" + wheels + "}], ")) ==
+        "f.json: $.cars[0].chassis: no body named \"d\"");
+  CHECK(error_of(scene_text(chassis, R"("cars": [{"name": "car", "chassis": "c", "wheels": []}], )")) ==
+        "f.json: $.cars[0].wheels: expected an array of 1..8 wheels");
+  CHECK(error_of(scene_text(chassis, R"("cars": [{"name": "car", "chassis": "c", "grip": 11, )" + wheels + "}], ")) ==
+        "f.json: $.cars[0].grip: outside 0..10");
+  CHECK(error_of(scene_text(R"({"name": "s", "type": "static", "shapes": [{"type": "box", "half_extents": [1, 1, 1]}]})",
+                            R"("cars": [{"name": "car", "chassis": "s", )" + wheels + "}], ")) ==
+        "f.json: $.cars[0].chassis: the chassis must be a dynamic body");
 }

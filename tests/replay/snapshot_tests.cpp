@@ -272,3 +272,43 @@ TEST_CASE("a world with sensors restores mid-overlap and reports the same events
   }
   CHECK(sensor_ends == 4);  // cube.1, cube.2, cube.3 and the ball leave the zone after step 40
 }
+
+// Cars are state (their definitions and controls): a car driving and
+// steering restores and continues with the same hash chain, and a world
+// without cars keeps its old hash.
+TEST_CASE("a world with a driven car restores and continues identically", "[snapshot][car]") {
+  World straight = world_of("slide_stop.json");
+  const uint64_t before_car = state_hash(straight);
+  BodyDef body;
+  body.pose.position = {Fixed{}, 3.0_fx, -5.0_fx};
+  body.mass = Fixed::from_int(1000);
+  body.shapes.push_back({ShapeType::box, {0.9_fx, 0.3_fx, 2.0_fx}, {}, {}, {}});
+  const BodyId chassis = straight.create_body(body).id;
+  CarDef def;
+  def.chassis = chassis;
+  def.rays_per_wheel = 3;
+  for (int w = 0; w < 4; ++w) {
+    def.wheels.push_back({{w % 2 == 0 ? 0.8_fx : -0.8_fx, -0.3_fx, w < 2 ? 1.4_fx : -1.4_fx}, w >= 2, w < 2});
+  }
+  std::string error;
+  const CarId car = straight.create_car(def, error);
+  REQUIRE(error.empty());
+  CHECK(state_hash(straight) != before_car);
+  std::vector<uint64_t> chain;
+  std::vector<uint8_t> image;
+  for (int step = 1; step <= 180; ++step) {
+    if (step == 60) straight.set_car_controls(car, {Fixed::one(), Fixed{}, 0.4_fx});
+    straight.step();
+    chain.push_back(state_hash(straight));
+    if (step == 90) image = snapshot(straight);
+  }
+  World world;
+  REQUIRE_FALSE(restore(image, world).has_value());
+  REQUIRE(snapshot(world) == image);
+  REQUIRE(world.cars().size() == 1u);
+  CHECK(world.cars()[0].controls.steer == 0.4_fx);
+  for (int step = 91; step <= 180; ++step) {
+    world.step();
+    REQUIRE(state_hash(world) == chain[static_cast<size_t>(step - 1)]);
+  }
+}

@@ -1,0 +1,86 @@
+// The second seed's raycast car: a chassis body on wheels that are rays,
+// not bodies. "The car just uses ray casts for the suspension (you can set
+// it up to use multiple rays per wheel). Drive forces are applied at each
+// wheel to both the chassis, the wheel, and the object that it touches."
+// Each step, before the forces are integrated, every wheel casts its rays
+// (core/query.h) down the chassis's -y from its attachment, and where it
+// touches: a spring and damper along the suspension, and tyre forces in the
+// ground's plane (drive, brake, and the side force that stops sliding
+// sideways) within the friction circle of the suspension's load. Each
+// force goes to the chassis and, opposite, to the body under the wheel.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/body.h"
+
+namespace bitstep {
+
+struct WheelDef {
+  Vec3 attachment;  // m, the suspension's top in the chassis frame (about its centre of mass)
+  bool driven = false;
+  bool steered = false;
+};
+
+// Defaults: a 1,000-1,500 kg road car.
+struct CarDef {
+  BodyId chassis;
+  std::vector<WheelDef> wheels;            // 1..8; the car faces the chassis's +z, its up is +y
+  Fixed wheel_radius = 0.35_fx;            // m
+  Fixed rest_length = 0.3_fx;              // m, attachment to wheel centre, unloaded
+  Fixed stiffness = 40000.0_fx;            // N/m per wheel
+  Fixed damping = 3000.0_fx;               // N s/m per wheel
+  Fixed grip = 1.0_fx;                     // the tyre's friction, mixed with the ground's (geometric mean)
+  Fixed drive_force = 2000.0_fx;           // N per driven wheel at full throttle
+  Fixed brake_force = 10000.0_fx;          // N per wheel at full brake (the grip bounds it)
+  Fixed max_steer = 0.5_fx;                // rad, the steered wheels' turn at full steer
+  int rays_per_wheel = 1;                  // 1..8, spread along the wheel's forward direction
+};
+
+// The driver's controls, kept until changed (replay inputs set them).
+struct CarControls {
+  Fixed throttle;  // -1..1 (negative: reverse)
+  Fixed brake;     // 0..1
+  Fixed steer;     // -1..1 (positive: left, turning about +y)
+  friend bool operator==(const CarControls&, const CarControls&) = default;
+};
+
+// What a wheel found at the start of the last step (not state: found again
+// every step).
+struct WheelState {
+  bool on_ground = false;
+  Fixed compression;        // m, of the suspension (0 at rest_length)
+  Fixed suspension_force;   // N
+  Vec3 point, normal;       // where the wheel touches, and the ground's normal
+  Vec3 tyre_force;          // N, in the ground's plane, on the chassis
+  uint32_t ground = UINT32_MAX;  // the touched body's slot
+};
+
+struct Car {
+  bool alive = false;
+  CarDef def;
+  CarControls controls;
+  std::vector<WheelState> wheels;
+};
+
+struct CarId {
+  uint32_t index = UINT32_MAX;
+  bool valid() const { return index != UINT32_MAX; }
+};
+
+// Why a car definition is refused ("wheels: 1..8", ...), empty when fine.
+std::string car_def_error(const CarDef& def, const std::vector<Body>& bodies);
+
+class WorldQuery;
+
+// Every live car's wheel forces, added to the chassis's and the touched
+// bodies' pending forces (World::step calls it first, so they are
+// integrated with gravity). `query` is a snapshot of the world at the
+// step's start. Sleeping bodies a car pushes, and a sleeping chassis whose
+// driver touches the controls, are listed in `to_wake`.
+void drive_cars(const WorldQuery& query, Fixed dt, std::vector<Body>& bodies, std::vector<Car>& cars,
+                std::vector<uint32_t>& to_wake);
+
+}  // namespace bitstep

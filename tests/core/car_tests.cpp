@@ -1,0 +1,122 @@
+// The raycast car (core/car.h) against analytic answers: the static
+// compression of its springs, acceleration F / m, braking distance
+// v^2 / (2 mu g), and its state through a snapshot.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <string>
+
+#include "tests/core/test_world.h"
+#include "tests/test_support.h"
+
+using namespace bitstep;
+using bitstep::test::TestWorld;
+using bitstep::test::to_double;
+
+namespace {
+
+constexpr double g = 9.81, mass = 1000, stiffness = 40000;
+
+Material tarmac() {
+  Material m;
+  m.static_friction = m.dynamic_friction = 0.8_fx;
+  return m;
+}
+
+// A 1,000 kg chassis 1.8 x 0.6 x 4 m, wheels at (+-0.8, -0.3, +-1.4): the
+// rear driven, the front steered; defaults otherwise (r 0.35 m, rest
+// length 0.3 m, 40,000 N/m, 3,000 N s/m, 2,000 N per driven wheel).
+struct TestCar {
+  TestWorld t;
+  BodyId chassis;
+  CarId car;
+  explicit TestCar(Settings settings = {}) : t(settings) {
+    t.add_ground(tarmac());
+    BodyDef body;
+    body.pose.position = {Fixed{}, 0.9_fx, Fixed{}};
+    body.mass = Fixed::from_int(1000);
+    body.shapes.push_back({ShapeType::box, {0.9_fx, 0.3_fx, 2.0_fx}, {}, {}, {}});
+    chassis = t.world.create_body(body).id;
+    CarDef def;
+    def.chassis = chassis;
+    for (int w = 0; w < 4; ++w) {
+      const bool front = w < 2;
+      def.wheels.push_back({{w % 2 == 0 ? 0.8_fx : -0.8_fx, -0.3_fx, front ? 1.4_fx : -1.4_fx}, !front, front});
+    }
+    std::string error;
+    car = t.world.create_car(def, error);
+    REQUIRE(error.empty());
+  }
+  const Car& state() const { return t.world.cars()[car.index]; }
+  const Body& body() const { return t.world.body(chassis); }
+};
+
+}  // namespace
+
+TEST_CASE("a parked car settles to its springs' static compression within 1 mm and does not creep", "[car]") {
+  TestCar c;
+  c.t.simulate_steps(300);
+  const double compression = mass * g / (4 * stiffness);  // 61.3 mm
+  for (const WheelState& wheel : c.state().wheels) {
+    REQUIRE(wheel.on_ground);
+    CHECK(std::abs(to_double(wheel.compression) - compression) < 0.001);
+  }
+  // The chassis's centre: wheel bottom 0.65 m below the attachments, which
+  // are 0.3 m below it.
+  CHECK(std::abs(to_double(c.body().pose.position.y) - (0.65 - compression + 0.3)) < 0.001);
+  const Vec3 settled = c.body().pose.position;
+  c.t.simulate_steps(600);
+  CHECK(to_double(length(c.body().pose.position - settled)) < 0.001);
+}
+
+TEST_CASE("full throttle accelerates the car at the drive force over its mass within 2%", "[car]") {
+  TestCar c;
+  c.t.simulate_steps(180);
+  c.t.world.set_car_controls(c.car, {Fixed::one(), Fixed{}, Fixed{}});
+  const double v0 = to_double(c.body().linear_velocity.z);
+  c.t.simulate_steps(120);  // 2 s
+  const double a = (to_double(c.body().linear_velocity.z) - v0) / 2.0;
+  INFO("acceleration " << a << " m/s^2");
+  CHECK(std::abs(a - 2 * 2000 / mass) < 0.02 * 4.0);
+  CHECK(std::abs(to_double(c.body().pose.position.x)) < 0.001);  // straight ahead
+}
+
+TEST_CASE("braking from 20 m/s stops within 3% of v^2 / (2 mu g)", "[car]") {
+  TestCar c;
+  c.t.simulate_steps(180);
+  c.t.world.set_velocity(c.chassis, {Fixed{}, Fixed{}, 20.0_fx}, {});
+  c.t.world.set_car_controls(c.car, {Fixed{}, Fixed::one(), Fixed{}});
+  const double z0 = to_double(c.body().pose.position.z);
+  int steps = 0;
+  while (to_double(c.body().linear_velocity.z) > 0.001 && steps < 600) {
+    c.t.world.step();
+    ++steps;
+  }
+  const double mu = std::sqrt(1.0 * 0.8);  // the tyre's grip and the ground's, mixed
+  const double expected = 20.0 * 20.0 / (2 * mu * g);
+  const double distance = to_double(c.body().pose.position.z) - z0;
+  INFO("stopped after " << distance << " m in " << steps << " steps; v^2 / (2 mu g) = " << expected << " m");
+  CHECK(std::abs(distance - expected) < 0.03 * expected);
+}
+
+TEST_CASE("steering turns the car toward +x for a positive steer", "[car]") {
+  TestCar c;
+  c.t.simulate_steps(120);
+  c.t.world.set_car_controls(c.car, {0.5_fx, Fixed{}, 0.5_fx});
+  c.t.simulate_steps(180);
+  CHECK(to_double(c.body().pose.position.x) > 0.5);
+  CHECK(to_double(c.body().angular_velocity.y) > 0.05);
+}
+
+TEST_CASE("a driven car restores from a snapshot and continues bit for bit", "[car][snapshot]") {
+  // tests/replay covers snapshots; here the world copy keeps every car field.
+  TestCar c;
+  c.t.world.set_car_controls(c.car, {Fixed::one(), Fixed{}, 0.3_fx});
+  c.t.simulate_steps(60);
+  REQUIRE(c.state().controls.throttle == Fixed::one());
+  REQUIRE(c.state().controls.steer == 0.3_fx);
+  // Removing the chassis kills the car.
+  c.t.world.remove_body(c.chassis);
+  CHECK_FALSE(c.state().alive);
+  c.t.simulate_steps(2);
+}
