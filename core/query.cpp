@@ -79,7 +79,8 @@ uint32_t WorldQuery::build(uint32_t first, uint32_t count) {
   const int axis = spread.x >= spread.y && spread.x >= spread.z ? 0 : (spread.y >= spread.z ? 1 : 2);
   const uint32_t half = count / 2;
   const auto key = [axis](const Leaf& l) { return std::tuple(doubled_centre(l.bounds, axis), l.body, l.shape); };
-  std::nth_element(leaves_.begin() + first, leaves_.begin() + first + half, leaves_.begin() + first + count,
+  const auto at = [&](uint32_t i) { return leaves_.begin() + static_cast<std::ptrdiff_t>(i); };
+  std::nth_element(at(first), at(first + half), at(first + count),
                    [&](const Leaf& a, const Leaf& b) { return key(a) < key(b); });
   const uint32_t left = build(first, half);
   const uint32_t right = build(first + half, count - half);
