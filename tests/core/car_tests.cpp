@@ -120,3 +120,51 @@ TEST_CASE("a driven car restores from a snapshot and continues bit for bit", "[c
   CHECK_FALSE(c.state().alive);
   c.t.simulate_steps(2);
 }
+
+TEST_CASE("over a 10 cm bump at 15 m/s no wheel ray starts inside the ground and the chassis never touches it",
+          "[car]") {
+  TestWorld t;
+  t.add_ground(tarmac());
+  BodyDef bump;
+  bump.type = BodyType::static_body;
+  bump.pose = {{Fixed{}, Fixed{}, 20.0_fx}, bitstep::test::about_degrees({Fixed{}, Fixed{}, Fixed::one()}, 90.0_fx)};
+  bump.shapes.push_back({ShapeType::capsule, {}, 0.1_fx, 3.0_fx, {}});  // lying across the road, 10 cm high
+  bump.material = tarmac();
+  const BodyId bump_id = t.world.create_body(bump).id;
+  BodyDef body;
+  body.pose.position = {Fixed{}, 0.9_fx, Fixed{}};
+  body.mass = Fixed::from_int(1000);
+  body.shapes.push_back({ShapeType::box, {0.9_fx, 0.3_fx, 2.0_fx}, {}, {}, {}});
+  const BodyId chassis = t.world.create_body(body).id;
+  CarDef def;
+  def.chassis = chassis;
+  def.rays_per_wheel = 3;
+  for (int w = 0; w < 4; ++w) {
+    def.wheels.push_back({{w % 2 == 0 ? 0.8_fx : -0.8_fx, -0.3_fx, w < 2 ? 1.4_fx : -1.4_fx}, w >= 2, w < 2});
+  }
+  std::string error;
+  t.world.create_car(def, error);
+  REQUIRE(error.empty());
+  t.simulate_steps(120);
+  t.world.set_velocity(chassis, {Fixed{}, Fixed{}, 15.0_fx}, {});
+  const Fixed full = def.rest_length + def.wheel_radius;
+  double deepest = 0;
+  bool met_bump = false;
+  for (int step = 0; step < 150; ++step) {  // 2.5 s: 37 m, over the bump at 20 m
+    t.world.step();
+    for (const WheelState& wheel : t.world.cars()[0].wheels) {
+      if (!wheel.on_ground) continue;
+      CHECK(wheel.compression < full);  // the ray did not start inside
+      deepest = std::max(deepest, to_double(wheel.compression));
+      met_bump = met_bump || wheel.ground == bump_id.index;
+    }
+    for (const Contact& c : t.world.contacts()) {
+      if (c.key.body_b != chassis.index && c.key.body_a != chassis.index) continue;
+      CHECK_FALSE(touches(c.manifold));  // the chassis touches neither the ground nor the bump
+    }
+  }
+  INFO("deepest compression " << deepest << " m");
+  CHECK(met_bump);
+  CHECK(deepest < to_double(full) - 0.1);
+  CHECK(to_double(t.world.body(chassis).pose.position.z) > 30.0);
+}

@@ -544,3 +544,33 @@ TEST_CASE("car.replay.json drives the course: drive inputs steer the run", "[rep
   CHECK(bitstep::test::to_double(length(chassis.linear_velocity)) < 0.01);  // braked to rest
   for (const WheelState& wheel : world.cars()[0].wheels) CHECK(wheel.on_ground);
 }
+
+// The second seed's "drive into a wall and squash a box" case with the real
+// car, both pipelines: the throttle held down, the chassis pins the 1 kg
+// cube against the wall and never pushes it more than slop (0) + 5 mm in.
+TEST_CASE("car_wall: the car pins the cube against the wall without pushing it in", "[replay][car]") {
+  for (const char* name : {"car_wall.replay.json", "car_wall.guendelman.replay.json"}) {
+    INFO(name);
+    auto loaded = load_replay_file(scenes_dir + "/" + name, true);
+    if (const auto* error = std::get_if<ReplayError>(&loaded)) FAIL(error->message());
+    const Replay& replay = std::get<Replay>(loaded);
+    World world(replay.scene.settings);
+    std::string reason;
+    REQUIRE(build_world(replay.scene, world, reason));
+    InputRun run(world);
+    double deepest = 0, pinned_steps = 0;
+    for (int64_t step = 1; step <= 300; ++step) {  // the replay's 120 steps, then 3 s more at full throttle
+      apply_inputs(world, replay.inputs, step, run);
+      world.step();
+      const double cube_left = bitstep::test::to_double(world.bodies()[2].pose.position.x) - 0.5;  // the wall's face at x = 0
+      deepest = std::max(deepest, -cube_left);
+      bool touching_car = false;
+      for (const Contact& c : world.contacts()) touching_car = touching_car || (c.key.body_a == 2 && c.key.body_b == 3 && touches(c.manifold));
+      pinned_steps += touching_car ? 1 : 0;
+    }
+    INFO("deepest " << deepest * 1000 << " mm into the wall; pinned " << pinned_steps << " steps");
+    CHECK(deepest < 0.005);
+    CHECK(pinned_steps > 200);  // the car holds it there
+    CHECK(world.cars()[0].controls.throttle == Fixed::one());
+  }
+}
