@@ -66,6 +66,25 @@ WheelState touch(const WorldQuery& query, const CarDef& def, const Body& chassis
 
 }  // namespace
 
+Aabb car_region(const std::vector<Car>& cars, const std::vector<Body>& bodies) {
+  bool any = false;
+  Aabb region;
+  for (const Car& car : cars) {
+    if (!car.alive) continue;
+    const Body& chassis = bodies[car.def.chassis.index];
+    Fixed reach;
+    for (const WheelDef& w : car.def.wheels) {
+      reach = max(reach, max(abs(w.attachment.x), max(abs(w.attachment.y), abs(w.attachment.z))));
+    }
+    reach = reach * Fixed::from_int(2) + car.def.rest_length + car.def.wheel_radius + car.def.wheel_radius;
+    const Vec3 c = chassis.pose.position, r{reach, reach, reach};
+    const Aabb box{c - r, c + r};
+    region = any ? region.merged(box) : box;
+    any = true;
+  }
+  return region;
+}
+
 void drive_cars(const WorldQuery& query, Fixed dt, std::vector<Body>& bodies, std::vector<Car>& cars,
                 std::vector<uint32_t>& to_wake) {
   for (Car& car : cars) {

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "core/aabb.h"
 #include "core/body.h"
 
 namespace bitstep {
@@ -74,6 +75,11 @@ struct CarId {
 std::string car_def_error(const CarDef& def, const std::vector<Body>& bodies);
 
 class WorldQuery;
+
+// Where the live cars' wheel rays can reach: every chassis's bounds grown
+// by its farthest attachment plus the suspension and the wheel (a
+// WorldQuery over this region answers their rays exactly).
+Aabb car_region(const std::vector<Car>& cars, const std::vector<Body>& bodies);
 
 // Every live car's wheel forces, added to the chassis's and the touched
 // bodies' pending forces (World::step calls it first, so they are

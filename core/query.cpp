@@ -40,14 +40,22 @@ bool before(const QueryHit& a, const QueryHit& b) {
 
 }  // namespace
 
-WorldQuery::WorldQuery(const World& world) : world_(&world) {
+WorldQuery::WorldQuery(const World& world) : WorldQuery(world, std::nullopt) {}
+
+WorldQuery::WorldQuery(const World& world, const Aabb& region) : WorldQuery(world, std::optional<Aabb>(region)) {}
+
+WorldQuery::WorldQuery(const World& world, const std::optional<Aabb>& region) : world_(&world) {
   const std::vector<Body>& bodies = world.bodies();
   for (uint32_t slot = 0; slot < bodies.size(); ++slot) {
     const Body& body = bodies[slot];
     if (!body.alive) continue;
     for (uint32_t s = 0; s < body.shapes.size(); ++s) {
       const Leaf leaf{slot, s, shape_aabb({&body.shapes[s], compose(body.pose, body.shapes[s].local)})};
-      (body.shapes[s].type == ShapeType::plane ? planes_ : leaves_).push_back(leaf);
+      if (body.shapes[s].type == ShapeType::plane) {
+        planes_.push_back(leaf);
+      } else if (!region || leaf.bounds.overlaps(*region)) {
+        leaves_.push_back(leaf);
+      }
     }
   }
   if (!leaves_.empty()) {

@@ -46,6 +46,10 @@ struct ShapeOverlap {
 class WorldQuery {
  public:
   explicit WorldQuery(const World& world);
+  // Only the shapes whose bounds overlap `region` (and every plane): exact
+  // for questions that stay inside it (a car's wheel rays), and cheaper to
+  // build in a large world.
+  WorldQuery(const World& world, const Aabb& region);
 
   // A ray from `origin` along `translation` (its length is the ray's): the
   // first shape it meets, or every shape it meets, nearest first. Shapes are
@@ -82,6 +86,7 @@ class WorldQuery {
     uint32_t left, right;    // children otherwise
   };
 
+  WorldQuery(const World& world, const std::optional<Aabb>& region);
   uint32_t build(uint32_t first, uint32_t count);
   WorldShape placed(const Leaf& leaf) const;
   QueryHit hit_of(const Leaf& leaf, const Ray& ray, const RayEntry& entry, Fixed radius) const;

@@ -359,7 +359,7 @@ void World::step() {
   // Cars first: their wheel forces join the pending forces (core/car.h).
   if (std::any_of(cars_.begin(), cars_.end(), [](const Car& car) { return car.alive; })) {
     woken_by_cars_.clear();
-    drive_cars(WorldQuery(*this), settings_.dt, bodies_, cars_, woken_by_cars_);
+    drive_cars(WorldQuery(*this, car_region(cars_, bodies_)), settings_.dt, bodies_, cars_, woken_by_cars_);
     for (const uint32_t slot : woken_by_cars_) wake_if_asleep(slot);
   }
   std::vector<BodyRates>& start = solver_scratch_.start_velocities;
