@@ -121,11 +121,13 @@ TEST_CASE("shipped scenes have the documented body counts", "[scene]") {
   CHECK(load_file_ok("incline.json").bodies.size() == 5);
   CHECK(load_file_ok("slide_stop.json").bodies.size() == 2);
   CHECK(load_file_ok("spheres.json").bodies.size() == 60 + 2);
-  // Ground and pit, the stacks, pyramid, jenga, dominoes, tables, pile,
-  // thrown cubes, balls; the chain (its anchor and 10 links), 3 ragdolls.
+  // Ground, pit and the car's chassis, the stacks, pyramid, jenga,
+  // dominoes, tables, pile, thrown cubes, balls; the chain (its anchor and
+  // 10 links), 3 ragdolls; one car.
   const Scene playground = load_file_ok("playground.json");
-  CHECK(playground.bodies.size() == 2 + 10 + 10 + 55 + 54 + 30 + 5 + 15 + 50 + 40 + 11 + 3 * ragdoll_parts_count);
+  CHECK(playground.bodies.size() == 3 + 10 + 10 + 55 + 54 + 30 + 5 + 15 + 50 + 40 + 11 + 3 * ragdoll_parts_count);
   CHECK(playground.joints.size() == 10 + 3 * ragdoll_joints_count);
+  CHECK(playground.cars.size() == 1u);
 }
 
 TEST_CASE("shipped scenes: what the physics tests rely on", "[scene]") {
