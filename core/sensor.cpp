@@ -47,10 +47,9 @@ void update_sensor_overlaps(const std::vector<Body>& bodies, const std::vector<B
 
 void touching_keys(const std::vector<Contact>& contacts, std::vector<ContactKey>& keys) {
   keys.clear();
-  for (const Contact& c : contacts) {
+  for (const Contact& c : contacts) {  // sorted by key already
     if (touches(c.manifold)) keys.push_back(c.key);
   }
-  std::sort(keys.begin(), keys.end());
 }
 
 void append_changes(const std::vector<ContactKey>& before, const std::vector<ContactKey>& after, EventKind begin,

@@ -43,7 +43,7 @@ struct WorldEvent {
 void update_sensor_overlaps(const std::vector<Body>& bodies, const std::vector<BodyPair>& pairs,
                             std::vector<SensorOverlap>& overlaps, std::vector<SensorOverlap>& previous);
 
-// The keys of the contacts that touch, sorted.
+// The keys of the contacts that touch, in the contacts' (key) order.
 void touching_keys(const std::vector<Contact>& contacts, std::vector<ContactKey>& keys);
 
 // What began and ended between two sorted key lists, appended to `events`

@@ -74,6 +74,9 @@ World World::from_state(const Settings& settings, uint64_t step_count, std::vect
   world.free_joint_slots_ = std::move(free_joint_slots);
   world.sensor_overlaps_ = std::move(sensor_overlaps);
   world.cars_ = std::move(cars);
+  for (const Body& body : world.bodies_) {
+    if (body.alive) world.count_special(body, +1);
+  }
   return world;
 }
 
@@ -120,6 +123,7 @@ CreateResult World::create_body(const BodyDef& def) {
     bodies_.push_back(std::move(body));
   }
   result.id = {index, bodies_[index].generation};
+  count_special(bodies_[index], +1);
   reset_sleep(settings_, bodies_[index]);
   if (settings_.sleep_method != SleepMethod::off && !bodies_[index].asleep) {
     // A spawn touching sleeping bodies wakes their islands.
@@ -152,8 +156,15 @@ void World::set_contact_reuse(bool on) {
   solver_scratch_.row_cache.entries.clear();
 }
 
+void World::count_special(const Body& body, int change) {
+  const auto step = static_cast<uint32_t>(change);  // +1 or -1, modulo 2^32
+  if (body.filter != CollisionFilter{} || body.sensor) special_bodies_ += step;
+  if (body.sensor) sensor_bodies_ += step;
+}
+
 bool World::remove_body(BodyId id) {
   if (!is_alive(id)) return false;
+  count_special(bodies_[id.index], -1);
   for (uint32_t j = 0; j < joints_.size(); ++j) {
     if (joints_[j].alive && (joints_[j].body_a == id.index || joints_[j].body_b == id.index)) {
       remove_joint({j, joints_[j].generation});
@@ -353,9 +364,11 @@ void World::wake_islands_of(const std::vector<uint32_t>& slots) {
 
 void World::step() {
   // The events compare what touches and overlaps before and after the step.
-  touching_keys(contacts_, keys_before_);
-  sensor_keys_before_.clear();
-  for (const SensorOverlap& o : sensor_overlaps_) sensor_keys_before_.push_back(o.key);
+  if (events_on_) {
+    touching_keys(contacts_, keys_before_);
+    sensor_keys_before_.clear();
+    for (const SensorOverlap& o : sensor_overlaps_) sensor_keys_before_.push_back(o.key);
+  }
   // Cars first: their wheel forces join the pending forces (core/car.h).
   if (std::any_of(cars_.begin(), cars_.end(), [](const Car& car) { return car.alive; })) {
     woken_by_cars_.clear();
@@ -379,6 +392,7 @@ void World::step() {
   }
   ++step_count_;
   events_.clear();
+  if (!events_on_) return;
   touching_keys(contacts_, keys_after_);
   append_changes(keys_before_, keys_after_, EventKind::contact_begin, EventKind::contact_end, events_);
   keys_after_.clear();
@@ -527,8 +541,7 @@ void World::find_contacts() {
   find_pairs(proxies_, pairs_, broadphase_scratch_);
   update_contacts(bodies_, contact_pairs(), settings_, turn_speed_, contacts_, previous_contacts_,
                   narrowphase_cache_);
-  const bool sensors = std::any_of(bodies_.begin(), bodies_.end(), [](const Body& b) { return b.alive && b.sensor; });
-  if (sensors || !sensor_overlaps_.empty()) update_sensor_overlaps(bodies_, pairs_, sensor_overlaps_, previous_overlaps_);
+  if (sensor_bodies_ > 0 || !sensor_overlaps_.empty()) update_sensor_overlaps(bodies_, pairs_, sensor_overlaps_, previous_overlaps_);
 }
 
 // Two bodies joined by a joint do not collide (a chain's links meet at
@@ -540,10 +553,7 @@ const std::vector<BodyPair>& World::contact_pairs() {
   for (const Joint& j : joints_) {
     if (j.alive) joined_.push_back({std::min(j.body_a, j.body_b), std::max(j.body_a, j.body_b)});
   }
-  const bool filtered = std::any_of(bodies_.begin(), bodies_.end(), [](const Body& b) {
-    return b.alive && (b.filter != CollisionFilter{} || b.sensor);
-  });
-  if (joined_.empty() && !filtered) return pairs_;
+  if (joined_.empty() && special_bodies_ == 0) return pairs_;
   std::sort(joined_.begin(), joined_.end());
   contact_pairs_.clear();
   for (const BodyPair& pair : pairs_) {

@@ -236,6 +236,7 @@ int run_scene_command(int argc, char** argv) {
   IntervalMaxima maxima;
   long long all_asleep_step = -1;  // the world's step counter when every dynamic body first slept
   std::vector<std::string> event_json;  // --events --json
+  world.set_events(options.events);
   for (long long step = 1; step <= steps; ++step) {
     const auto began = Clock::now();
     world.step();

@@ -31,6 +31,7 @@ struct Logged {
 };
 
 std::vector<Logged> run_logging(World& world, int steps) {
+  world.set_events(true);
   std::vector<Logged> log;
   for (int i = 0; i < steps; ++i) {
     world.step();
@@ -50,6 +51,7 @@ TEST_CASE("a box falls through a sensor as if it were not there, which reports i
   plain.add_ground();
   const BodyId same = plain.add_box({Fixed{}, 3.0_fx, Fixed{}}, {0.25_fx, 0.25_fx, 0.25_fx});
   std::vector<Logged> log;
+  t.world.set_events(true);
   for (int i = 0; i < 120; ++i) {
     t.world.step();
     plain.world.step();

@@ -248,6 +248,7 @@ TEST_CASE("a world with collision filters restores and continues identically", "
 // world reports it leaving at the same step, with the same hash chain.
 TEST_CASE("a world with sensors restores mid-overlap and reports the same events", "[snapshot][sensor]") {
   World straight = world_of("sensors.json");
+  straight.set_events(true);
   std::vector<uint64_t> chain;
   std::vector<std::vector<WorldEvent>> events;
   std::vector<uint8_t> image;
@@ -263,6 +264,7 @@ TEST_CASE("a world with sensors restores mid-overlap and reports the same events
   World world;
   REQUIRE_FALSE(restore(image, world).has_value());
   REQUIRE(world.sensor_overlaps().size() == 1u);
+  world.set_events(true);
   int sensor_ends = 0;
   for (int step = 41; step <= 120; ++step) {
     world.step();
