@@ -144,6 +144,15 @@ inline void add_point(Manifold& out, Vec3 position, Fixed depth, FeatureId featu
 // the quotient lies inside (so it cannot overflow).
 Fixed clamped_ratio(Fixed numerator, Fixed denominator);
 
+// Beyond any ray or cast (m): path_ratio clamps quotients that would pass it.
+inline constexpr Fixed far_distance = Fixed::from_int(1 << 20);
+
+// gap / rate (|rate| <= 1, rate != 0) for distances along a ray or a cast's
+// path, or +-far_distance where the quotient would pass it: |rate|
+// far_distance cannot overflow, and the comparison keeps the division
+// inside Q32.32.
+Fixed path_ratio(Fixed gap, Fixed rate);
+
 // Closest points of the segments p1 + s d1 and p2 + t d2, s, t in [0, 1]
 // (Ericson, Real-Time Collision Detection 5.1.9). Parallel segments give
 // s = 0 and the matching t. Inputs relative to a nearby origin (lengths and

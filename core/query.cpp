@@ -101,11 +101,10 @@ WorldShape WorldQuery::placed(const Leaf& leaf) const {
   return {&body.shapes[leaf.shape], compose(body.pose, body.shapes[leaf.shape].local)};
 }
 
-QueryHit WorldQuery::hit_of(const Leaf& leaf, const Ray& ray, const RayEntry& entry, Fixed radius) const {
+QueryHit WorldQuery::hit_of(const Leaf& leaf, const Ray& ray, const ShapeEntry& entry) const {
   const Body& body = world_->bodies()[leaf.body];
-  const Vec3 centre = ray.origin + ray.direction * entry.distance;
-  return {{leaf.body, body.generation}, leaf.shape, min(entry.distance / ray.length, Fixed::one()),
-          centre - entry.normal * radius, entry.normal};
+  return {{leaf.body, body.generation}, leaf.shape, min(entry.distance / ray.length, Fixed::one()), entry.point,
+          entry.normal};
 }
 
 // Calls visit(leaf) for every leaf of the tree whose bounds pass
@@ -137,28 +136,28 @@ bool WorldQuery::sees(const Leaf& leaf, const QueryFilter& filter) const {
 }
 
 // Calls visit(leaf) for every plane and every leaf whose bounds, grown by
-// radius, the ray enters within its length (which visit may shorten), of
-// the bodies the filter sees.
+// `reach` along each axis, the ray enters within its length (which visit
+// may shorten), of the bodies the filter sees.
 template <typename Visit>
-void WorldQuery::visit_along(const Ray& ray, Fixed radius, const QueryFilter& filter, Visit&& visit) const {
+void WorldQuery::visit_along(const Ray& ray, Vec3 reach, const QueryFilter& filter, Visit&& visit) const {
   auto seen = [&](const Leaf& leaf) {
     if (sees(leaf, filter)) visit(leaf);
   };
   for (const Leaf& plane : planes_) seen(plane);
   Fixed distance;
-  descend([&](const Aabb& bounds) { return ray_enters(bounds.expanded(radius), ray, distance); }, seen);
+  descend([&](const Aabb& bounds) { return ray_enters(Aabb{bounds.min - reach, bounds.max + reach}, ray, distance); },
+          seen);
 }
 
-std::optional<QueryHit> WorldQuery::cast_nearest(Fixed radius, Vec3 origin, Vec3 translation,
-                                                 const QueryFilter& filter) const {
-  const std::optional<Ray> full = ray_of(origin, translation);
-  if (!full || radius < Fixed{}) return std::nullopt;
-  Ray ray = *full;  // shortened to the nearest hit so far: farther boxes are skipped
+template <typename Enters>
+std::optional<QueryHit> WorldQuery::cast_nearest(const Ray& full, Vec3 reach, const QueryFilter& filter,
+                                                 Enters&& enters) const {
+  Ray ray = full;  // shortened to the nearest hit so far: farther boxes are skipped
   std::optional<QueryHit> nearest;
-  visit_along(ray, radius, filter, [&](const Leaf& leaf) {
-    RayEntry entry;
-    if (!ray_enters(placed(leaf), ray, radius, entry)) return;
-    QueryHit hit = hit_of(leaf, *full, entry, radius);
+  visit_along(ray, reach, filter, [&](const Leaf& leaf) {
+    ShapeEntry entry;
+    if (!enters(placed(leaf), ray, entry)) return;
+    QueryHit hit = hit_of(leaf, full, entry);
     if (nearest && !before(hit, *nearest)) return;
     nearest = hit;
     ray.length = entry.distance;
@@ -166,32 +165,93 @@ std::optional<QueryHit> WorldQuery::cast_nearest(Fixed radius, Vec3 origin, Vec3
   return nearest;
 }
 
-void WorldQuery::cast_all(Fixed radius, Vec3 origin, Vec3 translation, std::vector<QueryHit>& hits,
-                          const QueryFilter& filter) const {
+template <typename Enters>
+void WorldQuery::cast_all(const Ray& ray, Vec3 reach, std::vector<QueryHit>& hits, const QueryFilter& filter,
+                          Enters&& enters) const {
   hits.clear();
-  const std::optional<Ray> ray = ray_of(origin, translation);
-  if (!ray || radius < Fixed{}) return;
-  visit_along(*ray, radius, filter, [&](const Leaf& leaf) {
-    RayEntry entry;
-    if (ray_enters(placed(leaf), *ray, radius, entry)) hits.push_back(hit_of(leaf, *ray, entry, radius));
+  visit_along(ray, reach, filter, [&](const Leaf& leaf) {
+    ShapeEntry entry;
+    if (enters(placed(leaf), ray, entry)) hits.push_back(hit_of(leaf, ray, entry));
   });
   std::sort(hits.begin(), hits.end(), before);
 }
 
+namespace {
+
+// A ray (radius 0) or a sphere's centre against one shape.
+auto ball_enters(Fixed radius) {
+  return [radius](const WorldShape& target, const Ray& ray, ShapeEntry& entry) {
+    RayEntry e;
+    if (!ray_enters(target, ray, radius, e)) return false;
+    entry = e.distance == Fixed{} ? ShapeEntry{Fixed{}, ray.origin, -ray.direction}
+                                  : ShapeEntry{e.distance, mul_add(ray.direction, e.distance, ray.origin) -
+                                                               e.normal * radius,
+                                               e.normal};
+    return true;
+  };
+}
+
+Vec3 ball_reach(Fixed radius) { return {radius, radius, radius}; }
+
+}  // namespace
+
 std::optional<QueryHit> WorldQuery::cast_ray(Vec3 origin, Vec3 translation, const QueryFilter& filter) const {
-  return cast_nearest(Fixed{}, origin, translation, filter);
+  const std::optional<Ray> ray = ray_of(origin, translation);
+  return ray ? cast_nearest(*ray, Vec3{}, filter, ball_enters(Fixed{})) : std::nullopt;
 }
 void WorldQuery::cast_ray_all(Vec3 origin, Vec3 translation, std::vector<QueryHit>& hits,
                               const QueryFilter& filter) const {
-  cast_all(Fixed{}, origin, translation, hits, filter);
+  hits.clear();
+  const std::optional<Ray> ray = ray_of(origin, translation);
+  if (ray) cast_all(*ray, Vec3{}, hits, filter, ball_enters(Fixed{}));
 }
 std::optional<QueryHit> WorldQuery::cast_sphere(Fixed radius, Vec3 origin, Vec3 translation,
                                                 const QueryFilter& filter) const {
-  return cast_nearest(radius, origin, translation, filter);
+  const std::optional<Ray> ray = ray_of(origin, translation);
+  if (!ray || radius < Fixed{}) return std::nullopt;
+  return cast_nearest(*ray, ball_reach(radius), filter, ball_enters(radius));
 }
 void WorldQuery::cast_sphere_all(Fixed radius, Vec3 origin, Vec3 translation, std::vector<QueryHit>& hits,
                                  const QueryFilter& filter) const {
-  cast_all(radius, origin, translation, hits, filter);
+  hits.clear();
+  const std::optional<Ray> ray = ray_of(origin, translation);
+  if (ray && radius >= Fixed{}) cast_all(*ray, ball_reach(radius), hits, filter, ball_enters(radius));
+}
+
+namespace {
+
+// The tree is searched along the path of the cast shape's bounds: a ray
+// from their centre, each node grown by their half size (`reach`).
+std::optional<Ray> shape_path(const WorldShape& moving, Vec3 translation, Vec3& reach) {
+  if (moving.shape->type == ShapeType::plane) return std::nullopt;
+  const Aabb bounds = shape_aabb(moving);
+  const Vec3 centre = bounds.min + (bounds.max - bounds.min) / Fixed::from_int(2);
+  reach = max(bounds.max - centre, centre - bounds.min);
+  return ray_of(centre, translation);
+}
+
+auto shape_enters_from(const WorldShape& moving) {
+  return [moving](const WorldShape& target, const Ray& path, ShapeEntry& entry) {
+    return shape_enters(moving, path, target, entry);
+  };
+}
+
+}  // namespace
+
+std::optional<QueryHit> WorldQuery::cast_shape(const Shape& shape, const Pose& pose, Vec3 translation,
+                                               const QueryFilter& filter) const {
+  const WorldShape moving{&shape, pose};
+  Vec3 reach;
+  const std::optional<Ray> ray = shape_path(moving, translation, reach);
+  return ray ? cast_nearest(*ray, reach, filter, shape_enters_from(moving)) : std::nullopt;
+}
+void WorldQuery::cast_shape_all(const Shape& shape, const Pose& pose, Vec3 translation, std::vector<QueryHit>& hits,
+                                const QueryFilter& filter) const {
+  hits.clear();
+  const WorldShape moving{&shape, pose};
+  Vec3 reach;
+  const std::optional<Ray> ray = shape_path(moving, translation, reach);
+  if (ray) cast_all(*ray, reach, hits, filter, shape_enters_from(moving));
 }
 
 // Calls visit(leaf) for every plane and leaf whose bounds overlap `box`,

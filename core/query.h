@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/ray_cast.h"
+#include "core/shape_cast.h"
 #include "core/world.h"
 
 namespace bitstep {
@@ -25,8 +26,10 @@ struct QueryHit {
   BodyId body;
   uint32_t shape = 0;  // its index in the body's shapes
   Fixed fraction;      // of the translation at which it is met, 0..1
-  Vec3 point;          // where the ray (or the cast sphere's surface) first touches the shape
+  Vec3 point;          // where the ray (or the cast shape's surface) first touches the shape
   Vec3 normal;         // the shape's outward unit normal there (-direction when starting inside)
+  // Starting inside (or touching): fraction 0, the normal -direction, the
+  // point the ray's origin (the cast shape's centre).
 };
 
 // Which bodies a query sees: those on any of `layers` (their
@@ -67,6 +70,15 @@ class WorldQuery {
   void cast_sphere_all(Fixed radius, Vec3 origin, Vec3 translation, std::vector<QueryHit>& hits,
                        const QueryFilter& filter = {}) const;
 
+  // A shape (a sphere, capsule or box; its `local` pose is not used) moved
+  // from `pose` along `translation` without turning: where it first touches
+  // each shape (core/shape_cast.h says how each pair is solved). A capsule
+  // cast is a character's sweep, a box cast a crate's.
+  std::optional<QueryHit> cast_shape(const Shape& shape, const Pose& pose, Vec3 translation,
+                                     const QueryFilter& filter = {}) const;
+  void cast_shape_all(const Shape& shape, const Pose& pose, Vec3 translation, std::vector<QueryHit>& hits,
+                      const QueryFilter& filter = {}) const;
+
   // Bodies with a shape whose bounds overlap `box`, by slot.
   void overlap_box(const Aabb& box, std::vector<BodyId>& bodies, const QueryFilter& filter = {}) const;
 
@@ -89,17 +101,21 @@ class WorldQuery {
   WorldQuery(const World& world, const std::optional<Aabb>& region);
   uint32_t build(uint32_t first, uint32_t count);
   WorldShape placed(const Leaf& leaf) const;
-  QueryHit hit_of(const Leaf& leaf, const Ray& ray, const RayEntry& entry, Fixed radius) const;
+  QueryHit hit_of(const Leaf& leaf, const Ray& ray, const ShapeEntry& entry) const;
   template <typename Enters, typename Visit>
   void descend(Enters&& enters, Visit&& visit) const;
   bool sees(const Leaf& leaf, const QueryFilter& filter) const;
   template <typename Visit>
-  void visit_along(const Ray& ray, Fixed radius, const QueryFilter& filter, Visit&& visit) const;
+  void visit_along(const Ray& ray, Vec3 reach, const QueryFilter& filter, Visit&& visit) const;
   template <typename Visit>
   void visit_overlapping(const Aabb& box, const QueryFilter& filter, Visit&& visit) const;
-  std::optional<QueryHit> cast_nearest(Fixed radius, Vec3 origin, Vec3 translation, const QueryFilter& filter) const;
-  void cast_all(Fixed radius, Vec3 origin, Vec3 translation, std::vector<QueryHit>& hits,
-                const QueryFilter& filter) const;
+  // `enters(placed shape, ray, entry)` is the exact test of one shape; `reach`
+  // grows the tree's boxes by the cast shape's half size.
+  template <typename Enters>
+  std::optional<QueryHit> cast_nearest(const Ray& ray, Vec3 reach, const QueryFilter& filter, Enters&& enters) const;
+  template <typename Enters>
+  void cast_all(const Ray& ray, Vec3 reach, std::vector<QueryHit>& hits, const QueryFilter& filter,
+                Enters&& enters) const;
 
   const World* world_;
   std::vector<Leaf> leaves_;

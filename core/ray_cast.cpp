@@ -5,21 +5,20 @@
 
 namespace bitstep {
 
-namespace {
+namespace collide_detail {
 
-using collide_detail::get;
-using collide_detail::set;
-
-// Beyond any ray: quotients that would pass it are clamped to it.
-constexpr Fixed far_distance = Fixed::from_int(1 << 20);
-
-// gap / rate (rate != 0), or +-far_distance where the quotient would pass
-// it: |rate| <= 1 here, so |rate| far_distance cannot overflow, and the
-// comparison keeps the division inside Q32.32.
-Fixed ratio(Fixed gap, Fixed rate) {
+Fixed path_ratio(Fixed gap, Fixed rate) {
   if (abs(gap) >= abs(rate) * far_distance) return (gap < Fixed{}) != (rate < Fixed{}) ? -far_distance : far_distance;
   return gap / rate;
 }
+
+}  // namespace collide_detail
+
+namespace {
+
+using collide_detail::get;
+using collide_detail::path_ratio;
+using collide_detail::set;
 
 // |v| <= r on every axis: squares of such vectors stay small.
 bool within(Vec3 v, Fixed r) { return abs(v.x) <= r && abs(v.y) <= r && abs(v.z) <= r; }
@@ -40,7 +39,7 @@ struct SlabClip {
 bool clip(SlabClip& c, int axis, Fixed o, Fixed u, Fixed lo, Fixed hi) {
   if (u == Fixed{}) return lo <= o && o <= hi;
   const bool low_first = u > Fixed{};
-  const Fixed t_lo = ratio(lo - o, u), t_hi = ratio(hi - o, u);
+  const Fixed t_lo = path_ratio(lo - o, u), t_hi = path_ratio(hi - o, u);
   const Fixed t_in = low_first ? t_lo : t_hi, t_out = low_first ? t_hi : t_lo;
   if (t_in > c.near) c = {t_in, c.far, axis, low_first};
   if (t_out < c.far) c.far = t_out;
@@ -103,11 +102,11 @@ bool cast_cylinder_side(Vec3 centre, Vec3 axis, Fixed h, Fixed r, const Ray& ray
   }
   const Fixed rate_sq = length_sq(u_perp);
   if (rate_sq < Fixed::from_raw(16)) return false;  // along the axis: only the ends are met
-  const Fixed t0 = ratio(-dot(w_perp, u_perp), rate_sq);
+  const Fixed t0 = path_ratio(-dot(w_perp, u_perp), rate_sq);
   if (t0 < Fixed{}) return false;  // outside and moving away from the axis
   const Vec3 q = w_perp + u_perp * t0;
   if (!inside_ball(q, r)) return false;
-  const Fixed t = max(t0 - sqrt(ratio(r * r - length_sq(q), rate_sq)), Fixed{});
+  const Fixed t = max(t0 - sqrt(path_ratio(r * r - length_sq(q), rate_sq)), Fixed{});
   if (t > ray.length) return false;
   if (abs(along + rate_along * t) > h) return false;  // enters the infinite cylinder beyond the ends
   entry = {t, normalize_or(w_perp + u_perp * t, -ray.direction)};
@@ -164,7 +163,7 @@ bool cast_half_space(Vec3 point, Vec3 normal, Fixed r, const Ray& ray, RayEntry&
   }
   const Fixed closing = -dot(ray.direction, normal);
   if (closing <= Fixed{}) return false;  // parallel or moving away
-  const Fixed t = ratio(height, closing);
+  const Fixed t = path_ratio(height, closing);
   if (t > ray.length) return false;
   entry = {t, normal};
   return true;

@@ -135,7 +135,11 @@ int run_bench_queries(int argc, char** argv) {
   }
   constexpr size_t questions = 1000;
   fmt::print("| bodies | build the query (us) | ray, nearest (us) | ray, every hit (us) | sphere cast 0.5 m (us) | "
-             "overlap_box 10 m (us) | rays meeting something |\n|---|---|---|---|---|---|---|\n");
+             "capsule cast 0.3 x 1.2 m (us) | box cast 0.5 m (us) | overlap_box 10 m (us) | rays meeting something |\n"
+             "|---|---|---|---|---|---|---|---|---|\n");
+  const Shape capsule{ShapeType::capsule, {}, Fixed::from_ratio(3, 10), Fixed::from_ratio(3, 10), {}};
+  const Fixed half = Fixed::from_ratio(1, 2);
+  const Shape box{ShapeType::box, {half, half, half}, {}, {}, {}};
   for (const int n : {100, 1000, 10000}) {
     const World world = world_of(n);
     Region region{SplitMix64(7)};
@@ -162,12 +166,18 @@ int run_bench_queries(int argc, char** argv) {
     const double sphere = best_seconds(samples, [&] {
       for (size_t q = 0; q < questions; ++q) (void)query.cast_sphere(Fixed::from_ratio(1, 2), origins[q], translations[q]);
     });
+    const auto shape_cast = [&](const Shape& shape) {
+      return best_seconds(samples, [&] {
+        for (size_t q = 0; q < questions; ++q) (void)query.cast_shape(shape, {origins[q], {}}, translations[q]);
+      });
+    };
+    const double capsule_cast = shape_cast(capsule), box_cast = shape_cast(box);
     const double overlap = best_seconds(samples, [&] {
       for (size_t q = 0; q < questions; ++q) query.overlap_box(boxes[q], bodies);
     });
     const double us = 1e6 / questions;
-    fmt::print("| {} | {:.0f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {} of {} |\n", n, build * 1e6, nearest * us,
-               every * us, sphere * us, overlap * us, met, questions);
+    fmt::print("| {} | {:.0f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {} of {} |\n", n, build * 1e6,
+               nearest * us, every * us, sphere * us, capsule_cast * us, box_cast * us, overlap * us, met, questions);
   }
   fmt::print("\n| other bodies | step without a car (us) | with a car, 1 ray per wheel (us) | 3 rays per wheel (us) |\n"
              "|---|---|---|---|\n");
