@@ -5,7 +5,9 @@
 #   3. tools/crosscheck.sh (beside 2's tests): the known-answer hash across
 #      compilers, the portable 128-bit path and i686 / aarch64 / s390x under
 #      qemu-user;
-#   4. a ThreadSanitizer build: the threaded solver's golden-replay test.
+#   4. the installed package: a C and a C++ consumer built against it
+#      (tools/check_package.sh);
+#   5. a ThreadSanitizer build: the threaded solver's golden-replay test.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=$(nproc)
@@ -40,6 +42,9 @@ step "cross-build check"
 cat build/crosscheck.log
 if [ "$release_status" -ne 0 ]; then echo "test.sh: Release tests failed" >&2; exit 1; fi
 if [ "$crosscheck_status" -ne 0 ]; then echo "test.sh: cross-build check failed" >&2; exit 1; fi
+
+step "the installed package: a C and a C++ consumer print the golden hash"
+tools/check_package.sh build/release
 
 # The solver's sweeps on several workers (core/ordered_sweeps.h) under
 # ThreadSanitizer: every golden replay on 2, 3 and 8 workers, optimised

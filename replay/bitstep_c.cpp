@@ -1,0 +1,290 @@
+// The C API (replay/bitstep.h) over the C++ facade (replay/simulation.h).
+// No exception crosses into C: each call catches what the facade may throw
+// (allocation failure) and returns a status.
+#include <cstring>
+#include <new>
+#include <string>
+
+#include "fixed/decimal.h"
+#include "replay/bitstep.h"
+#include "replay/render_pose.h"
+#include "replay/simulation.h"
+
+struct bitstep_simulation {
+  bitstep::Simulation sim;
+  std::string last_error;
+};
+
+namespace {
+
+using bitstep::Fixed;
+using bitstep::Vec3;
+
+Fixed fixed_of(bitstep_fixed raw) { return Fixed::from_raw(raw); }
+Vec3 vec3_of(bitstep_vec3 v) { return {fixed_of(v.x), fixed_of(v.y), fixed_of(v.z)}; }
+bitstep_vec3 vec3_to_c(Vec3 v) { return {v.x.raw(), v.y.raw(), v.z.raw()}; }
+bitstep::BodyId body_of(bitstep_body b) { return {b.index, b.generation}; }
+bitstep_body body_to_c(bitstep::BodyId id) { return {id.index, id.generation}; }
+
+void copy_message(const std::string& message, char* error, size_t capacity) {
+  if (error == nullptr || capacity == 0) return;
+  const size_t n = message.size() < capacity - 1 ? message.size() : capacity - 1;
+  std::memcpy(error, message.data(), n);
+  error[n] = '\0';
+}
+
+bitstep_status fail(bitstep_simulation* sim, bitstep_status status, std::string message) {
+  sim->last_error = std::move(message);
+  return status;
+}
+
+// Runs `call` (returning a status) with sim checked and exceptions caught.
+template <typename Call>
+bitstep_status guarded(bitstep_simulation* sim, Call&& call) {
+  if (sim == nullptr) return BITSTEP_NULL_ARGUMENT;
+  try {
+    return call();
+  } catch (const std::bad_alloc&) {
+    return fail(sim, BITSTEP_OUT_OF_MEMORY, "out of memory");
+  } catch (const std::exception& e) {
+    return fail(sim, BITSTEP_INVALID, e.what());
+  }
+}
+
+bitstep_status no_body(bitstep_simulation* sim, bitstep_body body) {
+  return fail(sim, BITSTEP_NOT_FOUND,
+              "no body in slot " + std::to_string(body.index) + " of generation " + std::to_string(body.generation));
+}
+
+bitstep_status created(std::optional<bitstep::Simulation> made, const std::string& message, bitstep_simulation** out,
+                       char* error, size_t capacity) {
+  if (!made) {
+    copy_message(message, error, capacity);
+    return BITSTEP_INVALID;
+  }
+  *out = new bitstep_simulation{std::move(*made), {}};
+  return BITSTEP_OK;
+}
+
+}  // namespace
+
+extern "C" {
+
+bitstep_status bitstep_fixed_parse(const char* text, bitstep_fixed* out) {
+  if (text == nullptr || out == nullptr) return BITSTEP_NULL_ARGUMENT;
+  const bitstep::ParseResult parsed = bitstep::parse_fixed(text);
+  if (!parsed.ok()) return BITSTEP_INVALID;
+  *out = parsed.value.raw();
+  return BITSTEP_OK;
+}
+
+double bitstep_fixed_to_double(bitstep_fixed value) { return static_cast<double>(value) / 4294967296.0; }
+
+bitstep_status bitstep_create_from_file(const char* path, bitstep_simulation** out, char* error,
+                                        size_t error_capacity) {
+  if (path == nullptr || out == nullptr) return BITSTEP_NULL_ARGUMENT;
+  *out = nullptr;
+  try {
+    std::string message;
+    auto made = bitstep::Simulation::from_file(path, message);
+    return created(std::move(made), message, out, error, error_capacity);
+  } catch (const std::bad_alloc&) {
+    copy_message("out of memory", error, error_capacity);
+    return BITSTEP_OUT_OF_MEMORY;
+  }
+}
+
+bitstep_status bitstep_create_from_text(const char* json, size_t length, const char* name, bitstep_simulation** out,
+                                        char* error, size_t error_capacity) {
+  if (json == nullptr || name == nullptr || out == nullptr) return BITSTEP_NULL_ARGUMENT;
+  *out = nullptr;
+  try {
+    std::string message;
+    auto made = bitstep::Simulation::from_text(std::string_view(json, length), name, message);
+    return created(std::move(made), message, out, error, error_capacity);
+  } catch (const std::bad_alloc&) {
+    copy_message("out of memory", error, error_capacity);
+    return BITSTEP_OUT_OF_MEMORY;
+  }
+}
+
+void bitstep_destroy(bitstep_simulation* sim) { delete sim; }
+
+const char* bitstep_last_error(const bitstep_simulation* sim) { return sim == nullptr ? "" : sim->last_error.c_str(); }
+
+bitstep_status bitstep_find_body(bitstep_simulation* sim, const char* name, bitstep_body* out) {
+  return guarded(sim, [&] {
+    if (name == nullptr || out == nullptr) return BITSTEP_NULL_ARGUMENT;
+    const auto id = sim->sim.find_body(name);
+    if (!id) return fail(sim, BITSTEP_NOT_FOUND, std::string("no body named \"") + name + "\"");
+    *out = body_to_c(*id);
+    return BITSTEP_OK;
+  });
+}
+
+bitstep_status bitstep_add_body(bitstep_simulation* sim, const char* body_json, bitstep_body* out) {
+  return guarded(sim, [&] {
+    if (body_json == nullptr || out == nullptr) return BITSTEP_NULL_ARGUMENT;
+    std::string error;
+    const auto id = sim->sim.add_body(body_json, error);
+    if (!id) return fail(sim, BITSTEP_INVALID, error);
+    *out = body_to_c(*id);
+    return BITSTEP_OK;
+  });
+}
+
+bitstep_status bitstep_remove_body(bitstep_simulation* sim, bitstep_body body) {
+  return guarded(sim, [&] { return sim->sim.remove_body(body_of(body)) ? BITSTEP_OK : no_body(sim, body); });
+}
+
+bitstep_status bitstep_add_joint(bitstep_simulation* sim, const char* joint_json, bitstep_joint* out) {
+  return guarded(sim, [&] {
+    if (joint_json == nullptr || out == nullptr) return BITSTEP_NULL_ARGUMENT;
+    std::string error;
+    const auto id = sim->sim.add_joint(joint_json, error);
+    if (!id) return fail(sim, BITSTEP_INVALID, error);
+    *out = {id->index, id->generation};
+    return BITSTEP_OK;
+  });
+}
+
+bitstep_status bitstep_remove_joint(bitstep_simulation* sim, bitstep_joint joint) {
+  return guarded(sim, [&] {
+    if (sim->sim.remove_joint({joint.index, joint.generation})) return BITSTEP_OK;
+    return fail(sim, BITSTEP_NOT_FOUND, "no joint in slot " + std::to_string(joint.index) + " of generation " +
+                                            std::to_string(joint.generation));
+  });
+}
+
+uint32_t bitstep_slot_count(const bitstep_simulation* sim) {
+  return sim == nullptr ? 0 : static_cast<uint32_t>(sim->sim.world().bodies().size());
+}
+
+bitstep_status bitstep_body_in_slot(bitstep_simulation* sim, uint32_t slot, bitstep_body* out) {
+  return guarded(sim, [&] {
+    if (out == nullptr) return BITSTEP_NULL_ARGUMENT;
+    const auto& bodies = sim->sim.world().bodies();
+    if (slot >= bodies.size() || !bodies[slot].alive) {
+      return fail(sim, BITSTEP_NOT_FOUND, "slot " + std::to_string(slot) + " is empty");
+    }
+    *out = {slot, bodies[slot].generation};
+    return BITSTEP_OK;
+  });
+}
+
+bitstep_status bitstep_apply_impulse(bitstep_simulation* sim, bitstep_body body, bitstep_vec3 impulse,
+                                     bitstep_vec3 world_point) {
+  return guarded(sim, [&] {
+    return sim->sim.apply_impulse(body_of(body), vec3_of(impulse), vec3_of(world_point)) ? BITSTEP_OK
+                                                                                           : no_body(sim, body);
+  });
+}
+
+bitstep_status bitstep_apply_force(bitstep_simulation* sim, bitstep_body body, bitstep_vec3 force,
+                                   bitstep_vec3 world_point) {
+  return guarded(sim, [&] {
+    return sim->sim.apply_force(body_of(body), vec3_of(force), vec3_of(world_point)) ? BITSTEP_OK : no_body(sim, body);
+  });
+}
+
+bitstep_status bitstep_set_velocity(bitstep_simulation* sim, bitstep_body body, bitstep_vec3 linear,
+                                    bitstep_vec3 angular) {
+  return guarded(sim, [&] {
+    return sim->sim.set_velocity(body_of(body), vec3_of(linear), vec3_of(angular)) ? BITSTEP_OK : no_body(sim, body);
+  });
+}
+
+bitstep_status bitstep_wake(bitstep_simulation* sim, bitstep_body body) {
+  return guarded(sim, [&] { return sim->sim.wake(body_of(body)) ? BITSTEP_OK : no_body(sim, body); });
+}
+
+bitstep_status bitstep_drive(bitstep_simulation* sim, const char* car, bitstep_fixed throttle, bitstep_fixed brake,
+                             bitstep_fixed steer) {
+  return guarded(sim, [&] {
+    if (car == nullptr) return BITSTEP_NULL_ARGUMENT;
+    if (sim->sim.drive(car, {fixed_of(throttle), fixed_of(brake), fixed_of(steer)})) return BITSTEP_OK;
+    return fail(sim, BITSTEP_NOT_FOUND, std::string("no car named \"") + car + "\"");
+  });
+}
+
+bitstep_status bitstep_step(bitstep_simulation* sim) {
+  return guarded(sim, [&] {
+    sim->sim.step();
+    return BITSTEP_OK;
+  });
+}
+
+uint64_t bitstep_tick(const bitstep_simulation* sim) { return sim == nullptr ? 0 : sim->sim.tick(); }
+
+uint64_t bitstep_hash(const bitstep_simulation* sim) { return sim == nullptr ? 0 : sim->sim.hash(); }
+
+bitstep_status bitstep_get_pose(bitstep_simulation* sim, bitstep_body body, bitstep_pose* out) {
+  return guarded(sim, [&] {
+    if (out == nullptr) return BITSTEP_NULL_ARGUMENT;
+    const auto pose = sim->sim.pose(body_of(body));
+    if (!pose) return no_body(sim, body);
+    const bitstep::Quat& q = pose->orientation;
+    *out = {vec3_to_c(pose->position), {q.w.raw(), q.x.raw(), q.y.raw(), q.z.raw()}};
+    return BITSTEP_OK;
+  });
+}
+
+bitstep_status bitstep_get_render_pose(bitstep_simulation* sim, bitstep_body body, bitstep_render_pose* out) {
+  return guarded(sim, [&] {
+    if (out == nullptr) return BITSTEP_NULL_ARGUMENT;
+    const auto pose = sim->sim.pose(body_of(body));
+    if (!pose) return no_body(sim, body);
+    const bitstep::RenderPose r = bitstep::render_pose(*pose);
+    std::memcpy(out->position, r.position, sizeof r.position);
+    std::memcpy(out->orientation, r.orientation, sizeof r.orientation);
+    return BITSTEP_OK;
+  });
+}
+
+void bitstep_interpolate(const bitstep_render_pose* from, const bitstep_render_pose* to, float alpha,
+                         bitstep_render_pose* out) {
+  if (from == nullptr || to == nullptr || out == nullptr) return;
+  bitstep::RenderPose a{}, b{};
+  std::memcpy(a.position, from->position, sizeof a.position);
+  std::memcpy(a.orientation, from->orientation, sizeof a.orientation);
+  std::memcpy(b.position, to->position, sizeof b.position);
+  std::memcpy(b.orientation, to->orientation, sizeof b.orientation);
+  const bitstep::RenderPose r = bitstep::interpolate(a, b, alpha);
+  std::memcpy(out->position, r.position, sizeof r.position);
+  std::memcpy(out->orientation, r.orientation, sizeof r.orientation);
+}
+
+bitstep_status bitstep_save(bitstep_simulation* sim, uint8_t* buffer, size_t capacity, size_t* size) {
+  return guarded(sim, [&] {
+    if (size == nullptr || (buffer == nullptr && capacity > 0)) return BITSTEP_NULL_ARGUMENT;
+    const std::vector<uint8_t> image = sim->sim.save();
+    *size = image.size();
+    if (image.size() > capacity) {
+      return fail(sim, BITSTEP_BUFFER_TOO_SMALL,
+                  "save: " + std::to_string(image.size()) + " bytes needed, " + std::to_string(capacity) + " given");
+    }
+    std::memcpy(buffer, image.data(), image.size());
+    return BITSTEP_OK;
+  });
+}
+
+bitstep_status bitstep_load(bitstep_simulation* sim, const uint8_t* image, size_t size) {
+  return guarded(sim, [&] {
+    if (image == nullptr) return BITSTEP_NULL_ARGUMENT;
+    if (const auto why = sim->sim.load({image, size})) return fail(sim, BITSTEP_INVALID, "load: " + *why);
+    return BITSTEP_OK;
+  });
+}
+
+bitstep_status bitstep_cast_ray(bitstep_simulation* sim, bitstep_vec3 origin, bitstep_vec3 translation,
+                                bitstep_ray_hit* out) {
+  return guarded(sim, [&] {
+    if (out == nullptr) return BITSTEP_NULL_ARGUMENT;
+    const auto hit = sim->sim.query().cast_ray(vec3_of(origin), vec3_of(translation));
+    if (!hit) return fail(sim, BITSTEP_NOT_FOUND, "the ray meets nothing");
+    *out = {body_to_c(hit->body), hit->shape, hit->fraction.raw(), vec3_to_c(hit->point), vec3_to_c(hit->normal)};
+    return BITSTEP_OK;
+  });
+}
+
+}  // extern "C"

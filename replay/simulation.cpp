@@ -1,0 +1,186 @@
+#include "replay/simulation.h"
+
+#include <utility>
+
+#include "replay/replay.h"
+#include "replay/scene_reader.h"
+#include "replay/snapshot.h"
+#include "replay/state_hash.h"
+
+namespace bitstep {
+
+namespace {
+
+// One JSON object of the scene format read by `read`, or its one-line
+// error "<what>: <JSON path>: <reason>".
+template <typename Read>
+bool read_object(std::string_view text, const char* what, std::string& error, Read&& read) {
+  auto parsed = json::parse(text);
+  if (const auto* syntax = std::get_if<json::SyntaxError>(&parsed)) {
+    error = std::string(what) + ": " + syntax->where + ": " + syntax->reason;
+    return false;
+  }
+  try {
+    read(std::get<json::Node>(parsed));
+    return true;
+  } catch (const scene_reader::ReadFailure& failure) {
+    error = std::string(what) + ": " + failure.path + ": " + failure.reason;
+  } catch (const std::exception& e) {  // allocation failure
+    error = std::string(what) + ": " + e.what();
+  }
+  return false;
+}
+
+}  // namespace
+
+// A simulation of a read scene, or the scene's error; `name` its file.
+std::optional<Simulation> Simulation::built(std::variant<Scene, SceneError> read, const std::string& name,
+                                            std::string& error) {
+  if (const auto* failure = std::get_if<SceneError>(&read)) {
+    error = failure->message();
+    return std::nullopt;
+  }
+  Scene& scene = std::get<Scene>(read);
+  World world(scene.settings);
+  std::string reason;
+  if (!build_world(scene, world, reason)) {
+    error = name + ": " + reason;
+    return std::nullopt;
+  }
+  return Simulation(std::move(scene), std::move(world));
+}
+
+std::optional<Simulation> Simulation::from_file(const std::string& path, std::string& error) {
+  return built(load_scene_file(path), path, error);
+}
+
+std::optional<Simulation> Simulation::from_text(std::string_view scene_json, const std::string& name,
+                                                std::string& error) {
+  return built(parse_scene(scene_json, name), name, error);
+}
+
+// build_world made scene body i slot i and scene car k car k.
+Simulation::Simulation(Scene scene, World world) : scene_(std::move(scene)), world_(std::move(world)) {
+  for (uint32_t i = 0; i < scene_.bodies.size(); ++i) {
+    remember({i, world_.bodies()[i].generation}, scene_.bodies[i].def, scene_.bodies[i].name);
+  }
+  for (uint32_t k = 0; k < scene_.cars.size(); ++k) cars_.emplace(scene_.cars[k].name, k);
+}
+
+// The world moved the body's frame onto its centre of mass and its shapes
+// the other way: the first shape's shift is the centre in the defined frame.
+void Simulation::remember(BodyId id, const BodyDef& def, const std::string& name) {
+  const Body& body = world_.body(id);
+  const Vec3 centre = def.shapes.empty() ? Vec3{} : def.shapes[0].local.position - body.shapes[0].local.position;
+  frame_offsets_[{id.index, id.generation}] = centre;
+  if (!name.empty()) names_[name] = id;
+}
+
+bool Simulation::valid(BodyId id) const { return world_.is_alive(id); }
+
+std::optional<BodyId> Simulation::find_body(std::string_view name) const {
+  const auto found = names_.find(name);
+  if (found == names_.end() || !valid(found->second)) return std::nullopt;
+  return found->second;
+}
+
+std::optional<BodyId> Simulation::add_body(std::string_view body_json, std::string& error) {
+  SceneBody body;
+  if (!read_object(body_json, "add_body", error, [&](const json::Node& node) { body = read_scene_body(node, scene_); })) {
+    return std::nullopt;
+  }
+  if (!body.name.empty() && find_body(body.name)) {
+    error = "add_body: $.name: " + json::quote(body.name) + " is already taken";
+    return std::nullopt;
+  }
+  const CreateResult created = world_.create_body(body.def);
+  if (!created.ok()) {
+    error = std::string("add_body: $.") + (created.error.field != nullptr ? created.error.field : "") + ": " +
+            created.error.reason;
+    return std::nullopt;
+  }
+  remember(created.id, body.def, body.name);
+  return created.id;
+}
+
+bool Simulation::remove_body(BodyId id) { return valid(id) && world_.remove_body(id); }
+
+std::optional<JointId> Simulation::add_joint(std::string_view joint_json, std::string& error) {
+  JointSpec spec;
+  std::vector<BodyId> bodies;  // the spec's body numbers index this
+  const BodyResolver resolve = [&](const json::Node& node) {
+    const std::optional<BodyId> id = find_body(scene_reader::read_string(node));
+    if (!id) scene_reader::fail(node, "no body named " + json::quote(node.text));
+    bodies.push_back(*id);
+    return static_cast<uint32_t>(bodies.size() - 1);
+  };
+  if (!read_object(joint_json, "add_joint", error, [&](const json::Node& node) { spec = read_joint_spec(node, resolve); })) {
+    return std::nullopt;
+  }
+  const BodyId a = bodies[spec.body_a], b = bodies[spec.body_b];
+  JointDef def = joint_in_world(spec, *pose(a), *pose(b));
+  def.body_a = a;
+  def.body_b = b;
+  const JointResult created = world_.create_joint(def);
+  if (!created.ok()) {
+    error = "add_joint: " + created.error;
+    return std::nullopt;
+  }
+  return created.id;
+}
+
+bool Simulation::remove_joint(JointId id) { return world_.is_alive(id) && world_.remove_joint(id); }
+
+bool Simulation::apply_impulse(BodyId id, Vec3 impulse, Vec3 world_point) {
+  if (!valid(id)) return false;
+  world_.apply_impulse(id, impulse, world_point);
+  return true;
+}
+
+bool Simulation::apply_force(BodyId id, Vec3 force, Vec3 world_point) {
+  if (!valid(id)) return false;
+  world_.apply_force(id, force, world_point);
+  return true;
+}
+
+bool Simulation::set_velocity(BodyId id, Vec3 linear, Vec3 angular) {
+  if (!valid(id)) return false;
+  world_.set_velocity(id, linear, angular);
+  return true;
+}
+
+bool Simulation::wake(BodyId id) {
+  if (!valid(id)) return false;
+  world_.wake(id);
+  return true;
+}
+
+bool Simulation::drive(std::string_view car_name, CarControls controls) {
+  const auto found = cars_.find(car_name);
+  if (found == cars_.end() || found->second >= world_.cars().size() || !world_.cars()[found->second].alive) {
+    return false;
+  }
+  world_.set_car_controls({found->second}, controls);
+  return true;
+}
+
+void Simulation::step() { world_.step(); }
+
+// The frame's origin sits at -centre from the centre of mass, in the body
+// frame: position = com - R centre (exactly the defined position at rest,
+// as the world placed the centre at position + R centre).
+std::optional<Pose> Simulation::pose(BodyId id) const {
+  if (!valid(id)) return std::nullopt;
+  const Body& body = world_.body(id);
+  const auto offset = frame_offsets_.find({id.index, id.generation});
+  const Vec3 centre = offset == frame_offsets_.end() ? Vec3{} : offset->second;
+  return Pose{body.pose.position - rotate(body.pose.orientation, centre), body.pose.orientation};
+}
+
+std::vector<uint8_t> Simulation::save() const { return snapshot(world_); }
+
+std::optional<std::string> Simulation::load(std::span<const uint8_t> image) { return restore(image, world_); }
+
+uint64_t Simulation::hash() const { return state_hash(world_); }
+
+}  // namespace bitstep

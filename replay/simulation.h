@@ -1,0 +1,95 @@
+// bitstep for a game: one world built from a scene, stepped tick by tick,
+// with the inputs a game applies between ticks, its bodies' poses, save and
+// load, a state hash and the world's queries. The library's stable C++
+// facade; a C API over it is replay/bitstep.h. It lives in replay/ because
+// it is built from what replay/ owns (scenes, snapshots, hashes); core/
+// stays the simulator alone.
+//
+// Everything that reaches the world is exact (Q32.32): a lockstep game
+// feeds every peer the same inputs and gets the same bits. Floats are for
+// drawing only (replay/render_pose.h), never fed back.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include "core/query.h"
+#include "core/world.h"
+#include "replay/scene.h"
+
+namespace bitstep {
+
+class Simulation {
+ public:
+  // A world from a scene file, or from scene JSON text (`name` stands for
+  // the file in messages). nullopt and the scene's one-line error
+  // ("<file>: <JSON path>: <reason>") when it cannot be built.
+  static std::optional<Simulation> from_file(const std::string& path, std::string& error);
+  static std::optional<Simulation> from_text(std::string_view scene_json, const std::string& name,
+                                             std::string& error);
+
+  // Bodies. A scene body by its name; a new body from one body object of
+  // the scene format ({"name": "crate", "position": [0, 2, 0], "shapes":
+  // [...]}, the scene's materials known); removal. A removed body's handle
+  // is refused by every call (its slot's generation moved on).
+  std::optional<BodyId> find_body(std::string_view name) const;
+  std::optional<BodyId> add_body(std::string_view body_json, std::string& error);
+  bool remove_body(BodyId id);
+  // Joints: one joint object of the scene format, its bodies by name.
+  std::optional<JointId> add_joint(std::string_view joint_json, std::string& error);
+  bool remove_joint(JointId id);
+
+  // Inputs, for the next step (false: no such body or car).
+  bool apply_impulse(BodyId id, Vec3 impulse, Vec3 world_point);
+  bool apply_force(BodyId id, Vec3 force, Vec3 world_point);
+  bool set_velocity(BodyId id, Vec3 linear, Vec3 angular);
+  bool wake(BodyId id);
+  bool drive(std::string_view car_name, CarControls controls);
+
+  void step();
+  uint64_t tick() const { return world_.step_count(); }
+
+  // Where a body is: the pose of its frame as the scene (or add_body)
+  // defined it, not its centre of mass (a table defined at y 0.4 reads
+  // 0.4). nullopt for a handle no body has.
+  std::optional<Pose> pose(BodyId id) const;
+
+  // The whole state as a snapshot image (replay/snapshot.h); load restores
+  // one into this simulation (a rollback, or a late joiner's start) or
+  // says why it cannot and changes nothing. hash() is the state hash the
+  // replays' chains hold.
+  std::vector<uint8_t> save() const;
+  std::optional<std::string> load(std::span<const uint8_t> image);
+  uint64_t hash() const;
+
+  // The world's queries as it stands (core/query.h): build after each step.
+  WorldQuery query() const { return WorldQuery(world_); }
+
+  const World& world() const { return world_; }
+  World& world() { return world_; }
+
+ private:
+  Simulation(Scene scene, World world);
+  static std::optional<Simulation> built(std::variant<Scene, SceneError> read, const std::string& name,
+                                         std::string& error);
+  bool valid(BodyId id) const;
+  void remember(BodyId id, const BodyDef& def, const std::string& name);
+
+  Scene scene_;  // its materials and settings, for bodies added later
+  World world_;
+  std::map<std::string, BodyId, std::less<>> names_;     // bodies by name
+  std::map<std::string, uint32_t, std::less<>> cars_;    // cars by name
+  // Per body ever created here (slot, generation): its frame's origin as
+  // seen from its centre of mass, in the body frame. Kept for removed
+  // bodies too, so a rolled-back world still finds them.
+  std::map<std::pair<uint32_t, uint32_t>, Vec3> frame_offsets_;
+};
+
+}  // namespace bitstep
