@@ -14,6 +14,7 @@
 #include "tools/known_answer.h"
 #include "tools/replay_command.h"
 #include "tools/run_command.h"
+#include "tools/synctest_command.h"
 
 namespace {
 
@@ -36,6 +37,10 @@ constexpr const char* usage =
     "                           --dump-at writes the full state after STEP as exact JSON;\n"
     "                           --threads N: N workers step the world (the same bits for any N)\n"
     "  diff DUMP_A DUMP_B       the first body, contact or field where two dumps differ\n"
+    "  synctest SCENE|REPLAY [--frames K] [--steps N]\n"
+    "                           after every tick roll back K ticks (default 8) and simulate them\n"
+    "                           again: every hash must be the same (GGPO's sync test); a replay's\n"
+    "                           inputs and chain, or N ticks of a scene (default 600)\n"
     "  selftest [--samples N]   fixed-point known-answer hash and accuracy table\n"
     "  bench [--quick | --full] [--out DIR] [--sections LIST] [--only EXPERIMENTS] [--no-peer] [--scenes DIR]\n"
     "        [--threads N]\n"
@@ -45,7 +50,7 @@ constexpr const char* usage =
     "                           results,sweep,scale,speed,costs,determinism; --threads N: the workers of\n"
     "                           the speed table's threaded column (default 2)\n"
     "  bench fixed [--quick]    ns/op of fixed-point operations next to float and double\n"
-    "  bench queries [--quick]  us per ray, sphere cast and overlap over 100 to 10,000 bodies\n"
+    "  bench queries [--quick]  us per ray, shape cast and overlap over 100 to 10,000 bodies\n"
     "  bench sleep [--quick] [--still] [--scenes DIR]\n"
     "                           ms/step of scenes awake and asleep (sleep motion, or still)\n"
     "  version                  engine version and build options\n"
@@ -95,6 +100,7 @@ int main(int argc, char** argv) {
   if (command == "record") return bitstep::record_command(argc - 2, argv + 2, BITSTEP_VERSION);
   if (command == "verify") return bitstep::verify_command(argc - 2, argv + 2);
   if (command == "diff") return bitstep::diff_command(argc - 2, argv + 2);
+  if (command == "synctest") return bitstep::synctest_command(argc - 2, argv + 2);
   if (command == "selftest") return selftest(argc - 2, argv + 2);
   if (command == "bench" && argc >= 3 && std::string_view(argv[2]) == "queries") {
     return bitstep::run_bench_queries(argc - 3, argv + 3);
