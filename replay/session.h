@@ -1,0 +1,140 @@
+// A game's ticks for N players, as GGPO and GGRS run them. Every tick
+// each player gives an input (the game's bytes: which buttons are held,
+// where the stick points); every peer applies all of them, in player order,
+// to its own simulation, so every peer computes the same bits.
+//
+// - lockstep: a tick runs when every player's input for it is here;
+// - rollback: a tick runs at once on predicted inputs (a player's last
+//   known input, repeated); when the real one arrives and differs, the
+//   simulation goes back to the tick before it (a snapshot) and runs those
+//   ticks again; at most `max_prediction` ticks ahead of the last tick whose
+//   inputs are all known.
+// A local input applies `input_delay` ticks later (ticks 1..delay have no
+// input): a little delay hides the network's and saves rollbacks.
+//
+// Peers compare a checksum (the state hash) of every `checksum_interval`-th
+// confirmed tick; on a mismatch each sends the other its state at that tick
+// and both name the first field that differs (the dump's diff).
+//
+// No transport here: the session says what to send (take_outgoing) and is
+// told what arrived (receive). Every input message carries all the local
+// inputs the peers have not acknowledged, so a lost packet costs nothing
+// but time; a message that makes no sense (a player out of range, a tick
+// out of the window, an input that contradicts one already known) is
+// refused and counted, never applied.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "replay/simulation.h"
+
+namespace bitstep {
+
+using PlayerInput = std::string;  // the game's bytes for one player's tick
+
+enum class SessionMode : uint8_t { lockstep, rollback };
+
+struct SessionConfig {
+  int players = 2;
+  int local_player = 0;
+  SessionMode mode = SessionMode::rollback;
+  int input_delay = 0;         // ticks, 0..32
+  int max_prediction = 8;      // ticks ahead of the last confirmed one (rollback), 1..64
+  int checksum_interval = 1;   // every k-th confirmed tick, 1..3600
+};
+
+// A sentence about what is wrong with a config, or empty.
+std::string config_error(const SessionConfig& config);
+
+struct SessionMessage {
+  enum class Kind : uint8_t { inputs, checksum, state };
+  Kind kind = Kind::inputs;
+  int player = 0;                   // the sender
+  int64_t ack = 0;                  // the sender has every player's input up to this tick
+  int64_t tick = 0;                 // inputs: of inputs[0]; checksum, state: the tick
+  std::vector<PlayerInput> inputs;  // inputs: the sender's for ticks tick, tick + 1, ...
+  uint64_t checksum = 0;            // checksum: the state hash after `tick`
+  std::vector<uint8_t> state;       // state: the snapshot after `tick` (after a mismatch)
+};
+
+inline constexpr size_t max_input_bytes = 1024;
+inline constexpr size_t max_inputs_per_message = 128;
+
+struct Desync {
+  int64_t tick = 0;
+  int player = 0;  // whose checksum differed
+  uint64_t local = 0, remote = 0;
+  std::string difference;  // the first differing field, once the peer's state arrived
+};
+
+struct SessionStats {
+  int64_t rollbacks = 0, resimulated_ticks = 0, stalls = 0;
+  int64_t predicted_inputs = 0, mispredicted_inputs = 0;
+  int64_t refused_messages = 0;
+};
+
+// Applies one player's input to the simulation, before a tick.
+using ApplyInput = std::function<void(Simulation& sim, int player, const PlayerInput& input)>;
+
+class Session {
+ public:
+  // `config` must have no config_error.
+  Session(Simulation sim, SessionConfig config, ApplyInput apply);
+
+  // The local player's next input (for the tick input_delay after the last
+  // one given). Then advance.
+  void add_local_input(PlayerInput input);
+  // Runs the next tick if it can (rolling back first when a known input
+  // differs from the one predicted); false when it must wait for inputs.
+  bool advance();
+  // A peer's message; false (and counted) when refused.
+  bool receive(const SessionMessage& message);
+  // What to send to every peer since the last call.
+  std::vector<SessionMessage> take_outgoing();
+
+  int64_t tick() const { return tick_; }                // ticks simulated
+  int64_t confirmed_tick() const { return confirmed_; }  // every input up to it known and used
+  int64_t local_input_tick() const { return next_local_ - 1; }
+  const std::optional<Desync>& desync() const { return desync_; }
+  const SessionStats& stats() const { return stats_; }
+  const Simulation& simulation() const { return sim_; }
+  Simulation& simulation() { return sim_; }
+  // The state hash after a confirmed tick still remembered (the last
+  // max_prediction + 1 or so), or nullopt.
+  std::optional<uint64_t> confirmed_hash(int64_t tick) const;
+
+ private:
+  bool known(int player, int64_t tick) const;
+  const PlayerInput& input_for(int player, int64_t tick, bool& predicted) const;
+  void simulate(int64_t tick);
+  void roll_back();
+  void confirm();
+  void check_checksum(int64_t tick, int player);
+  void send_inputs();
+
+  Simulation sim_;
+  SessionConfig config_;
+  ApplyInput apply_;
+  int64_t tick_ = 0, confirmed_ = 0;
+  int64_t next_local_ = 1;               // the tick of the next local input
+  int64_t rollback_from_ = INT64_MAX;    // the first tick simulated with a wrong prediction
+  std::vector<std::map<int64_t, PlayerInput>> inputs_;  // per player: known inputs by tick
+  std::vector<int64_t> acked_;           // per player: the ack they last sent
+  std::map<int64_t, std::vector<PlayerInput>> used_;   // per tick: the inputs it ran with
+  std::map<int64_t, std::vector<uint8_t>> saved_;      // the state after each tick since the confirmed one
+  std::map<int64_t, uint64_t> hashes_;                 // the hash after each tick simulated (last run)
+  std::map<int64_t, uint64_t> confirmed_hashes_;       // at checksum ticks, confirmed
+  std::map<int64_t, std::vector<uint8_t>> checked_states_;  // the state at checksum ticks, until compared
+  std::map<int64_t, std::map<int, uint64_t>> remote_checksums_;
+  std::vector<SessionMessage> outgoing_;
+  std::optional<Desync> desync_;
+  SessionStats stats_;
+  const PlayerInput empty_;
+};
+
+}  // namespace bitstep
