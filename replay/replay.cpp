@@ -209,6 +209,19 @@ std::string hex(uint64_t value) {
 
 }  // namespace
 
+std::variant<std::vector<Input>, ReplayError> parse_inputs(std::string_view json_array, const Scene& scene,
+                                                           const std::string& name) {
+  try {
+    auto tree = json::parse(json_array);
+    if (const auto* error = std::get_if<json::SyntaxError>(&tree)) return ReplayError{name, error->where, error->reason};
+    return read_inputs(std::get<Node>(tree), scene);
+  } catch (const ReadFailure& failure) {
+    return ReplayError{name, failure.path, failure.reason};
+  } catch (const std::exception& e) {  // allocation failure
+    return ReplayError{name, "$", std::string("cannot read: ") + e.what()};
+  }
+}
+
 std::string ReplayError::message() const {
   if (path.empty()) return file + ": " + reason;
   return file + ": " + path + ": " + reason;

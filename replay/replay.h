@@ -71,6 +71,12 @@ struct InputsFile {
 };
 std::variant<InputsFile, ReplayError> load_inputs_file(const std::string& path, const Scene& scene);
 
+// A JSON array of inputs (as a replay's "inputs") read against a scene:
+// for inputs that travel on their own (a session's). `name` stands for the
+// file in errors.
+std::variant<std::vector<Input>, ReplayError> parse_inputs(std::string_view json_array, const Scene& scene,
+                                                           const std::string& name);
+
 // A world with the scene's bodies in order, then its joints in order (in a
 // new world scene body i is slot i and scene joint k joint slot k); false
 // (and the reason) when a body or a joint is refused: "body 3: <field>:

@@ -70,8 +70,11 @@ void Session::add_local_input(PlayerInput input) {
   send_inputs();
 }
 
-// The local inputs no peer has acknowledged (at most a message of them).
-void Session::send_inputs() {
+void Session::heartbeat() { send_inputs(true); }
+
+// The local inputs no peer has acknowledged (at most a message of them);
+// with `always`, a message even when there are none (it carries the ack).
+void Session::send_inputs(bool always) {
   if (config_.players < 2) return;
   int64_t acked = INT64_MAX;
   for (int p = 0; p < config_.players; ++p) {
@@ -87,7 +90,7 @@ void Session::send_inputs() {
     if (at->first != m.tick + static_cast<int64_t>(m.inputs.size())) break;
     m.inputs.push_back(at->second);
   }
-  if (!m.inputs.empty()) outgoing_.push_back(std::move(m));
+  if (always || !m.inputs.empty()) outgoing_.push_back(std::move(m));
 }
 
 void Session::simulate(int64_t tick) {
@@ -202,7 +205,7 @@ bool Session::receive(const SessionMessage& m) {
   if (m.ack < 0 || m.ack > next_local_ - 1 + window(config_) || m.tick < 1 || m.tick > horizon) return refuse();
   switch (m.kind) {
     case SessionMessage::Kind::inputs: {
-      if (m.inputs.empty() || m.inputs.size() > max_inputs_per_message) return refuse();
+      if (m.inputs.size() > max_inputs_per_message) return refuse();  // none: an ack alone
       if (m.tick + static_cast<int64_t>(m.inputs.size()) - 1 > horizon) return refuse();
       auto& theirs = inputs_[static_cast<size_t>(m.player)];
       // All checked before any is kept: a contradiction refuses the message.

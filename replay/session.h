@@ -94,12 +94,18 @@ class Session {
   bool advance();
   // A peer's message; false (and counted) when refused.
   bool receive(const SessionMessage& message);
+  // An inputs message even when every local input is acknowledged: it
+  // carries this peer's ack (call it now and then once the match is over,
+  // so peers still waiting learn that their last inputs arrived).
+  void heartbeat();
   // What to send to every peer since the last call.
   std::vector<SessionMessage> take_outgoing();
 
   int64_t tick() const { return tick_; }                // ticks simulated
   int64_t confirmed_tick() const { return confirmed_; }  // every input up to it known and used
   int64_t local_input_tick() const { return next_local_ - 1; }
+  // The last tick up to which `player` said it has every input.
+  int64_t peer_ack(int player) const { return acked_[static_cast<size_t>(player)]; }
   const std::optional<Desync>& desync() const { return desync_; }
   const SessionStats& stats() const { return stats_; }
   const Simulation& simulation() const { return sim_; }
@@ -115,7 +121,7 @@ class Session {
   void roll_back();
   void confirm();
   void check_checksum(int64_t tick, int player);
-  void send_inputs();
+  void send_inputs(bool always = false);
 
   Simulation sim_;
   SessionConfig config_;

@@ -5,7 +5,7 @@
 #   tools/install_deps.sh test    bench + clang and the cross toolchains with qemu-user
 set -euo pipefail
 
-build_packages=(cmake make gcc g++ catch2 libfmt-dev nlohmann-json3-dev libxxhash-dev)
+build_packages=(cmake make gcc g++ catch2 libfmt-dev nlohmann-json3-dev libxxhash-dev libenet-dev pkg-config)
 bench_packages=(gnuplot-nox libbullet-dev)
 test_packages=(clang g++-i686-linux-gnu g++-aarch64-linux-gnu g++-s390x-linux-gnu qemu-user)
 

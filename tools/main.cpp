@@ -13,6 +13,7 @@
 #include "tools/fixed_accuracy.h"
 #include "tools/known_answer.h"
 #include "tools/replay_command.h"
+#include "tools/peer_command.h"
 #include "tools/run_command.h"
 #include "tools/synctest_command.h"
 
@@ -41,6 +42,11 @@ constexpr const char* usage =
     "                           after every tick roll back K ticks (default 8) and simulate them\n"
     "                           again: every hash must be the same (GGPO's sync test); a replay's\n"
     "                           inputs and chain, or N ticks of a scene (default 600)\n"
+    "  peer --scene SCENE --player K --players N --port P [--connect 127.0.0.1:PORT]... [--inputs FILE]\n"
+    "       [--mode lockstep|rollback] [--delay D] [--ticks N] [--hz F] [--checksum-every K] [--json]\n"
+    "       [--loss PCT] [--jitter MIN-MAX] [--duplicate PCT] [--timeout S]\n"
+    "                           play one player of a session over ENet on 127.0.0.1; --reference runs\n"
+    "                           every player's --inputs in one process (the chain the peers must reach)\n"
     "  selftest [--samples N]   fixed-point known-answer hash and accuracy table\n"
     "  bench [--quick | --full] [--out DIR] [--sections LIST] [--only EXPERIMENTS] [--no-peer] [--scenes DIR]\n"
     "        [--threads N]\n"
@@ -101,6 +107,7 @@ int main(int argc, char** argv) {
   if (command == "verify") return bitstep::verify_command(argc - 2, argv + 2);
   if (command == "diff") return bitstep::diff_command(argc - 2, argv + 2);
   if (command == "synctest") return bitstep::synctest_command(argc - 2, argv + 2);
+  if (command == "peer") return bitstep::peer_command(argc - 2, argv + 2);
   if (command == "selftest") return selftest(argc - 2, argv + 2);
   if (command == "bench" && argc >= 3 && std::string_view(argv[2]) == "queries") {
     return bitstep::run_bench_queries(argc - 3, argv + 3);

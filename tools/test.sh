@@ -7,7 +7,9 @@
 #      qemu-user;
 #   4. the installed package: a C and a C++ consumer built against it
 #      (tools/check_package.sh);
-#   5. a ThreadSanitizer build: the threaded solver's golden-replay test.
+#   5. bitstep peer processes on 127.0.0.1 playing a match, 2 and 4 peers,
+#      lockstep and rollback, with and without faults (tools/peer_test.sh);
+#   6. a ThreadSanitizer build: the threaded solver's golden-replay test.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=$(nproc)
@@ -45,6 +47,9 @@ if [ "$crosscheck_status" -ne 0 ]; then echo "test.sh: cross-build check failed"
 
 step "the installed package: a C and a C++ consumer print the golden hash"
 tools/check_package.sh build/release
+
+step "bitstep peer: 2 and 4 peers on 127.0.0.1, lockstep and rollback, with faults"
+tools/peer_test.sh build/release/bitstep
 
 # The solver's sweeps on several workers (core/ordered_sweeps.h) under
 # ThreadSanitizer: every golden replay on 2, 3 and 8 workers, optimised

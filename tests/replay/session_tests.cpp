@@ -7,11 +7,14 @@
 
 #include <algorithm>
 #include <memory>
+#include <span>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "fixed/splitmix64.h"
 #include "replay/session.h"
+#include "replay/session_codec.h"
 
 using namespace bitstep;
 
@@ -259,4 +262,75 @@ TEST_CASE("a session refuses hostile messages and counts them", "[session]") {
   CHECK(s.confirmed_tick() == 1);
   CHECK(config_error({3, 3, SessionMode::rollback, 0, 8, 1}) == "local player: outside 0..players - 1");
   CHECK(config_error({2, 0, SessionMode::rollback, 0, 65, 1}) == "max prediction: outside 1..64 ticks");
+}
+
+TEST_CASE("packets: messages and hellos round-trip; malformed ones are refused with a reason", "[session][codec]") {
+  SessionMessage inputs;
+  inputs.player = 3;
+  inputs.ack = 41;
+  inputs.tick = 40;
+  inputs.inputs = {"1 1", "", std::string(max_input_bytes, 'z')};
+  SessionMessage checksum;
+  checksum.kind = SessionMessage::Kind::checksum;
+  checksum.player = 1;
+  checksum.ack = 9;
+  checksum.tick = 10;
+  checksum.checksum = 0x0123456789abcdefu;
+  SessionMessage state = checksum;
+  state.kind = SessionMessage::Kind::state;
+  state.checksum = 0;  // a state carries none
+  state.state = {1, 2, 3, 4, 5};
+  for (const SessionMessage& m : {inputs, checksum, state}) {
+    const auto decoded = decode(encode(m));
+    REQUIRE(std::holds_alternative<SessionMessage>(decoded));
+    const SessionMessage& d = std::get<SessionMessage>(decoded);
+    CHECK(d.kind == m.kind);
+    CHECK(d.player == m.player);
+    CHECK(d.ack == m.ack);
+    CHECK(d.tick == m.tick);
+    CHECK(d.inputs == m.inputs);
+    CHECK(d.checksum == m.checksum);
+    CHECK(d.state == m.state);
+  }
+  const Hello hello{2, 4, SessionMode::lockstep, 3, 0xfeedu};
+  const auto decoded_hello = decode(encode(hello));
+  REQUIRE(std::holds_alternative<Hello>(decoded_hello));
+  CHECK(std::get<Hello>(decoded_hello) == hello);
+
+  const auto reason = [](std::vector<uint8_t> bytes) {
+    const auto d = decode(bytes);
+    return std::holds_alternative<PacketError>(d) ? std::get<PacketError>(d).reason : std::string("accepted");
+  };
+  std::vector<uint8_t> good = encode(inputs);
+  CHECK(reason({}) == "not a bitstep packet (bad magic)");
+  std::vector<uint8_t> bad = good;
+  bad[0] = 'x';
+  CHECK(reason(bad) == "not a bitstep packet (bad magic)");
+  bad = good;
+  bad[2] = 9;
+  CHECK(reason(bad) == "packet version 9");
+  bad = good;
+  bad[3] = 7;
+  CHECK(reason(bad) == "packet type 7");
+  bad = good;
+  bad.pop_back();
+  CHECK(reason(bad) == "truncated packet");
+  bad = good;
+  bad.push_back(0);
+  CHECK(reason(bad) == "bytes left after the packet");
+  bad = good;
+  bad[21] = 200;  // the count
+  CHECK(reason(bad) == "inputs: more than 128");
+  SessionMessage long_input = inputs;
+  long_input.inputs = {std::string(max_input_bytes + 1, 'z')};
+  CHECK(reason(encode(long_input)) == "inputs: an input longer than 1024 bytes");
+  bad = encode(hello);
+  bad[6] = 2;  // the mode
+  CHECK(reason(bad) == "hello: mode out of range");
+  // Every truncation of every packet is refused, none crashes.
+  for (const auto& packet : {encode(inputs), encode(checksum), encode(state), encode(hello)}) {
+    for (size_t n = 0; n < packet.size(); ++n) {
+      CHECK(std::holds_alternative<PacketError>(decode(std::span<const uint8_t>(packet.data(), n))));
+    }
+  }
 }

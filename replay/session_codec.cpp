@@ -1,0 +1,132 @@
+#include "replay/session_codec.h"
+
+namespace bitstep {
+
+namespace {
+
+constexpr uint8_t magic[2] = {'b', 'S'};
+constexpr uint8_t version = 1;
+constexpr uint8_t hello_type = 16;
+
+void put(std::vector<uint8_t>& out, uint64_t value, int bytes) {
+  for (int i = 0; i < bytes; ++i) out.push_back(static_cast<uint8_t>(value >> (8 * i)));
+}
+
+std::vector<uint8_t> header(uint8_t type) { return {magic[0], magic[1], version, type}; }
+
+// Reads little-endian fields; any read past the end fails the packet.
+class Reader {
+ public:
+  explicit Reader(std::span<const uint8_t> bytes) : bytes_(bytes) {}
+  bool ok() const { return ok_; }
+  bool done() const { return at_ == bytes_.size(); }
+  uint64_t take(int n) {
+    if (!ok_ || bytes_.size() - at_ < static_cast<size_t>(n)) {
+      ok_ = false;
+      return 0;
+    }
+    uint64_t v = 0;
+    for (int i = 0; i < n; ++i) v |= static_cast<uint64_t>(bytes_[at_ + static_cast<size_t>(i)]) << (8 * i);
+    at_ += static_cast<size_t>(n);
+    return v;
+  }
+  std::span<const uint8_t> bytes(size_t n) {
+    if (!ok_ || bytes_.size() - at_ < n) {
+      ok_ = false;
+      return {};
+    }
+    const auto out = bytes_.subspan(at_, n);
+    at_ += n;
+    return out;
+  }
+
+ private:
+  std::span<const uint8_t> bytes_;
+  size_t at_ = 0;
+  bool ok_ = true;
+};
+
+}  // namespace
+
+std::vector<uint8_t> encode(const SessionMessage& m) {
+  std::vector<uint8_t> out = header(static_cast<uint8_t>(m.kind));
+  put(out, static_cast<uint64_t>(m.player), 1);
+  put(out, static_cast<uint64_t>(m.ack), 8);
+  put(out, static_cast<uint64_t>(m.tick), 8);
+  switch (m.kind) {
+    case SessionMessage::Kind::inputs:
+      put(out, m.inputs.size(), 1);
+      for (const PlayerInput& input : m.inputs) {
+        put(out, input.size(), 2);
+        out.insert(out.end(), input.begin(), input.end());
+      }
+      break;
+    case SessionMessage::Kind::checksum: put(out, m.checksum, 8); break;
+    case SessionMessage::Kind::state:
+      put(out, m.state.size(), 4);
+      out.insert(out.end(), m.state.begin(), m.state.end());
+      break;
+  }
+  return out;
+}
+
+std::vector<uint8_t> encode(const Hello& h) {
+  std::vector<uint8_t> out = header(hello_type);
+  put(out, static_cast<uint64_t>(h.player), 1);
+  put(out, static_cast<uint64_t>(h.players), 1);
+  put(out, static_cast<uint64_t>(h.mode), 1);
+  put(out, static_cast<uint64_t>(h.input_delay), 1);
+  put(out, h.start_hash, 8);
+  return out;
+}
+
+std::variant<SessionMessage, Hello, PacketError> decode(std::span<const uint8_t> packet) {
+  Reader r(packet);
+  if (r.take(1) != magic[0] || r.take(1) != magic[1]) return PacketError{"not a bitstep packet (bad magic)"};
+  if (const uint64_t v = r.take(1); v != version) return PacketError{"packet version " + std::to_string(v)};
+  const uint64_t type = r.take(1);
+  if (type == hello_type) {
+    Hello h;
+    h.player = static_cast<int>(r.take(1));
+    h.players = static_cast<int>(r.take(1));
+    const uint64_t mode = r.take(1);
+    h.input_delay = static_cast<int>(r.take(1));
+    h.start_hash = r.take(8);
+    if (mode > 1) return PacketError{"hello: mode out of range"};
+    h.mode = static_cast<SessionMode>(mode);
+    if (!r.ok() || !r.done()) return PacketError{"hello: wrong length"};
+    return h;
+  }
+  if (type > 2) return PacketError{"packet type " + std::to_string(type)};
+  SessionMessage m;
+  m.kind = static_cast<SessionMessage::Kind>(type);
+  m.player = static_cast<int>(r.take(1));
+  m.ack = static_cast<int64_t>(r.take(8));
+  m.tick = static_cast<int64_t>(r.take(8));
+  switch (m.kind) {
+    case SessionMessage::Kind::inputs: {
+      const uint64_t count = r.take(1);
+      if (count > max_inputs_per_message) return PacketError{"inputs: more than 128"};
+      for (uint64_t i = 0; i < count && r.ok(); ++i) {
+        const uint64_t length = r.take(2);
+        if (length > max_input_bytes) return PacketError{"inputs: an input longer than 1024 bytes"};
+        const auto bytes = r.bytes(static_cast<size_t>(length));
+        m.inputs.emplace_back(bytes.begin(), bytes.end());
+      }
+      break;
+    }
+    case SessionMessage::Kind::checksum: m.checksum = r.take(8); break;
+    case SessionMessage::Kind::state: {
+      const uint64_t length = r.take(4);
+      if (length > max_state_bytes) return PacketError{"state: longer than 64 MiB"};
+      const auto bytes = r.bytes(static_cast<size_t>(length));
+      m.state.assign(bytes.begin(), bytes.end());
+      break;
+    }
+  }
+  if (!r.ok()) return PacketError{"truncated packet"};
+  if (!r.done()) return PacketError{"bytes left after the packet"};
+  return m;
+}
+
+}  // namespace bitstep

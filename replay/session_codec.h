@@ -1,0 +1,43 @@
+// Session messages as network packets, and the hello a peer opens with.
+// Little-endian, versioned:
+//   "bS", version (u8), type (u8: 0 inputs, 1 checksum, 2 state, 16 hello), then
+//   inputs:   player u8, ack i64, tick i64, count u8 (<= 128), each input: length u16 (<= 1024), bytes
+//   checksum: player u8, ack i64, tick i64, checksum u64
+//   state:    player u8, ack i64, tick i64, length u32 (<= 64 MiB), a snapshot image
+//   hello:    player u8, players u8, mode u8, input delay u8, the start state's hash u64
+// decode refuses anything else (a wrong magic, version or type, a count or
+// length over its limit, bytes missing or left over) with a reason; the
+// session then checks the values against its window.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "replay/session.h"
+
+namespace bitstep {
+
+// Who a peer is: sent first, and checked against the receiver's own match.
+struct Hello {
+  int player = 0, players = 0;
+  SessionMode mode = SessionMode::rollback;
+  int input_delay = 0;
+  uint64_t start_hash = 0;  // the state hash before tick 1: the same scene and settings
+  friend bool operator==(const Hello&, const Hello&) = default;
+};
+
+inline constexpr size_t max_state_bytes = size_t{64} << 20;
+
+std::vector<uint8_t> encode(const SessionMessage& message);
+std::vector<uint8_t> encode(const Hello& hello);
+
+struct PacketError {
+  std::string reason;
+};
+std::variant<SessionMessage, Hello, PacketError> decode(std::span<const uint8_t> packet);
+
+}  // namespace bitstep

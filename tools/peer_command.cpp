@@ -1,0 +1,389 @@
+#include "tools/peer_command.h"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <map>
+#include <string>
+#include <thread>
+#include <variant>
+#include <vector>
+
+#include "replay/replay.h"
+#include "replay/session_codec.h"
+#include "tools/enet_transport.h"
+
+namespace bitstep {
+
+namespace {
+
+struct Options {
+  std::string scene_path;
+  std::vector<std::string> inputs;  // the local player's script (--reference: every player's, in order)
+  std::vector<std::string> connect;
+  int player = 0, players = 2;
+  int port = 0;
+  SessionConfig session;
+  int64_t ticks = 600;
+  double hz = 60;
+  double timeout_s = 60;
+  NetFaults faults;
+  bool json = false, reference = false;
+  std::string corrupt_body;  // a test's cheat: flip a bit of this body's velocity ...
+  int64_t corrupt_tick = 0;  // ... before this tick
+};
+
+bool parse_int(const char* text, long long lo, long long hi, long long& out) {
+  char* end = nullptr;
+  const long long value = std::strtoll(text, &end, 10);
+  if (end == text || *end != '\0' || value < lo || value > hi) return false;
+  out = value;
+  return true;
+}
+
+// Parses argv into `o`; an empty string, or the one-line error.
+std::string parse_options(int argc, char** argv, Options& o) {
+  long long v = 0;
+  for (int i = 0; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool has_value = i + 1 < argc;
+    const auto integer = [&](long long lo, long long hi) {
+      if (!has_value || !parse_int(argv[++i], lo, hi, v)) {
+        throw std::string(arg + " needs an integer " + std::to_string(lo) + ".." + std::to_string(hi));
+      }
+      return v;
+    };
+    try {
+      if (arg == "--scene" && has_value) {
+        o.scene_path = argv[++i];
+      } else if (arg == "--inputs" && has_value) {
+        o.inputs.push_back(argv[++i]);
+      } else if (arg == "--connect" && has_value) {
+        o.connect.push_back(argv[++i]);
+      } else if (arg == "--player") {
+        o.player = static_cast<int>(integer(0, 15));
+      } else if (arg == "--players") {
+        o.players = static_cast<int>(integer(1, 16));
+      } else if (arg == "--port") {
+        o.port = static_cast<int>(integer(1, 65535));
+      } else if (arg == "--mode" && has_value) {
+        const std::string mode = argv[++i];
+        if (mode != "lockstep" && mode != "rollback") return "--mode is lockstep or rollback, got '" + mode + "'";
+        o.session.mode = mode == "lockstep" ? SessionMode::lockstep : SessionMode::rollback;
+      } else if (arg == "--delay") {
+        o.session.input_delay = static_cast<int>(integer(0, 32));
+      } else if (arg == "--max-prediction") {
+        o.session.max_prediction = static_cast<int>(integer(1, 64));
+      } else if (arg == "--checksum-every") {
+        o.session.checksum_interval = static_cast<int>(integer(1, 3600));
+      } else if (arg == "--ticks") {
+        o.ticks = integer(1, 1000000);
+      } else if (arg == "--hz") {
+        o.hz = static_cast<double>(integer(0, 1000));
+      } else if (arg == "--timeout") {
+        o.timeout_s = static_cast<double>(integer(1, 3600));
+      } else if (arg == "--loss") {
+        o.faults.loss_percent = static_cast<int>(integer(0, 100));
+      } else if (arg == "--duplicate") {
+        o.faults.duplicate_percent = static_cast<int>(integer(0, 100));
+      } else if (arg == "--jitter" && has_value) {
+        const std::string range = argv[++i];
+        const size_t dash = range.find('-');
+        long long lo = 0, hi = 0;
+        if (dash == std::string::npos || !parse_int(range.substr(0, dash).c_str(), 0, 10000, lo) ||
+            !parse_int(range.substr(dash + 1).c_str(), lo, 10000, hi)) {
+          return "--jitter needs MIN-MAX milliseconds (0..10000), got '" + range + "'";
+        }
+        o.faults.min_delay_ms = static_cast<int>(lo);
+        o.faults.max_delay_ms = static_cast<int>(hi);
+      } else if (arg == "--seed") {
+        o.faults.seed = static_cast<uint64_t>(integer(0, INT64_MAX));
+      } else if (arg == "--corrupt" && has_value) {
+        const std::string spec = argv[++i];  // BODY@TICK
+        const size_t at = spec.rfind('@');
+        long long tick = 0;
+        if (at == std::string::npos || at == 0 || !parse_int(spec.substr(at + 1).c_str(), 1, 1000000, tick)) {
+          return "--corrupt needs BODY@TICK, got '" + spec + "'";
+        }
+        o.corrupt_body = spec.substr(0, at);
+        o.corrupt_tick = tick;
+      } else if (arg == "--json") {
+        o.json = true;
+      } else if (arg == "--reference") {
+        o.reference = true;
+      } else {
+        return "unknown or incomplete option '" + arg + "'";
+      }
+    } catch (const std::string& error) {
+      return error;
+    }
+  }
+  if (o.scene_path.empty()) return "--scene is required";
+  if (o.player >= o.players) return "--player must be below --players";
+  if (o.reference && o.inputs.size() > static_cast<size_t>(o.players)) return "--reference takes at most one --inputs per player";
+  if (!o.reference && o.inputs.size() > 1) return "--inputs: one script, the local player's";
+  if (!o.reference && o.players > 1 && o.port == 0) return "--port is required with more than one player";
+  o.session.players = o.players;
+  o.session.local_player = o.player;
+  return {};
+}
+
+// A player's script: for each tick, its inputs (as a JSON array text).
+using Script = std::map<int64_t, PlayerInput>;
+
+std::variant<Script, std::string> read_script(const std::string& path, const Scene& scene, int delay) {
+  auto loaded = load_inputs_file(path, scene);
+  if (const auto* error = std::get_if<ReplayError>(&loaded)) return error->message();
+  Script script;
+  for (const Input& input : std::get<InputsFile>(loaded).inputs) {
+    if (input.kind == Input::Kind::add_joint || input.kind == Input::Kind::remove_joint) {
+      return path + ": " + input.source.path + ": a peer's input cannot add or remove joints";
+    }
+    if (input.step <= delay) {
+      return path + ": " + input.source.path + ".step: within the input delay (" + std::to_string(delay) + " ticks)";
+    }
+    PlayerInput& text = script[input.step];
+    text += text.empty() ? "[" : ",";
+    text += json::write(input.source);
+  }
+  for (auto& [tick, text] : script) text += "]";
+  return script;
+}
+
+// The game of `bitstep peer`: a player's input is the list of replay
+// inputs it applies at that tick ("impulse", "force", "drive", ...), read
+// against the scene (every value inside the envelope) and applied.
+ApplyInput scripted_game(const Scene& scene) {
+  return [&scene](Simulation& sim, int player, const PlayerInput& input) {
+    if (input.empty()) return;
+    auto parsed = parse_inputs(input, scene, "player " + std::to_string(player));
+    if (std::holds_alternative<ReplayError>(parsed)) return;  // a peer's garbage: nothing happens, on every peer
+    InputRun run(sim.world());
+    apply_inputs(sim.world(), std::get<std::vector<Input>>(parsed), static_cast<int64_t>(sim.tick()) + 1, run);
+  };
+}
+
+// " (body "name")" for a difference at "$.bodies[N]..." of a named scene body.
+std::string body_named(const Scene& scene, const std::string& difference) {
+  const std::string prefix = "$.bodies[";
+  if (difference.rfind(prefix, 0) != 0) return {};
+  const size_t slot = std::strtoull(difference.c_str() + prefix.size(), nullptr, 10);
+  if (slot >= scene.bodies.size() || scene.bodies[slot].name.empty()) return {};
+  return " (body " + json::quote(scene.bodies[slot].name) + ")";
+}
+
+uint64_t chain_digest(const std::vector<uint64_t>& chain) {
+  SplitMix64 mix{0};
+  uint64_t digest = 0;
+  for (const uint64_t h : chain) {
+    mix.state = digest ^ h;
+    digest = mix.next();
+  }
+  return digest;
+}
+
+void report(const Options& o, const std::vector<uint64_t>& chain, const Session* session, const NetStats* net,
+            double seconds) {
+  const uint64_t final_hash = chain.empty() ? 0 : chain.back();
+  if (!o.json) {
+    fmt::print("player {}: tick {} hash {:016x}, chain {:016x}", o.player, chain.size(), final_hash, chain_digest(chain));
+    if (session != nullptr) {
+      const SessionStats& s = session->stats();
+      fmt::print(" ({} rollbacks, {} ticks again, {} refused)", s.rollbacks, s.resimulated_ticks, s.refused_messages);
+    }
+    fmt::print(" in {:.1f} s\n", seconds);
+    return;
+  }
+  fmt::print("{{\"player\": {}, \"ticks\": {}, \"final_hash\": \"{:016x}\", \"chain\": \"{:016x}\", \"seconds\": {:.3f}",
+             o.player, chain.size(), final_hash, chain_digest(chain), seconds);
+  if (session != nullptr) {
+    const SessionStats& s = session->stats();
+    fmt::print(", \"rollbacks\": {}, \"resimulated_ticks\": {}, \"stalls\": {}, \"predicted_inputs\": {}, "
+               "\"mispredicted_inputs\": {}, \"refused_messages\": {}",
+               s.rollbacks, s.resimulated_ticks, s.stalls, s.predicted_inputs, s.mispredicted_inputs,
+               s.refused_messages);
+    if (const auto& d = session->desync()) {
+      fmt::print(", \"desync\": {{\"tick\": {}, \"player\": {}, \"local\": \"{:016x}\", \"remote\": \"{:016x}\", "
+                 "\"difference\": {}}}",
+                 d->tick, d->player, d->local, d->remote, json::quote(d->difference));
+    }
+  }
+  if (net != nullptr) {
+    fmt::print(", \"packets_sent\": {}, \"packets_received\": {}, \"dropped\": {}, \"duplicated\": {}", net->sent,
+               net->received, net->dropped, net->duplicated);
+  }
+  fmt::print("}}\n");
+}
+
+// Every player's script in one simulation, in player order each tick.
+int run_reference(const Options& o, const Scene& scene, Simulation sim) {
+  std::vector<Script> scripts;
+  for (const std::string& path : o.inputs) {
+    auto script = read_script(path, scene, o.session.input_delay);
+    if (const auto* error = std::get_if<std::string>(&script)) {
+      fmt::print(stderr, "bitstep peer: {}\n", *error);
+      return 1;
+    }
+    scripts.push_back(std::get<Script>(std::move(script)));
+  }
+  const ApplyInput apply = scripted_game(scene);
+  std::vector<uint64_t> chain;
+  const auto start = std::chrono::steady_clock::now();
+  for (int64_t t = 1; t <= o.ticks; ++t) {
+    for (size_t p = 0; p < scripts.size(); ++p) {
+      const auto found = scripts[p].find(t);
+      if (found != scripts[p].end()) apply(sim, static_cast<int>(p), found->second);
+    }
+    sim.step();
+    chain.push_back(sim.hash());
+  }
+  report(o, chain, nullptr, nullptr, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  return 0;
+}
+
+}  // namespace
+
+int peer_command(int argc, char** argv) {
+  Options o;
+  if (const std::string error = parse_options(argc, argv, o); !error.empty()) {
+    fmt::print(stderr, "bitstep peer: {}\n", error);
+    return 2;
+  }
+  auto loaded = load_scene_file(o.scene_path);
+  if (const auto* error = std::get_if<SceneError>(&loaded)) {
+    fmt::print(stderr, "bitstep peer: {}\n", error->message());
+    return 1;
+  }
+  const Scene scene = std::get<Scene>(std::move(loaded));
+  std::string error;
+  auto sim = Simulation::from_file(o.scene_path, error);
+  if (!sim) {
+    fmt::print(stderr, "bitstep peer: {}\n", error);
+    return 1;
+  }
+  if (o.reference) return run_reference(o, scene, std::move(*sim));
+
+  Script script;
+  if (!o.inputs.empty()) {
+    auto read = read_script(o.inputs[0], scene, o.session.input_delay);
+    if (const auto* failure = std::get_if<std::string>(&read)) {
+      fmt::print(stderr, "bitstep peer: {}\n", *failure);
+      return 1;
+    }
+    script = std::get<Script>(std::move(read));
+  }
+  const Hello hello{o.player, o.players, o.session.mode, o.session.input_delay, sim->hash()};
+  Session session(std::move(*sim), o.session, scripted_game(scene));
+
+  std::unique_ptr<EnetTransport> net;
+  std::map<uint32_t, int> player_of;  // identified ENet peers
+  std::vector<bool> present(static_cast<size_t>(o.players), false);
+  present[static_cast<size_t>(o.player)] = true;
+  uint64_t refused_packets = 0;
+  if (o.players > 1) {
+    net = EnetTransport::open(static_cast<uint16_t>(o.port), o.faults, error);
+    if (!net) {
+      fmt::print(stderr, "bitstep peer: {}\n", error);
+      return 1;
+    }
+    for (const std::string& target : o.connect) {
+      if (!net->connect(target, error)) {
+        fmt::print(stderr, "bitstep peer: {}\n", error);
+        return 2;
+      }
+    }
+  }
+  EnetTransport::Handlers handlers;
+  handlers.on_connect = [&](uint32_t peer) { net->send_to(peer, encode(hello)); };
+  handlers.on_disconnect = [&](uint32_t peer) { player_of.erase(peer); };
+  handlers.on_packet = [&](uint32_t peer, std::span<const uint8_t> bytes) {
+    const auto packet = decode(bytes);
+    if (const auto* theirs = std::get_if<Hello>(&packet)) {
+      const bool fits = theirs->players == o.players && theirs->mode == o.session.mode &&
+                        theirs->input_delay == o.session.input_delay && theirs->start_hash == hello.start_hash &&
+                        theirs->player >= 0 && theirs->player < o.players && theirs->player != o.player &&
+                        !present[static_cast<size_t>(theirs->player)];
+      if (!fits) {  // an unknown peer, or another match: refused
+        ++refused_packets;
+        net->disconnect(peer);
+        return;
+      }
+      player_of[peer] = theirs->player;
+      present[static_cast<size_t>(theirs->player)] = true;
+      return;
+    }
+    const auto* message = std::get_if<SessionMessage>(&packet);
+    const auto who = player_of.find(peer);
+    if (message == nullptr || who == player_of.end() || who->second != message->player) {
+      ++refused_packets;  // malformed, or from a peer that did not say who it is, or as someone else
+      return;
+    }
+    session.receive(*message);
+  };
+
+  std::vector<uint64_t> chain;
+  const auto start = std::chrono::steady_clock::now();
+  const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  const auto frame = std::chrono::duration<double>(o.hz > 0 ? 1.0 / o.hz : 0.0);
+  auto next_frame = std::chrono::steady_clock::now();
+  double finished_at = -1;
+  while (true) {
+    if (elapsed() > o.timeout_s) {
+      fmt::print(stderr, "bitstep peer: player {}: timed out after {:.0f} s at tick {} (confirmed {})\n", o.player,
+                 o.timeout_s, session.tick(), session.confirmed_tick());
+      return 1;
+    }
+    if (net) net->poll(1, handlers);
+    const bool everyone = std::all_of(present.begin(), present.end(), [](bool p) { return p; });
+    if (everyone && std::chrono::steady_clock::now() >= next_frame) {
+      next_frame += std::chrono::duration_cast<std::chrono::steady_clock::duration>(frame);
+      // One input per tick, as a game's frame gives it: never more than the
+      // input delay ahead of the simulation.
+      if (session.local_input_tick() < std::min(o.ticks, session.tick() + o.session.input_delay + 1)) {
+        const int64_t t = session.local_input_tick() + 1;
+        const auto found = script.find(t);
+        session.add_local_input(found == script.end() ? PlayerInput{} : found->second);
+      }
+      if (!o.corrupt_body.empty() && session.tick() + 1 == o.corrupt_tick) {
+        Simulation& s = session.simulation();
+        if (const auto body = s.find_body(o.corrupt_body)) {
+          Vec3 v = s.world().body(*body).linear_velocity;
+          v.x = Fixed::from_raw(v.x.raw() ^ 1);
+          s.set_velocity(*body, v, s.world().body(*body).angular_velocity);
+        }
+        o.corrupt_body.clear();
+      }
+      if (session.tick() < o.ticks) session.advance();
+      if (session.tick() >= o.ticks) session.heartbeat();
+    }
+    for (const SessionMessage& m : session.take_outgoing()) {
+      if (net) net->send_all(encode(m), m.kind == SessionMessage::Kind::state);
+    }
+    while (static_cast<int64_t>(chain.size()) < std::min(session.confirmed_tick(), o.ticks)) {
+      chain.push_back(*session.confirmed_hash(static_cast<int64_t>(chain.size()) + 1));
+    }
+    bool acked = static_cast<int64_t>(chain.size()) >= o.ticks;
+    for (int p = 0; p < o.players && acked; ++p) acked = p == o.player || session.peer_ack(p) >= o.ticks;
+    const bool desync_named = session.desync() && !session.desync()->difference.empty();
+    if ((acked || desync_named) && finished_at < 0) finished_at = elapsed();
+    // Linger a little: a peer whose last message was lost hears our ack again.
+    if (finished_at >= 0 && elapsed() - finished_at > 0.3) break;
+    if (!everyone || session.tick() >= o.ticks) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  if (o.json) {
+    report(o, chain, &session, net ? &net->stats() : nullptr, elapsed());
+  } else {
+    report(o, chain, &session, nullptr, elapsed());
+  }
+  if (refused_packets > 0) fmt::print(stderr, "bitstep peer: player {}: {} packets refused\n", o.player, refused_packets);
+  if (const auto& d = session.desync()) {
+    fmt::print(stderr, "bitstep peer: player {}: desync at tick {} with player {}: {}{}\n", o.player, d->tick, d->player,
+               d->difference, body_named(scene, d->difference));
+    return 3;
+  }
+  return 0;
+}
+
+}  // namespace bitstep

@@ -1,0 +1,119 @@
+#!/usr/bin/env bash
+# `bitstep peer` processes on 127.0.0.1 play 600 ticks of a scripted
+# playground match (scenes/match/player*.inputs.json): 2 and 4 peers, lockstep
+# and rollback, without faults and with 10% loss, 50-150 ms of jitter
+# (reordering) and 5% duplicates; every peer must end with the chain that
+# one process computes from every script (--reference). Then a peer that
+# flips one bit of a body's velocity before tick 200 must be reported by
+# both at tick 200 with the body and field; an intruder that does not fit
+# the match is refused while the match plays on; and the sync test rolls
+# the playground's golden replay back 8 ticks after every tick. Each run is
+# bounded by `timeout`. Usage: tools/peer_test.sh [BITSTEP]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bitstep=${1:-build/release/bitstep}
+scene=scenes/playground.json
+match=scenes/match
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+base=$((20000 + $$ % 20000))  # ports of this run
+status=0
+
+scripts() { for p in $(seq 0 $(($1 - 1))); do printf -- '--inputs %s/player%d.inputs.json ' "$match" "$p"; done; }
+chain_of() { sed -n 's/.*"chain": "\([0-9a-f]*\)".*/\1/p' "$1"; }
+
+# Starts N peers (ports base+offset..), waits for them; their JSON in $out/peerK.json.
+play() {
+  local players=$1 mode=$2 faults=$3 offset=$4 pids=()
+  for p in $(seq 0 $((players - 1))); do
+    local connect=()
+    for q in $(seq 0 $((p - 1))); do connect+=(--connect "127.0.0.1:$((base + offset + q))"); done
+    # shellcheck disable=SC2086
+    timeout 150 "$bitstep" peer --scene "$scene" --players "$players" --player "$p" --port $((base + offset + p)) \
+      "${connect[@]}" --inputs "$match/player$p.inputs.json" --mode "$mode" --hz 0 --seed $((p + 1)) $faults \
+      --timeout 120 --json >"$out/peer$p.json" 2>"$out/peer$p.err" &
+    pids+=($!)
+  done
+  local failed=0
+  for pid in "${pids[@]}"; do wait "$pid" || failed=1; done
+  return $failed
+}
+
+offset=0
+for players in 2 4; do
+  # shellcheck disable=SC2046
+  "$bitstep" peer --reference --scene "$scene" --players "$players" $(scripts "$players") --json >"$out/reference.json"
+  expected=$(chain_of "$out/reference.json")
+  for mode in lockstep rollback; do
+    for faults in "" "--loss 10 --jitter 50-150 --duplicate 5"; do
+      offset=$((offset + 10))
+      name="$players peers, $mode${faults:+, $faults}"
+      if ! play "$players" "$mode" "$faults" "$offset"; then
+        echo "peer_test.sh: $name: a peer failed:" >&2
+        cat "$out"/peer*.err >&2
+        status=1
+        continue
+      fi
+      for p in $(seq 0 $((players - 1))); do
+        if [ "$(chain_of "$out/peer$p.json")" != "$expected" ]; then
+          echo "peer_test.sh: $name: peer $p's chain $(chain_of "$out/peer$p.json") is not the reference's $expected" >&2
+          status=1
+        fi
+      done
+      rollbacks=$(sed -n 's/.*"rollbacks": \([0-9]*\).*/\1/p' "$out"/peer*.json | awk '{s += $1} END {print s + 0}')
+      echo "$name: every peer's chain is the reference's ($expected; $rollbacks rollbacks in all)"
+    done
+  done
+done
+
+# A flipped bit in player 1's ball.0 before tick 200, checksums every 10 ticks.
+offset=$((offset + 10))
+timeout 60 "$bitstep" peer --scene "$scene" --players 2 --player 0 --port $((base + offset)) \
+  --inputs "$match/player0.inputs.json" --mode lockstep --hz 0 --checksum-every 10 >/dev/null 2>"$out/d0.err" &
+first=$!
+set +e
+timeout 60 "$bitstep" peer --scene "$scene" --players 2 --player 1 --port $((base + offset + 1)) \
+  --connect "127.0.0.1:$((base + offset))" --inputs "$match/player1.inputs.json" --mode lockstep --hz 0 \
+  --checksum-every 10 --corrupt ball.0@200 >/dev/null 2>"$out/d1.err"
+second_status=$?
+wait "$first"
+first_status=$?
+set -e
+for p in 0 1; do
+  line=$(grep "desync" "$out/d$p.err" || true)
+  case "$line" in
+    *"desync at tick 200 with player"*'$.bodies['*'].linear_velocity[0]'*'(body "ball.0")'*) echo "desync: $line" ;;
+    *) echo "peer_test.sh: the flipped bit was not reported by peer $p as expected: '$line'" >&2; status=1 ;;
+  esac
+done
+if [ "$first_status" -ne 3 ] || [ "$second_status" -ne 3 ]; then
+  echo "peer_test.sh: peers that desync exit 3, got $first_status and $second_status" >&2
+  status=1
+fi
+
+# An intruder for another match (3 players) knocks on player 0 of a 2-player match.
+offset=$((offset + 10))
+timeout 60 "$bitstep" peer --scene "$scene" --players 2 --player 0 --port $((base + offset)) \
+  --inputs "$match/player0.inputs.json" --mode lockstep --hz 0 --ticks 300 --json >"$out/i0.json" 2>"$out/i0.err" &
+host=$!
+set +e
+timeout 20 "$bitstep" peer --scene "$scene" --players 3 --player 2 --port $((base + offset + 2)) \
+  --connect "127.0.0.1:$((base + offset))" --hz 0 --ticks 300 --timeout 3 >/dev/null 2>"$out/intruder.err"
+intruder_status=$?
+set -e
+timeout 60 "$bitstep" peer --scene "$scene" --players 2 --player 1 --port $((base + offset + 1)) \
+  --connect "127.0.0.1:$((base + offset))" --inputs "$match/player1.inputs.json" --mode lockstep --hz 0 --ticks 300 \
+  --json >"$out/i1.json" 2>"$out/i1.err" || status=1
+wait "$host" || status=1
+if [ "$intruder_status" -eq 0 ] || ! grep -q "packets refused" "$out/i0.err" ||
+    [ "$(chain_of "$out/i0.json")" != "$(chain_of "$out/i1.json")" ]; then
+  echo "peer_test.sh: the intruder was not refused, or the match did not finish alike" >&2
+  cat "$out/i0.err" "$out/intruder.err" >&2
+  status=1
+else
+  echo "intruder refused ($(cat "$out/i0.err")); the match finished alike"
+fi
+
+# GGPO's sync test on the playground's golden inputs: the golden chain.
+"$bitstep" synctest scenes/playground.replay.json --frames 8 || status=1
+exit "$status"
