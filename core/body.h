@@ -102,6 +102,11 @@ struct Body {
   Fixed sleep_motion;             // m^2/s^2, motion: the recently-weighted average of v.v + w.w
   uint32_t sleepy_steps = 0;      // steps in a row below sleep_epsilon (motion) or within tolerance (still)
   Pose sleep_reference;           // still: the pose the body has stayed near
+  // Not state: which creation made this body, unique over its world
+  // object's life (a rollback does not bring a number back); 0 when dead.
+  // A rollback state (replay/rollback_state.h) keeps a body's static data
+  // once per serial.
+  uint64_t serial = 0;
 };
 
 // Moved by the integrator and the solver this step.

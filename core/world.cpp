@@ -1,6 +1,8 @@
 #include "core/world.h"
 
 #include <algorithm>
+#include <atomic>
+#include <memory>
 
 #include "core/broadphase.h"
 #include "core/contact_update.h"
@@ -59,7 +61,54 @@ Fixed kinetic_energy(const Body& body) {
 
 }  // namespace
 
+uint64_t WorldInstance::next() {
+  static std::atomic<uint64_t> counter{0};
+  return ++counter;
+}
+
 World::World(const Settings& settings) : settings_(settings) {}
+
+namespace {
+
+// Destroys and default-constructs a cache in place (some hold atomics and
+// cannot be assigned).
+template <class T>
+void reset(T& cache) {
+  std::destroy_at(&cache);
+  std::construct_at(&cache);
+}
+
+}  // namespace
+
+void World::after_in_place_restore() {
+  special_bodies_ = sensor_bodies_ = 0;
+  for (Body& body : bodies_) {
+    if (body.alive) count_special(body, +1);
+  }
+  events_.clear();
+  reset(proxies_);
+  reset(pairs_);
+  reset(joined_);
+  reset(contact_pairs_);
+  reset(broadphase_scratch_);
+  reset(previous_contacts_);
+  reset(previous_overlaps_);
+  reset(keys_before_);
+  reset(sensor_keys_before_);
+  reset(keys_after_);
+  reset(woken_by_cars_);
+  reset(turn_speed_);
+  reset(shape_extents_);
+  reset(narrowphase_cache_);
+  reset(inertia_cache_);
+  reset(push_);
+  reset(solver_scratch_);
+  reset(joint_rows_);
+  reset(joint_tree_);
+  reset(touching_);
+  reset(sleep_scratch_);
+  reset(before_prediction_);
+}
 
 World World::from_state(const Settings& settings, uint64_t step_count, std::vector<Body> bodies,
                         std::vector<uint32_t> free_slots, std::vector<Contact> contacts, std::vector<Joint> joints,
@@ -74,7 +123,8 @@ World World::from_state(const Settings& settings, uint64_t step_count, std::vect
   world.free_joint_slots_ = std::move(free_joint_slots);
   world.sensor_overlaps_ = std::move(sensor_overlaps);
   world.cars_ = std::move(cars);
-  for (const Body& body : world.bodies_) {
+  for (Body& body : world.bodies_) {
+    body.serial = body.alive ? ++world.last_serial_ : 0;
     if (body.alive) world.count_special(body, +1);
   }
   return world;
@@ -98,6 +148,7 @@ CreateResult World::create_body(const BodyDef& def) {
   body.angular_damping = def.angular_damping;
   body.shapes = def.shapes;
   body.asleep = def.asleep && settings_.sleep_method != SleepMethod::off;
+  body.serial = ++last_serial_;
   if (def.type == BodyType::dynamic) {
     // A given mass scales the density: rho = m / V (check_envelope admitted both).
     const MassProperties mass = mass_properties(def.shapes, def.density, def.mass);
@@ -172,6 +223,7 @@ bool World::remove_body(BodyId id) {
   }
   Body& body = bodies_[id.index];
   body.alive = false;
+  body.serial = 0;
   body.shapes.clear();
   free_slots_.push_back(id.index);
   forget_narrowphase(id.index);

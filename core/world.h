@@ -40,6 +40,26 @@ struct JointResult {
   bool ok() const { return error.empty(); }
 };
 
+// A number for each world object, drawn anew for a copy (a copy's future
+// bodies are its own) and kept by a move: rollback states name the world
+// they belong to with it.
+class WorldInstance {
+ public:
+  WorldInstance() : id_(next()) {}
+  WorldInstance(const WorldInstance&) : id_(next()) {}
+  WorldInstance& operator=(const WorldInstance&) {
+    id_ = next();
+    return *this;
+  }
+  WorldInstance(WorldInstance&&) = default;
+  WorldInstance& operator=(WorldInstance&&) = default;
+  uint64_t id() const { return id_; }
+
+ private:
+  static uint64_t next();
+  uint64_t id_;
+};
+
 class World {
  public:
   explicit World(const Settings& settings = {});
@@ -120,6 +140,14 @@ class World {
   // default: the caller's thread alone). The world does not own it; it must
   // outlive the world's steps. The same bits for any executor (tests verify
   // every golden replay with 1, 2, 3 and 8 workers). Not state.
+  // Not state: this world object's number, and the serial of its next body.
+  uint64_t instance() const { return instance_.id(); }
+  // After a rollback state was read into this world in place
+  // (replay/rollback_state.cpp): recounts what the step counts from the
+  // bodies and forgets every cache, as a world just built from a state has
+  // none.
+  void after_in_place_restore();
+
   void set_executor(Executor* executor) { executor_ = executor; }
   Executor* executor() const { return executor_; }
   // Sweep runs (a solve's iterations, or its position passes) that were
@@ -143,8 +171,12 @@ class World {
   // Drops the narrowphase results of a slot whose body is removed.
   void forget_narrowphase(uint32_t slot);
 
+  friend struct WorldStateAccess;  // replay/rollback_state.cpp reads a state into these in place
+
   Settings settings_;
   uint64_t step_count_ = 0;
+  WorldInstance instance_;
+  uint64_t last_serial_ = 0;
   std::vector<Body> bodies_;
   std::vector<uint32_t> free_slots_;  // removed slots, reused last-in first-out
   std::vector<Contact> contacts_;     // sorted by (body a, body b, shape a, shape b)

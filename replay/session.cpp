@@ -49,7 +49,26 @@ Session::Session(Simulation sim, SessionConfig config, ApplyInput apply)
     for (int64_t t = 1; t <= config_.input_delay; ++t) known_inputs[t] = empty_;
   }
   next_local_ = config_.input_delay + 1;
-  saved_[0] = sim_.save();
+  // Room for the states a rollback may start from: the confirmed tick's and
+  // every tick run ahead of it.
+  ring_.resize(static_cast<size_t>(config_.max_prediction) + 2);
+  ring_tick_.assign(ring_.size(), -1);
+  if (config_.mode == SessionMode::rollback) save_state(0);
+}
+
+// The state after `tick` (the world's now) into its place in the ring, as
+// a rollback state: no allocation once the buffers are large enough.
+void Session::save_state(int64_t tick) {
+  const size_t k = static_cast<size_t>(tick) % ring_.size();
+  std::vector<uint8_t>& buffer = ring_[k];
+  buffer.resize(buffer.capacity());
+  size_t size = states_.save(sim_.world(), buffer);
+  if (size > buffer.size()) {
+    buffer.resize(size);
+    size = states_.save(sim_.world(), buffer);
+  }
+  buffer.resize(size);
+  ring_tick_[k] = tick;
 }
 
 bool Session::known(int player, int64_t tick) const {
@@ -94,7 +113,7 @@ void Session::send_inputs(bool always) {
 }
 
 void Session::simulate(int64_t tick) {
-  if (config_.mode == SessionMode::rollback) saved_[tick - 1] = sim_.save();  // the state this tick starts from
+  if (config_.mode == SessionMode::rollback) save_state(tick - 1);  // the state this tick starts from
   std::vector<PlayerInput> used(static_cast<size_t>(config_.players));
   for (int p = 0; p < config_.players; ++p) {
     bool predicted = false;
@@ -112,7 +131,8 @@ void Session::simulate(int64_t tick) {
 void Session::roll_back() {
   const int64_t from = rollback_from_, to = tick_;
   rollback_from_ = INT64_MAX;
-  if (const auto why = sim_.load(saved_.at(from - 1))) return;  // cannot happen: the image is our own
+  const size_t k = static_cast<size_t>(from - 1) % ring_.size();
+  if (ring_tick_[k] != from - 1 || states_.restore(ring_[k], sim_.world())) return;  // cannot happen: our own state
   for (int64_t t = from; t <= to; ++t) simulate(t);
   ++stats_.rollbacks;
   stats_.resimulated_ticks += to - from + 1;
@@ -147,7 +167,10 @@ void Session::confirm() {
     confirmed_ = c;
     confirmed_hashes_[c] = hashes_.at(c);
     if (c % config_.checksum_interval != 0) continue;
-    checked_states_[c] = c == tick_ ? sim_.save() : saved_.at(c);
+    // The state after c, kept (as a rollback state) until the peers' checksums agree.
+    const size_t k = static_cast<size_t>(c) % ring_.size();
+    if (ring_tick_[k] != c) save_state(c);  // c is the tick just run
+    checked_states_[c] = ring_[k];
     if (checked_states_.size() > remembered_states) checked_states_.erase(checked_states_.begin());
     SessionMessage m;
     m.kind = SessionMessage::Kind::checksum;
@@ -167,7 +190,6 @@ void Session::confirm() {
   for (int p = 0; p < config_.players; ++p) {
     if (p != config_.local_player) acked = std::min(acked, acked_[static_cast<size_t>(p)]);
   }
-  erase_before(saved_, confirmed_);
   erase_before(used_, confirmed_);
   erase_before(hashes_, confirmed_);
   for (int p = 0; p < config_.players; ++p) {
@@ -186,13 +208,24 @@ void Session::check_checksum(int64_t tick, int player) {
   desync_ = Desync{tick, player, local->second, theirs->second, {}};
   const auto state = checked_states_.find(tick);
   if (state == checked_states_.end()) return;
+  desync_snapshot_ = snapshot_of(state->second);
   SessionMessage m;
   m.kind = SessionMessage::Kind::state;
   m.player = config_.local_player;
   m.ack = confirmed_;
   m.tick = tick;
-  m.state = state->second;
+  m.state = desync_snapshot_;
   outgoing_.push_back(std::move(m));
+}
+
+// A whole snapshot of a kept rollback state: the world goes there and back.
+std::vector<uint8_t> Session::snapshot_of(const std::vector<uint8_t>& state) {
+  std::vector<uint8_t> now(states_.save(sim_.world(), {}));
+  states_.save(sim_.world(), now);
+  if (states_.restore(state, sim_.world())) return {};
+  std::vector<uint8_t> whole = sim_.save();
+  (void)states_.restore(now, sim_.world());
+  return whole;
 }
 
 bool Session::receive(const SessionMessage& m) {
@@ -232,12 +265,11 @@ bool Session::receive(const SessionMessage& m) {
       break;
     case SessionMessage::Kind::state: {
       if (!desync_ || desync_->tick != m.tick || !desync_->difference.empty()) break;
-      const auto ours = checked_states_.find(m.tick);
-      if (ours == checked_states_.end()) break;
+      if (desync_snapshot_.empty()) break;
       World mine, theirs;
       if (const auto why = restore(m.state, theirs)) {
         desync_->difference = "the peer's state cannot be read: " + *why;
-      } else if (!restore(ours->second, mine)) {
+      } else if (!restore(desync_snapshot_, mine)) {
         desync_->difference = diff_dumps(dump_state(mine), dump_state(theirs)).first.value_or("no field differs");
       }
       break;

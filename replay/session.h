@@ -31,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "replay/rollback_state.h"
 #include "replay/simulation.h"
 
 namespace bitstep {
@@ -117,6 +118,8 @@ class Session {
  private:
   bool known(int player, int64_t tick) const;
   const PlayerInput& input_for(int player, int64_t tick, bool& predicted) const;
+  void save_state(int64_t tick);
+  std::vector<uint8_t> snapshot_of(const std::vector<uint8_t>& state);
   void simulate(int64_t tick);
   void roll_back();
   void confirm();
@@ -132,10 +135,13 @@ class Session {
   std::vector<std::map<int64_t, PlayerInput>> inputs_;  // per player: known inputs by tick
   std::vector<int64_t> acked_;           // per player: the ack they last sent
   std::map<int64_t, std::vector<PlayerInput>> used_;   // per tick: the inputs it ran with
-  std::map<int64_t, std::vector<uint8_t>> saved_;      // the state after each tick since the confirmed one
+  RollbackStates states_;                              // rollback: the state after each tick since the
+  std::vector<std::vector<uint8_t>> ring_;             // confirmed one, at ring_[tick % size]
+  std::vector<int64_t> ring_tick_;
   std::map<int64_t, uint64_t> hashes_;                 // the hash after each tick simulated (last run)
   std::map<int64_t, uint64_t> confirmed_hashes_;       // at checksum ticks, confirmed
   std::map<int64_t, std::vector<uint8_t>> checked_states_;  // the state at checksum ticks, until compared
+  std::vector<uint8_t> desync_snapshot_;                    // ours, at the desync's tick
   std::map<int64_t, std::map<int, uint64_t>> remote_checksums_;
   std::vector<SessionMessage> outgoing_;
   std::optional<Desync> desync_;

@@ -26,9 +26,15 @@
 //                                            above hi or above what the bytes left could hold
 //   items(name, count, describe(i))          `count` items whose count was given before
 //   require(test, reason)                    the reader refuses a state where test() is false
+//   marks(n)                                 (reader) n zeroed bytes of scratch the reader keeps
 //   trailing(present, in_dump, describe)     a block at the end that the writer writes when
 //                                            `present` and the reader reads when bytes are left;
 //                                            the dump shows it when present or `in_dump`
+//   statics(describe)                        fields a body keeps while it lives (type, mass
+//                                            properties, material, damping, shapes, filter):
+//                                            a step's state alone (rollback_state.h) leaves them out
+//   identity(body)                           where a live body's serial goes in a step's state
+//                                            (not state: the other visitors do nothing)
 #pragma once
 
 #include <array>
@@ -133,7 +139,8 @@ void describe_body(V& v, B& body, bool sleep) {
   v.integer("alive", body.alive, 1, 0, 1);
   v.integer("generation", body.generation, 4, 0, UINT32_MAX);
   if (!body.alive) return;
-  v.choice("type", body.type, body_types, 0);
+  v.identity(body);
+  v.statics([&] { v.choice("type", body.type, body_types, 0); });
   v.vec("position", body.pose.position);
   v.quat("orientation", body.pose.orientation);
   v.vec("linear_velocity", body.linear_velocity);
@@ -141,20 +148,24 @@ void describe_body(V& v, B& body, bool sleep) {
   v.vec("force", body.force);
   v.vec("torque", body.torque);
   // What the body is made of (a spawned body is part of the state too).
-  v.fixed("inverse_mass", body.inverse_mass);
-  v.mat("inertia_local", body.inertia_local);
-  v.mat("inverse_inertia_local", body.inverse_inertia_local);
+  v.statics([&] {
+    v.fixed("inverse_mass", body.inverse_mass);
+    v.mat("inertia_local", body.inertia_local);
+    v.mat("inverse_inertia_local", body.inverse_inertia_local);
+  });
   // Refreshed at the start of a step, from the pose before it moved: an
   // impulse applied between steps uses this one.
   v.mat("inverse_inertia_world", body.inverse_inertia_world);
-  v.object("material", [&] {
-    v.fixed("static_friction", body.material.static_friction);
-    v.fixed("dynamic_friction", body.material.dynamic_friction);
-    v.fixed("restitution", body.material.restitution);
-    v.fixed("rolling_resistance", body.material.rolling_resistance);
+  v.statics([&] {
+    v.object("material", [&] {
+      v.fixed("static_friction", body.material.static_friction);
+      v.fixed("dynamic_friction", body.material.dynamic_friction);
+      v.fixed("restitution", body.material.restitution);
+      v.fixed("rolling_resistance", body.material.rolling_resistance);
+    });
+    v.fixed("linear_damping", body.linear_damping);
+    v.fixed("angular_damping", body.angular_damping);
   });
-  v.fixed("linear_damping", body.linear_damping);
-  v.fixed("angular_damping", body.angular_damping);
   if (sleep) {
     v.integer("asleep", body.asleep, 1, 0, 1);
     v.require([&] { return !body.asleep || body.type == BodyType::dynamic; },
@@ -166,9 +177,11 @@ void describe_body(V& v, B& body, bool sleep) {
       v.quat("orientation", body.sleep_reference.orientation);
     });
   }
-  constexpr size_t shape_bytes = 1 + 8 * 12;
-  v.list("shapes", body.shapes, shape_bytes, UINT16_MAX, nullptr, [&](auto& shape) { describe_shape(v, shape); });
-  v.require([&] { return !body.shapes.empty(); }, [] { return std::string("a body needs 1..65535 shapes"); });
+  v.statics([&] {
+    constexpr size_t shape_bytes = 1 + 8 * 12;
+    v.list("shapes", body.shapes, shape_bytes, UINT16_MAX, nullptr, [&](auto& shape) { describe_shape(v, shape); });
+    v.require([&] { return !body.shapes.empty(); }, [] { return std::string("a body needs 1..65535 shapes"); });
+  });
 }
 
 template <class V, class C, class Bodies, class Before>
@@ -266,8 +279,16 @@ void describe_joint(V& v, J& joint, const Bodies& bodies) {
 // A list of the dead slots of `items`, each once (free_slots, free_joint_slots).
 template <class V, class Slots, class Items>
 void describe_free_slots(V& v, const char* name, Slots& slots, const Items& items) {
-  std::vector<uint8_t> listed;
-  if constexpr (V::reading) listed.assign(items.size(), 0);
+  // The reader marks each listed slot in a scratch of its own (kept: a
+  // rollback state restores without allocating).
+  std::vector<uint8_t> none;
+  std::vector<uint8_t>& listed = [&]() -> std::vector<uint8_t>& {
+    if constexpr (V::reading) {
+      return v.marks(items.size());
+    } else {
+      return none;
+    }
+  }();
   v.list(name, slots, 4, UINT32_MAX, nullptr, [&](auto& slot) {
     v.integer(nullptr, slot, 4, 0, UINT32_MAX);
     if constexpr (V::reading) {
@@ -326,9 +347,11 @@ void describe_state(V& v, const StateParts<Reading>& state) {
   v.trailing(filtered, false, [&] {
     v.items("filters", state.bodies.size(), [&](size_t i) {
       auto& body = state.bodies[i];
-      v.integer("layers", body.filter.layers, 4, 0, UINT32_MAX);
-      v.integer("collides_with", body.filter.collides_with, 4, 0, UINT32_MAX);
-      v.integer("sensor", body.sensor, 1, 0, 1);
+      v.statics([&] {
+        v.integer("layers", body.filter.layers, 4, 0, UINT32_MAX);
+        v.integer("collides_with", body.filter.collides_with, 4, 0, UINT32_MAX);
+        v.integer("sensor", body.sensor, 1, 0, 1);
+      });
     });
     // What overlaps the sensors: between a live sensor's and a live
     // non-sensor's existing shapes, strictly in key order.

@@ -149,6 +149,11 @@ class JsonWriter {
   void trailing(bool present, bool in_dump, F&& describe) {
     if (present || in_dump) describe();  // the joints always, empty or not; the filters where there are any
   }
+  template <class F>
+  void statics(F&& describe) {
+    describe();
+  }
+  void identity(const Body&) {}  // a serial is not state
 
  private:
   struct Level {

@@ -2,6 +2,7 @@
 
 #include <deque>
 
+#include "replay/rollback_state.h"
 #include "replay/snapshot.h"
 #include "replay/state_dump.h"
 #include "replay/state_hash.h"
@@ -16,6 +17,32 @@ struct Saved {
   InputRun run;
 };
 
+// Saves and restores ticks one of the two ways.
+class Keeper {
+ public:
+  explicit Keeper(SyncTestSaves saves) : saves_(saves) {}
+  void save(const World& world, std::vector<uint8_t>& image) {
+    if (saves_ == SyncTestSaves::snapshots) {
+      image = snapshot(world);
+      return;
+    }
+    image.resize(image.capacity());  // the buffer as large as it has been
+    size_t size = states_.save(world, image);
+    if (size > image.size()) {
+      image.resize(size);
+      size = states_.save(world, image);
+    }
+    image.resize(size);
+  }
+  std::optional<std::string> restore(const std::vector<uint8_t>& image, World& world) const {
+    return saves_ == SyncTestSaves::snapshots ? bitstep::restore(image, world) : states_.restore(image, world);
+  }
+
+ private:
+  SyncTestSaves saves_;
+  RollbackStates states_;
+};
+
 void simulate_tick(World& world, const std::vector<Input>& inputs, int64_t tick, InputRun& run,
                    const SyncTestHook& hook, bool again) {
   apply_inputs(world, inputs, tick, run);
@@ -26,22 +53,25 @@ void simulate_tick(World& world, const std::vector<Input>& inputs, int64_t tick,
 }  // namespace
 
 SyncTestResult sync_test(World& world, const std::vector<Input>& inputs, int64_t ticks, int frames,
-                         const SyncTestHook& hook) {
+                         const SyncTestHook& hook, SyncTestSaves saves) {
   SyncTestResult result;
+  Keeper keeper(saves);
   InputRun run(world);
   // saved[i]: the state after tick (tick - saved.size() + 1 + i), the last
   // `frames` + 1 of them (the oldest is where a rollback starts).
   std::deque<Saved> saved;
-  saved.push_back({snapshot(world), run});
+  saved.push_back({{}, run});
+  keeper.save(world, saved.back().image);
   for (int64_t tick = 1; tick <= ticks; ++tick) {
     simulate_tick(world, inputs, tick, run, hook, false);
     result.hashes.push_back(state_hash(world));
-    saved.push_back({snapshot(world), run});
+    saved.push_back({{}, run});
+    keeper.save(world, saved.back().image);
     if (saved.size() > static_cast<size_t>(frames) + 1) saved.pop_front();
     if (tick < frames) continue;
     // Back `frames` ticks, and forward again.
     const Saved& start = saved.front();
-    if (const auto why = restore(start.image, world)) {
+    if (const auto why = keeper.restore(start.image, world)) {
       result.mismatch_tick = tick - frames;
       result.difference = "restore: " + *why;
       return result;
@@ -56,10 +86,13 @@ SyncTestResult sync_test(World& world, const std::vector<Input>& inputs, int64_t
       result.mismatch_tick = t;
       result.first_hash = first;
       result.again_hash = h;
-      World original;
+      // This state dumped, then the world restored to the first one's.
+      const std::string again_dump = dump_state(world);
       const Saved& then = saved[static_cast<size_t>(t - (tick - frames))];
-      if (!restore(then.image, original)) {
-        const DumpDifference d = diff_dumps(dump_state(original), dump_state(world));
+      if (const auto why = keeper.restore(then.image, world)) {
+        result.difference = "restore: " + *why;
+      } else {
+        const DumpDifference d = diff_dumps(dump_state(world), again_dump);
         result.difference = d.first.value_or("the dumps are equal (a field hashed but not dumped)");
       }
       return result;

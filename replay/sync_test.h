@@ -31,10 +31,15 @@ struct SyncTestResult {
 // (again = true), after the tick's inputs: for tests that break it on purpose.
 using SyncTestHook = std::function<void(World& world, int64_t tick, bool again)>;
 
+// How a tick's state is kept: as a rollback game keeps it (a step's state
+// alone, restored in place: rollback_state.h), or as a whole snapshot
+// restored into a new world (snapshot.h).
+enum class SyncTestSaves : uint8_t { rollback_states, snapshots };
+
 // Runs `ticks` ticks of `inputs` (replay inputs: tick = step) from `world`
 // at step 0, rolling back `frames` (>= 1) ticks after each tick from the
 // `frames`-th on. Stops at the first mismatch.
 SyncTestResult sync_test(World& world, const std::vector<Input>& inputs, int64_t ticks, int frames,
-                         const SyncTestHook& hook = {});
+                         const SyncTestHook& hook = {}, SyncTestSaves saves = SyncTestSaves::rollback_states);
 
 }  // namespace bitstep

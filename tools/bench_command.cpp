@@ -436,7 +436,7 @@ class Bench {
   // --- costs ---------------------------------------------------------------------
 
   static std::vector<std::string> rollback_scenes() {
-    return {"stack20.json", "pyramid20.json", "thrown.json", "playground.json"};
+    return {"stack20.json", "pyramid20.json", "wall128.json", "thrown.json", "playground.json"};
   }
 
   // Rollbacks from step 60 (1 s in: thrown's cubes in their pile, the
@@ -454,10 +454,14 @@ class Bench {
         return false;
       }
     }
-    std::string csv = "scene,from_step,snapshot_bytes,rounds,restore_ms,rollback_ms,frame_share,same_bits\n";
+    std::string csv =
+        "scene,from_step,bodies,snapshot_bytes,state_bytes,rounds,snapshot_save_ms,state_save_ms,restore_ms,"
+        "rollback_ms,state_restore_ms,state_rollback_ms,frame_share,same_bits\n";
     for (const RollbackRow& r : rollback_) {
-      csv += fmt::format("{},{},{},{},{:.6g},{:.6g},{:.4g},{}\n", r.scene, r.from_step, r.snapshot_bytes, r.rounds,
-                         r.restore_ms, r.rollback_ms, r.rollback_ms / frame_ms, r.same_bits ? 1 : 0);
+      csv += fmt::format("{},{},{},{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4g},{}\n", r.scene, r.from_step,
+                         r.bodies, r.snapshot_bytes, r.state_bytes, r.rounds, r.snapshot_save_ms, r.state_save_ms,
+                         r.restore_ms, r.rollback_ms, r.state_restore_ms, r.state_rollback_ms,
+                         r.state_rollback_ms / frame_ms, r.same_bits ? 1 : 0);
     }
     if (!write("rollback.csv", csv)) return false;
     if (peer_.empty()) return true;
@@ -482,16 +486,23 @@ class Bench {
 
   std::string costs_section() const {
     std::string md = fmt::format(
-        "## Costs a game pays\n\nAn {}-frame rollback: restore the snapshot taken at step 60, then {} steps, "
-        "against the {:.1f} ms of a 60 Hz frame (mean of {} rounds; every round must end on the same state "
-        "hash).\n\n| scene | snapshot | restore (ms) | restore + {} steps (ms) | share of the frame | same bits |\n"
-        "|---|---:|---:|---:|---:|---|\n",
+        "## Costs a game pays\n\nAn {}-frame rollback: restore the state saved at step 60, then {} steps, "
+        "against the {:.1f} ms of a 60 Hz frame (mean of {} rounds; every round, either way, must end on the same "
+        "state hash). `state`: a rollback state (the step's state alone, saved into a kept buffer, restored in "
+        "place); `snapshot`: the whole world's image, restored into a new world.\n\n"
+        "| scene | bodies | state (bytes/body) | snapshot (bytes/body) | save state (us) | save snapshot (us) | "
+        "restore state (us) | restore snapshot (us) | state + {} steps (ms) | snapshot + {} steps (ms) | "
+        "share of the frame | same bits |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n",
         rollback_frames, rollback_frames, frame_ms, rollback_.empty() ? 0 : rollback_.front().rounds,
-        rollback_frames);
+        rollback_frames, rollback_frames);
     for (const RollbackRow& r : rollback_) {
-      md += fmt::format("| {} | {:.1f} KiB | {:.3g} | {:.3g} | {:.0f}% | {} |\n", r.scene,
-                        static_cast<double>(r.snapshot_bytes) / 1024, r.restore_ms, r.rollback_ms,
-                        100 * r.rollback_ms / frame_ms, r.same_bits ? "yes" : "**no**");
+      const double n = static_cast<double>(std::max<size_t>(r.bodies, 1));
+      md += fmt::format("| {} | {} | {:.0f} | {:.0f} | {:.0f} | {:.0f} | {:.0f} | {:.0f} | {:.3g} | {:.3g} | {:.0f}% | {} |\n",
+                        r.scene, r.bodies, static_cast<double>(r.state_bytes) / n,
+                        static_cast<double>(r.snapshot_bytes) / n, 1000 * r.state_save_ms,
+                        1000 * r.snapshot_save_ms, 1000 * r.state_restore_ms, 1000 * r.restore_ms,
+                        r.state_rollback_ms, r.rollback_ms, 100 * r.state_rollback_ms / frame_ms,
+                        r.same_bits ? "yes" : "**no**");
     }
     if (memory_.empty()) return md + "\nwall128's peak memory: needs the peer program (" + peer_note_ + ").\n\n";
     md += fmt::format(

@@ -1,6 +1,8 @@
 // Rollback: the world is built from the scene file as `bitstep run` builds
 // it, stepped to `from_step`, and its snapshot (replay/snapshot.h) restored
-// into the same world before each round; times by std::chrono::steady_clock.
+// into the same world before each round, then the same with a rollback
+// state (replay/rollback_state.h) restored in place; times by
+// std::chrono::steady_clock.
 #include "tools/bench_costs.h"
 
 #include <sys/resource.h>
@@ -12,6 +14,7 @@
 
 #include "core/world.h"
 #include "replay/replay.h"
+#include "replay/rollback_state.h"
 #include "replay/scene.h"
 #include "replay/snapshot.h"
 #include "replay/state_hash.h"
@@ -28,33 +31,61 @@ RollbackRow measure_rollback(const std::string& scenes_dir, const std::string& s
   std::string reason;
   if (!build_world(scene, world, reason)) throw std::runtime_error(path + ": " + reason);
   for (int i = 0; i < from_step; ++i) world.step();
-  const std::vector<uint8_t> image = snapshot(world);
-
-  RollbackRow row;
-  row.scene = scene_name;
-  row.from_step = from_step;
-  row.snapshot_bytes = image.size();
-  row.rounds = rounds;
   using Clock = std::chrono::steady_clock;
-  Clock::duration restoring{}, rolling_back{};
-  uint64_t first_hash = 0;
-  for (int round = 0; round < rounds; ++round) {
-    const auto start = Clock::now();
-    if (const auto failed = restore(image, world)) throw std::runtime_error(path + ": restore: " + *failed);
-    const auto restored = Clock::now();
-    for (int frame = 0; frame < rollback_frames; ++frame) world.step();
-    const auto done = Clock::now();
-    restoring += restored - start;
-    rolling_back += done - start;
-    const uint64_t hash = state_hash(world);
-    if (round == 0) first_hash = hash;
-    row.same_bits = row.same_bits && hash == first_hash;
-  }
   const auto mean_ms = [rounds](Clock::duration total) {
     return std::chrono::duration<double, std::milli>(total).count() / rounds;
   };
-  row.restore_ms = mean_ms(restoring);
-  row.rollback_ms = mean_ms(rolling_back);
+  RollbackRow row;
+  row.scene = scene_name;
+  row.from_step = from_step;
+  row.bodies = world.bodies().size();
+  row.rounds = rounds;
+  // Saving, each way (the rollback state's buffer kept, as a game keeps it).
+  RollbackStates states;
+  std::vector<uint8_t> state(states.save(world, {}));
+  states.save(world, state);
+  std::vector<uint8_t> image;
+  Clock::duration saving_state{}, saving_snapshot{};
+  for (int round = 0; round < rounds; ++round) {
+    const auto start = Clock::now();
+    states.save(world, state);
+    const auto saved = Clock::now();
+    image = snapshot(world);
+    saving_state += saved - start;
+    saving_snapshot += Clock::now() - saved;
+  }
+  row.state_bytes = state.size();
+  row.snapshot_bytes = image.size();
+  row.state_save_ms = mean_ms(saving_state);
+  row.snapshot_save_ms = mean_ms(saving_snapshot);
+  // Rolling back, each way: restore, then rollback_frames steps.
+  uint64_t first_hash = 0;
+  bool first = true;
+  const auto time_rollbacks = [&](auto&& restore_now, double& restore_ms, double& rollback_ms) {
+    Clock::duration restoring{}, rolling_back{};
+    for (int round = 0; round < rounds; ++round) {
+      const auto start = Clock::now();
+      if (const auto failed = restore_now()) throw std::runtime_error(path + ": restore: " + *failed);
+      const auto restored = Clock::now();
+      for (int frame = 0; frame < rollback_frames; ++frame) world.step();
+      const auto done = Clock::now();
+      restoring += restored - start;
+      rolling_back += done - start;
+      const uint64_t hash = state_hash(world);
+      if (first) first_hash = hash;
+      first = false;
+      row.same_bits = row.same_bits && hash == first_hash;
+    }
+    restore_ms = mean_ms(restoring);
+    rollback_ms = mean_ms(rolling_back);
+  };
+  time_rollbacks([&] { return restore(image, world); }, row.restore_ms, row.rollback_ms);
+  // The snapshot made a new world object: the rollback state is saved again from it.
+  states = RollbackStates{};
+  if (const auto failed = restore(image, world)) throw std::runtime_error(path + ": restore: " + *failed);
+  state.resize(states.save(world, {}));
+  states.save(world, state);
+  time_rollbacks([&] { return states.restore(state, world); }, row.state_restore_ms, row.state_rollback_ms);
   return row;
 }
 

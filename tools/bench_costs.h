@@ -16,11 +16,17 @@ inline constexpr double frame_ms = 1000.0 / 60.0;
 struct RollbackRow {
   std::string scene;          // file name in the scenes folder
   int from_step = 0;          // the snapshot is taken after this many steps
+  size_t bodies = 0;          // body slots
   size_t snapshot_bytes = 0;  // the whole world's image
   int rounds = 0;             // rollbacks timed
   double restore_ms = 0;      // mean, restore alone
   double rollback_ms = 0;     // mean, restore + rollback_frames steps
-  bool same_bits = true;      // every round ended at the first round's state hash
+  // The same with a rollback state (replay/rollback_state.h): the step's
+  // state alone, saved into a kept buffer and restored in place.
+  size_t state_bytes = 0;
+  double state_save_ms = 0, snapshot_save_ms = 0;  // mean, saving one
+  double state_restore_ms = 0, state_rollback_ms = 0;
+  bool same_bits = true;      // every round of both ended at the first round's state hash
 };
 
 // Loads the scene, steps it `from_step` times, snapshots it, then times

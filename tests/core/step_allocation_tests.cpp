@@ -15,6 +15,8 @@
 #include <new>
 #include <vector>
 
+#include "replay/rollback_state.h"
+#include "replay/state_hash.h"
 #include "replay/thread_pool.h"
 #include "tests/core/test_world.h"
 
@@ -130,4 +132,21 @@ TEST_CASE("a settled pyramid's step on two workers allocates nothing", "[allocat
   const uint64_t shared_before = t.world.shared_sweep_runs();
   CHECK(allocations_over(t, 60) == 0);
   CHECK(t.world.shared_sweep_runs() > shared_before);  // the workers did run
+}
+
+TEST_CASE("a rollback state of a settled world is saved and restored in place without allocating", "[allocation]") {
+  TestWorld t;
+  add_resting_scene(t);
+  t.simulate_steps(240);  // settled
+  RollbackStates states;
+  std::vector<uint8_t> buffer(states.save(t.world, {}));  // asks the size
+  REQUIRE(states.save(t.world, buffer) == buffer.size());  // remembers every body once
+  REQUIRE_FALSE(states.restore(buffer, t.world));            // warms the reader's scratch up
+  const uint64_t saved = state_hash(t.world);
+  t.simulate_steps(8);
+  const long before = allocations.load();
+  REQUIRE(states.save(t.world, buffer) == buffer.size());
+  REQUIRE_FALSE(states.restore(buffer, t.world));
+  CHECK(allocations.load() - before == 0);
+  CHECK(state_hash(t.world) != saved);  // the later state, restored
 }

@@ -19,26 +19,31 @@ Replay golden(const std::string& name) {
   return std::get<Replay>(std::move(loaded));
 }
 
-SyncTestResult sync_test_of(const Replay& replay, int frames, const SyncTestHook& hook = {}) {
+SyncTestResult sync_test_of(const Replay& replay, int frames, const SyncTestHook& hook = {},
+                            SyncTestSaves saves = SyncTestSaves::rollback_states) {
   World world(replay.scene.settings);
   std::string reason;
   REQUIRE(build_world(replay.scene, world, reason));
-  return sync_test(world, replay.inputs, replay.steps, frames, hook);
+  return sync_test(world, replay.inputs, replay.steps, frames, hook, saves);
 }
 
 }  // namespace
 
 TEST_CASE("golden replays rolled back 8 ticks after every tick give their chains", "[sync_test]") {
-  // A stack hit by spawned balls, a body removed, joints and ragdolls, a driven car.
-  for (const char* name : {"stack20.replay.json", "stack20.remove_middle.replay.json", "ragdolls.short.replay.json",
-                           "car_wall.replay.json", "thrown.sleep_motion.replay.json"}) {
-    INFO(name);
-    const Replay replay = golden(name);
-    const SyncTestResult r = sync_test_of(replay, 8);
-    INFO(r.difference);
-    CHECK(r.ok());
-    CHECK(r.hashes == replay.hashes);
-    CHECK(r.rollbacks == 8 * (replay.steps - 7));
+  // A stack hit by spawned balls, a body removed, joints and ragdolls, a
+  // driven car, sleep, sensors and filters; each kept as a step's state
+  // restored in place (a rollback game's way) and as whole snapshots.
+  for (const SyncTestSaves saves : {SyncTestSaves::rollback_states, SyncTestSaves::snapshots}) {
+    for (const char* name : {"stack20.replay.json", "stack20.remove_middle.replay.json", "ragdolls.short.replay.json",
+                             "car_wall.replay.json", "thrown.sleep_motion.replay.json", "sensors.replay.json"}) {
+      INFO(name << (saves == SyncTestSaves::snapshots ? " (snapshots)" : " (rollback states)"));
+      const Replay replay = golden(name);
+      const SyncTestResult r = sync_test_of(replay, 8, {}, saves);
+      INFO(r.difference);
+      CHECK(r.ok());
+      CHECK(r.hashes == replay.hashes);
+      CHECK(r.rollbacks == 8 * (replay.steps - 7));
+    }
   }
 }
 

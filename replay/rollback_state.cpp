@@ -1,0 +1,111 @@
+#include "replay/rollback_state.h"
+
+#include <xxhash.h>
+
+#include <algorithm>
+
+#include "replay/state_description.h"
+
+namespace bitstep {
+
+// The world's state members, for reading a state into them in place (a
+// friend of World).
+struct WorldStateAccess {
+  static StateParts<true> parts(World& w) {
+    return {w.step_count_, w.settings_, w.bodies_, w.free_slots_, w.contacts_, w.joints_, w.free_joint_slots_,
+            w.sensor_overlaps_, w.cars_};
+  }
+};
+
+namespace {
+
+constexpr uint8_t magic[8] = {'B', 'I', 'T', 'S', 'T', 'E', 'P', 'R'};
+constexpr size_t header_bytes = 8 + 4 + 8 + 8;
+
+// Writes into a buffer while it has room, and counts every byte.
+struct BufferPut {
+  std::span<uint8_t> buffer;
+  size_t* at;
+  void operator()(uint8_t byte) const {
+    if (*at < buffer.size()) buffer[*at] = byte;
+    ++*at;
+  }
+};
+
+void put_le(std::span<uint8_t> buffer, size_t at, uint64_t value, int bytes) {
+  for (int i = 0; i < bytes; ++i) buffer[at + static_cast<size_t>(i)] = static_cast<uint8_t>(value >> (8 * i));
+}
+
+uint64_t get_le(std::span<const uint8_t> bytes, size_t at, int count) {
+  uint64_t v = 0;
+  for (int i = 0; i < count; ++i) v |= static_cast<uint64_t>(bytes[at + static_cast<size_t>(i)]) << (8 * i);
+  return v;
+}
+
+}  // namespace
+
+void RollbackStates::remember(const Body& body) {
+  if (statics_.find(body.serial) == statics_.end()) statics_.emplace(body.serial, body);
+}
+
+// The fields describe_body keeps in `statics` (and the filters block's).
+bool RollbackStates::recall(uint64_t serial, Body& body) const {
+  const auto found = statics_.find(serial);
+  if (found == statics_.end()) return false;
+  const Body& kept = found->second;
+  body.type = kept.type;
+  body.inverse_mass = kept.inverse_mass;
+  body.inertia_local = kept.inertia_local;
+  body.inverse_inertia_local = kept.inverse_inertia_local;
+  body.material = kept.material;
+  body.linear_damping = kept.linear_damping;
+  body.angular_damping = kept.angular_damping;
+  body.shapes = kept.shapes;
+  body.filter = kept.filter;
+  body.sensor = kept.sensor;
+  return true;
+}
+
+size_t RollbackStates::save(const World& world, std::span<uint8_t> buffer) {
+  size_t at = header_bytes;
+  const uint64_t step = world.step_count();
+  state_bytes::ByteWriter<BufferPut> writer{BufferPut{buffer, &at}, this};
+  describe_state(writer, StateParts<false>{step, world.settings(), world.bodies(), world.free_slots(), world.contacts(),
+                                             world.joints(), world.free_joint_slots(), world.sensor_overlaps(),
+                                             world.cars()});
+  const size_t size = at + 8;
+  if (size > buffer.size()) return size;
+  std::copy(magic, magic + 8, buffer.begin());
+  put_le(buffer, 8, rollback_state_version, 4);
+  put_le(buffer, 12, world.instance(), 8);
+  put_le(buffer, 20, at - header_bytes, 8);
+  put_le(buffer, at, XXH3_64bits(buffer.data(), at), 8);
+  return size;
+}
+
+std::optional<std::string> RollbackStates::restore(std::span<const uint8_t> image, World& world) const {
+  if (image.size() < header_bytes + 8 || !std::equal(magic, magic + 8, image.begin())) {
+    return std::string("not a rollback state");
+  }
+  if (get_le(image, 8, 4) != rollback_state_version) return "rollback state version " + std::to_string(get_le(image, 8, 4));
+  if (get_le(image, 12, 8) != world.instance()) return std::string("a rollback state of another world");
+  const uint64_t payload = get_le(image, 20, 8);
+  if (payload != image.size() - header_bytes - 8) return std::string("truncated or padded");
+  if (get_le(image, image.size() - 8, 8) != XXH3_64bits(image.data(), image.size() - 8)) {
+    return std::string("checksum mismatch: the image is corrupt");
+  }
+  // Our own bytes, intact: read in place. (A failure past this point would
+  // mean a bug; the world is then emptied, never left half-read.)
+  try {
+    state_bytes::ByteReader r(image.subspan(header_bytes, static_cast<size_t>(payload)), this, &marks_);
+    describe_state(r, WorldStateAccess::parts(world));
+    if (!r.done()) r.fail("bytes left after the state");
+  } catch (const state_bytes::Corrupt& corrupt) {
+    world = World(world.settings());
+    return "rollback state unreadable, the world emptied: " + corrupt.reason;
+  }
+  world.after_in_place_restore();
+  return std::nullopt;
+}
+
+}  // namespace bitstep

@@ -1,0 +1,58 @@
+// The state of a step alone, for a rollback game: saved into the caller's
+// buffer without allocating, and read back into the same world in place.
+//
+// A snapshot (snapshot.h) carries every body's shapes, mass properties and
+// material, which do not change while the body lives. A rollback state
+// leaves them out: each live body is named by its serial (core/body.h,
+// unique over the world object's life), and a RollbackStates keeps the
+// static fields of every body it has seen once, by serial. Restoring keeps
+// the static fields of a body still in its slot and brings back those of
+// a body removed since (or replaced in its slot by another). Everything
+// else is the state the hash covers, in the same description
+// (state_description.h), so a restored world hashes and steps exactly as
+// the one saved.
+//
+// Image: "BITSTEPR", version (u32), the world object's number (u64: a state
+// restores only into the world it was saved from), payload size (u64), the
+// payload, XXH3-64 of everything before it (u64).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/world.h"
+#include "replay/state_bytes.h"
+
+namespace bitstep {
+
+inline constexpr uint32_t rollback_state_version = 1;
+
+class RollbackStates final : private state_bytes::BodyStatics {
+ public:
+  // Writes the state of `world` into `buffer` and returns its size; when
+  // that is more than buffer.size(), the buffer holds nothing usable (grow
+  // it to the size returned and save again). Allocates only to remember a
+  // body it has not seen before.
+  size_t save(const World& world, std::span<uint8_t> buffer);
+
+  // Reads a state this object saved from `world` back into it, or says why
+  // it cannot (another world, a corrupt or truncated image) and changes
+  // nothing.
+  std::optional<std::string> restore(std::span<const uint8_t> image, World& world) const;
+
+  // Bodies whose static fields are kept.
+  size_t remembered_bodies() const { return statics_.size(); }
+
+ private:
+  void remember(const Body& body) override;
+  bool recall(uint64_t serial, Body& body) const override;
+
+  std::map<uint64_t, Body> statics_;  // by serial
+  mutable std::vector<uint8_t> marks_;  // the reader's scratch, kept
+};
+
+}  // namespace bitstep

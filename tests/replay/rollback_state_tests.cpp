@@ -1,0 +1,99 @@
+// Rollback states (replay/rollback_state.h): a step's state alone, restored
+// in place, gives the state hash it was saved with, across a removed body
+// and a slot reused by another; it is refused by another world and when
+// damaged, changing nothing; and it is smaller than a snapshot.
+#include <catch2/catch.hpp>
+
+#include <string>
+#include <vector>
+
+#include "replay/rollback_state.h"
+#include "replay/snapshot.h"
+#include "replay/state_hash.h"
+#include "tests/replay/test_scenes.h"
+
+using namespace bitstep;
+
+namespace {
+
+std::vector<uint8_t> save(RollbackStates& states, const World& world) {
+  std::vector<uint8_t> image(states.save(world, {}));
+  REQUIRE(states.save(world, image) == image.size());
+  return image;
+}
+
+}  // namespace
+
+TEST_CASE("a rollback state restores across a removed body and a reused slot, and the future follows", "[rollback_state]") {
+  World world = test::world_of("stack20.json");
+  RollbackStates states;
+  for (int i = 0; i < 30; ++i) world.step();
+  const std::vector<uint8_t> image = save(states, world);
+  const uint64_t saved = state_hash(world);
+  // The future from here, for comparison (a world restored from a snapshot).
+  World reference;
+  REQUIRE_FALSE(restore(snapshot(world), reference));
+  std::vector<uint64_t> chain;
+  for (int i = 0; i < 20; ++i) {
+    reference.step();
+    chain.push_back(state_hash(reference));
+  }
+  // Another timeline: cube 10 removed, a ball in its slot, some steps.
+  const BodyId cube{10, world.bodies()[10].generation};
+  REQUIRE(world.remove_body(cube));
+  BodyDef ball;
+  ball.pose.position = {Fixed::from_int(3), Fixed::from_int(2), Fixed{}};
+  ball.shapes.push_back({ShapeType::sphere, {}, 0.4_fx, {}, {}});
+  const CreateResult spawned = world.create_body(ball);
+  REQUIRE(spawned.ok());
+  REQUIRE(spawned.id.index == 10);  // the slot reused
+  for (int i = 0; i < 12; ++i) world.step();
+  (void)save(states, world);  // the ball remembered too
+  // Back: the cube's shapes and mass come back from the states' memory.
+  REQUIRE_FALSE(states.restore(image, world));
+  CHECK(state_hash(world) == saved);
+  CHECK(world.bodies()[10].shapes.size() == 1u);
+  CHECK(world.bodies()[10].shapes[0].type == ShapeType::box);
+  for (int i = 0; i < 20; ++i) {
+    world.step();
+    CHECK(state_hash(world) == chain[static_cast<size_t>(i)]);
+  }
+}
+
+TEST_CASE("a rollback state is refused by another world and when damaged, and nothing changes", "[rollback_state]") {
+  World world = test::world_of("pyramid20.json");
+  RollbackStates states;
+  for (int i = 0; i < 5; ++i) world.step();
+  const std::vector<uint8_t> image = save(states, world);
+  world.step();
+  const uint64_t now = state_hash(world);
+  World other = test::world_of("pyramid20.json");
+  const auto foreign = states.restore(image, other);
+  REQUIRE(foreign);
+  CHECK(*foreign == "a rollback state of another world");
+  World copy;  // the same state in another world object: its future bodies are its own
+  REQUIRE_FALSE(restore(snapshot(world), copy));
+  CHECK(states.restore(image, copy).has_value());
+  std::vector<uint8_t> damaged = image;
+  damaged[damaged.size() / 2] ^= 0x10;
+  CHECK(*states.restore(damaged, world) == "checksum mismatch: the image is corrupt");
+  CHECK(*states.restore(std::span<const uint8_t>(image.data(), image.size() - 1), world) == "truncated or padded");
+  CHECK(*states.restore(std::span<const uint8_t>(image.data(), 10), world) == "not a rollback state");
+  CHECK(state_hash(world) == now);
+  // A buffer too small holds nothing usable and says how large it must be.
+  std::vector<uint8_t> small(image.size() - 1);
+  CHECK(states.save(world, small) == image.size());
+}
+
+TEST_CASE("a rollback state is smaller than a snapshot: its bodies carry no shapes or masses", "[rollback_state]") {
+  for (const char* scene : {"stack20.json", "pyramid20.json", "wall128.json"}) {
+    INFO(scene);
+    World world = test::world_of(scene);
+    world.step();
+    RollbackStates states;
+    const size_t rollback = save(states, world).size(), whole = snapshot(world).size();
+    // Per body at least the 225 bytes of type, mass properties, material,
+    // damping and one shape fewer.
+    CHECK(whole - rollback >= 225 * world.bodies().size());
+  }
+}
