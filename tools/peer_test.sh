@@ -11,7 +11,7 @@
 # bounded by `timeout`. Usage: tools/peer_test.sh [BITSTEP]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bitstep=${1:-build/release/bitstep}
+bitstep=$(realpath "${1:-build/release/bitstep}")
 scene=scenes/playground.json
 match=scenes/match
 out=$(mktemp -d)
@@ -116,4 +116,17 @@ fi
 
 # GGPO's sync test on the playground's golden inputs: the golden chain.
 "$bitstep" synctest scenes/playground.replay.json --frames 8 || status=1
+
+# A replay with its scene inside, shared: it verifies where the scene file is not.
+"$bitstep" record "$scene" --inputs scenes/playground.short.replay.json --steps 20 --embed-scene \
+  -o "$out/shared.replay.json" >/dev/null
+mkdir -p "$out/elsewhere" && mv "$out/shared.replay.json" "$out/elsewhere/"
+if (cd "$out/elsewhere" && "$bitstep" verify shared.replay.json) &&
+    [ "$(grep -o '"[0-9a-f]\{16\}"' "$out/elsewhere/shared.replay.json" | tail -1)" = \
+      "$(grep -o '"[0-9a-f]\{16\}"' scenes/playground.short.replay.json | tail -1)" ]; then
+  echo "a replay recorded with --embed-scene verifies without the scene file, ending on the golden hash"
+else
+  echo "peer_test.sh: the replay with its scene inside did not verify alone" >&2
+  status=1
+fi
 exit "$status"

@@ -8,6 +8,7 @@
 #include <string>
 #include <variant>
 
+#include "replay/json_tree.h"
 #include "replay/replay.h"
 #include "tools/file_output.h"
 #include "replay/state_dump.h"
@@ -32,6 +33,7 @@ int record_command(int argc, char** argv, const char* engine_version) {
   std::string scene_path, inputs_path, output, settings_text;
   int64_t steps = -1;
   int threads = 1;
+  bool embed_scene = false;
   for (int i = 0; i < argc; ++i) {
     const std::string arg = argv[i];
     const bool has_value = i + 1 < argc;
@@ -51,6 +53,8 @@ int record_command(int argc, char** argv, const char* engine_version) {
       output = argv[++i];
     } else if (arg == "--settings" && has_value) {
       settings_text = argv[++i];
+    } else if (arg == "--embed-scene") {
+      embed_scene = true;
     } else if (!arg.empty() && arg[0] != '-' && scene_path.empty()) {
       scene_path = arg;
     } else {
@@ -60,8 +64,8 @@ int record_command(int argc, char** argv, const char* engine_version) {
   }
   if (scene_path.empty() || steps < 0 || output.empty()) {
     fmt::print(stderr,
-               "bitstep record: usage: bitstep record SCENE [--inputs FILE] [--settings JSON] [--threads N] --steps N "
-               "-o REPLAY\n");
+               "bitstep record: usage: bitstep record SCENE [--inputs FILE] [--settings JSON] [--embed-scene] "
+               "[--threads N] --steps N -o REPLAY\n");
     return 2;
   }
   auto loaded = load_scene_file(scene_path);
@@ -96,9 +100,20 @@ int record_command(int argc, char** argv, const char* engine_version) {
     }
     replay.settings_override = std::get<std::string>(applied);
   }
-  // The scene as the replay will name it: relative to the replay's folder.
-  const std::filesystem::path out_dir = std::filesystem::absolute(output).parent_path();
-  replay.scene_file = std::filesystem::absolute(scene_path).lexically_proximate(out_dir).generic_string();
+  if (embed_scene) {
+    // The scene itself in the replay (compact, numbers as written): a
+    // replay shared between players verifies without the scene file.
+    std::string text, reason;
+    if (!read_text_file(scene_path, text, reason)) {
+      fmt::print(stderr, "bitstep record: {}: {}\n", scene_path, reason);
+      return 1;
+    }
+    replay.inline_scene = json::write(std::get<json::Node>(json::parse(text)));  // parsed above already
+  } else {
+    // The scene as the replay will name it: relative to the replay's folder.
+    const std::filesystem::path out_dir = std::filesystem::absolute(output).parent_path();
+    replay.scene_file = std::filesystem::absolute(scene_path).lexically_proximate(out_dir).generic_string();
+  }
 
   World world(replay.scene.settings);
   std::string reason;

@@ -264,7 +264,7 @@ TEST_CASE("a session refuses hostile messages and counts them", "[session]") {
   CHECK(config_error({2, 0, SessionMode::rollback, 0, 65, 1}) == "max prediction: outside 1..64 ticks");
 }
 
-TEST_CASE("packets: messages and hellos round-trip; malformed ones are refused with a reason", "[session][codec]") {
+TEST_CASE("packets: messages and hellos round-trip, malformed ones are refused with a reason", "[session][codec]") {
   SessionMessage inputs;
   inputs.player = 3;
   inputs.ack = 41;
