@@ -9,6 +9,7 @@
 #include "tools/bench_command.h"
 #include "tools/bench_fixed.h"
 #include "tools/bench_queries.h"
+#include "tools/bench_session.h"
 #include "tools/bench_sleep.h"
 #include "tools/fixed_accuracy.h"
 #include "tools/known_answer.h"
@@ -58,6 +59,9 @@ constexpr const char* usage =
     "                           the speed table's threaded column (default 2)\n"
     "  bench fixed [--quick]    ns/op of fixed-point operations next to float and double\n"
     "  bench queries [--quick]  us per ray, shape cast and overlap over 100 to 10,000 bodies\n"
+    "  bench session [--quick] [--scenes DIR]\n"
+    "                           what a session adds to a tick; the largest world lockstep and rollback\n"
+    "                           sustain at 60 and 20 Hz\n"
     "  bench sleep [--quick] [--still] [--scenes DIR]\n"
     "                           ms/step of scenes awake and asleep (sleep motion, or still)\n"
     "  version                  engine version and build options\n"
@@ -112,6 +116,9 @@ int main(int argc, char** argv) {
   if (command == "selftest") return selftest(argc - 2, argv + 2);
   if (command == "bench" && argc >= 3 && std::string_view(argv[2]) == "queries") {
     return bitstep::run_bench_queries(argc - 3, argv + 3);
+  }
+  if (command == "bench" && argc >= 3 && std::string_view(argv[2]) == "session") {
+    return bitstep::run_bench_session(argc - 3, argv + 3);
   }
   if (command == "bench" && argc >= 3 && std::string_view(argv[2]) == "fixed") {
     return bitstep::run_bench_fixed(argc - 3, argv + 3);
