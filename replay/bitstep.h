@@ -113,6 +113,12 @@ void bitstep_interpolate(const bitstep_render_pose* from, const bitstep_render_p
  * restore from one (INVALID, nothing changed, when the image is not one). */
 bitstep_status bitstep_save(bitstep_simulation* sim, uint8_t* buffer, size_t capacity, size_t* size);
 bitstep_status bitstep_load(bitstep_simulation* sim, const uint8_t* image, size_t size);
+/* A rollback game's save and load: the step's state alone (no shapes or
+ * masses), into the caller's buffer without allocating once every body was
+ * seen, restored in place; only into the simulation that saved it, and not
+ * across a bitstep_load. Sizes as bitstep_save. */
+bitstep_status bitstep_save_state(bitstep_simulation* sim, uint8_t* buffer, size_t capacity, size_t* size);
+bitstep_status bitstep_load_state(bitstep_simulation* sim, const uint8_t* image, size_t size);
 
 /* The first shape a ray from origin along translation meets (NOT_FOUND: none). */
 bitstep_status bitstep_cast_ray(bitstep_simulation* sim, bitstep_vec3 origin, bitstep_vec3 translation,

@@ -276,6 +276,26 @@ bitstep_status bitstep_load(bitstep_simulation* sim, const uint8_t* image, size_
   });
 }
 
+bitstep_status bitstep_save_state(bitstep_simulation* sim, uint8_t* buffer, size_t capacity, size_t* size) {
+  return guarded(sim, [&] {
+    if (size == nullptr || (buffer == nullptr && capacity > 0)) return BITSTEP_NULL_ARGUMENT;
+    *size = sim->sim.save_state({buffer, capacity});
+    if (*size > capacity) {
+      return fail(sim, BITSTEP_BUFFER_TOO_SMALL,
+                  "save_state: " + std::to_string(*size) + " bytes needed, " + std::to_string(capacity) + " given");
+    }
+    return BITSTEP_OK;
+  });
+}
+
+bitstep_status bitstep_load_state(bitstep_simulation* sim, const uint8_t* image, size_t size) {
+  return guarded(sim, [&] {
+    if (image == nullptr) return BITSTEP_NULL_ARGUMENT;
+    if (const auto why = sim->sim.load_state({image, size})) return fail(sim, BITSTEP_INVALID, "load_state: " + *why);
+    return BITSTEP_OK;
+  });
+}
+
 bitstep_status bitstep_cast_ray(bitstep_simulation* sim, bitstep_vec3 origin, bitstep_vec3 translation,
                                 bitstep_ray_hit* out) {
   return guarded(sim, [&] {

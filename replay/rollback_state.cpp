@@ -67,6 +67,10 @@ bool RollbackStates::recall(uint64_t serial, Body& body) const {
 }
 
 size_t RollbackStates::save(const World& world, std::span<uint8_t> buffer) {
+  if (world.instance() != instance_) {  // serials are numbers of one world object
+    statics_.clear();
+    instance_ = world.instance();
+  }
   size_t at = header_bytes;
   const uint64_t step = world.step_count();
   state_bytes::ByteWriter<BufferPut> writer{BufferPut{buffer, &at}, this};
@@ -88,7 +92,9 @@ std::optional<std::string> RollbackStates::restore(std::span<const uint8_t> imag
     return std::string("not a rollback state");
   }
   if (get_le(image, 8, 4) != rollback_state_version) return "rollback state version " + std::to_string(get_le(image, 8, 4));
-  if (get_le(image, 12, 8) != world.instance()) return std::string("a rollback state of another world");
+  if (get_le(image, 12, 8) != world.instance() || world.instance() != instance_) {
+    return std::string("a rollback state of another world");
+  }
   const uint64_t payload = get_le(image, 20, 8);
   if (payload != image.size() - header_bytes - 8) return std::string("truncated or padded");
   if (get_le(image, image.size() - 8, 8) != XXH3_64bits(image.data(), image.size() - 8)) {

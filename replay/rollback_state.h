@@ -51,6 +51,7 @@ class RollbackStates final : private state_bytes::BodyStatics {
   void remember(const Body& body) override;
   bool recall(uint64_t serial, Body& body) const override;
 
+  uint64_t instance_ = 0;             // the world object they belong to (a new one: forgotten)
   std::map<uint64_t, Body> statics_;  // by serial
   mutable std::vector<uint8_t> marks_;  // the reader's scratch, kept
 };

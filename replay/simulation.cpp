@@ -183,4 +183,10 @@ std::optional<std::string> Simulation::load(std::span<const uint8_t> image) { re
 
 uint64_t Simulation::hash() const { return state_hash(world_); }
 
+size_t Simulation::save_state(std::span<uint8_t> buffer) { return states_.save(world_, buffer); }
+
+std::optional<std::string> Simulation::load_state(std::span<const uint8_t> image) {
+  return states_.restore(image, world_);
+}
+
 }  // namespace bitstep

@@ -22,6 +22,7 @@
 
 #include "core/query.h"
 #include "core/world.h"
+#include "replay/rollback_state.h"
 #include "replay/scene.h"
 
 namespace bitstep {
@@ -69,6 +70,13 @@ class Simulation {
   std::optional<std::string> load(std::span<const uint8_t> image);
   uint64_t hash() const;
 
+  // A rollback game's save and load (replay/rollback_state.h): the step's
+  // state alone into the caller's buffer (the size it needs returned; when
+  // larger than the buffer, nothing usable written), restored in place.
+  // Only into this simulation, and not across a load() (a new world).
+  size_t save_state(std::span<uint8_t> buffer);
+  std::optional<std::string> load_state(std::span<const uint8_t> image);
+
   // The world's queries as it stands (core/query.h): build after each step.
   WorldQuery query() const { return WorldQuery(world_); }
 
@@ -84,6 +92,7 @@ class Simulation {
 
   Scene scene_;  // its materials and settings, for bodies added later
   World world_;
+  RollbackStates states_;
   std::map<std::string, BodyId, std::less<>> names_;     // bodies by name
   std::map<std::string, uint32_t, std::less<>> cars_;    // cars by name
   // Per body ever created here (slot, generation): its frame's origin as

@@ -97,3 +97,20 @@ TEST_CASE("a rollback state is smaller than a snapshot: its bodies carry no shap
     CHECK(whole - rollback >= 225 * world.bodies().size());
   }
 }
+
+TEST_CASE("rollback states follow their world: after a snapshot load they start again", "[rollback_state]") {
+  World world = test::world_of("stack20.json");
+  RollbackStates states;
+  world.step();
+  const std::vector<uint8_t> old_state = save(states, world);
+  const std::vector<uint8_t> image = snapshot(world);
+  // A snapshot restored makes a new world object, its serials numbered anew.
+  REQUIRE_FALSE(restore(image, world));
+  CHECK(*states.restore(old_state, world) == "a rollback state of another world");
+  for (int i = 0; i < 3; ++i) world.step();
+  const std::vector<uint8_t> state = save(states, world);  // forgets the old world's bodies
+  const uint64_t saved = state_hash(world);
+  world.step();
+  REQUIRE_FALSE(states.restore(state, world));
+  CHECK(state_hash(world) == saved);
+}

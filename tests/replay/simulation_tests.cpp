@@ -219,6 +219,20 @@ TEST_CASE("the C API: create, errors in caller buffers, step, poses, save into a
   CHECK(bitstep_load(sim, image.data(), 10) == BITSTEP_INVALID);
   CHECK(std::string(bitstep_last_error(sim)).rfind("load: ", 0) == 0);
   CHECK(bitstep_hash(sim) == later);
+  // The same rollback with a step's state alone, into a buffer that is kept.
+  size_t state_size = 0;
+  CHECK(bitstep_save_state(sim, nullptr, 0, &state_size) == BITSTEP_BUFFER_TOO_SMALL);
+  std::vector<uint8_t> state(state_size);
+  REQUIRE(bitstep_save_state(sim, state.data(), state.size(), &state_size) == BITSTEP_OK);
+  CHECK(state_size < size);  // no shapes, masses or materials in it
+  const uint64_t state_hash_then = bitstep_hash(sim);
+  for (int i = 0; i < 5; ++i) bitstep_step(sim);
+  REQUIRE(bitstep_load_state(sim, state.data(), state.size()) == BITSTEP_OK);
+  CHECK(bitstep_hash(sim) == state_hash_then);
+  state[state.size() / 2] ^= 1;
+  CHECK(bitstep_load_state(sim, state.data(), state.size()) == BITSTEP_INVALID);
+  CHECK(std::string(bitstep_last_error(sim)) == "load_state: checksum mismatch: the image is corrupt");
+  CHECK(bitstep_hash(sim) == state_hash_then);
 
   // A ray down onto the table's top at y 0.8.
   bitstep_fixed x = 0, down = 0, top = 0;
