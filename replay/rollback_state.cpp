@@ -26,9 +26,12 @@ constexpr size_t header_bytes = 8 + 4 + 8 + 8;
 struct BufferPut {
   std::span<uint8_t> buffer;
   size_t* at;
-  void operator()(uint8_t byte) const {
-    if (*at < buffer.size()) buffer[*at] = byte;
-    ++*at;
+  void operator()(uint64_t value, int count) const {
+    const size_t start = *at;
+    *at = start + static_cast<size_t>(count);
+    if (*at > buffer.size()) return;
+    uint8_t* out = buffer.data() + start;
+    for (int i = 0; i < count; ++i) out[i] = static_cast<uint8_t>(value >> (8 * i));
   }
 };
 

@@ -32,16 +32,17 @@ class BodyStatics {
   virtual bool recall(uint64_t serial, Body& body) const = 0;
 };
 
-// Bytes go to `put`: a vector, or a caller's buffer.
+// Values go to `put(value, count)`: its `count` low bytes, little-endian, to
+// a vector or a caller's buffer (a value at a time: a byte at a time, each
+// store through a pointer that may alias the sink's own count, was the
+// slowest part of saving a state).
 template <class Put>
 struct ByteWriter {
   static constexpr bool reading = false;
   Put put;
   BodyStatics* statics_kept = nullptr;  // set: a step's state alone
 
-  void bytes(uint64_t v, int count) {
-    for (int i = 0; i < count; ++i) put(static_cast<uint8_t>(v >> (8 * i)));
-  }
+  void bytes(uint64_t v, int count) { put(v, count); }
   template <class T>
   void integer(const char*, const T& value, int count, uint64_t, uint64_t) {
     bytes(static_cast<uint64_t>(value), count);
