@@ -20,7 +20,7 @@ struct WorldStateAccess {
 namespace {
 
 constexpr uint8_t magic[8] = {'B', 'I', 'T', 'S', 'T', 'E', 'P', 'R'};
-constexpr size_t header_bytes = 8 + 4 + 8 + 8;
+constexpr size_t header_bytes = 8 + 4 + 8 + 8 + 8;
 
 // Writes into a buffer while it has room, and counts every byte.
 struct BufferPut {
@@ -48,14 +48,25 @@ uint64_t get_le(std::span<const uint8_t> bytes, size_t at, int count) {
 }  // namespace
 
 void RollbackStates::remember(const Body& body) {
-  if (statics_.find(body.serial) == statics_.end()) statics_.emplace(body.serial, body);
+  const auto found = statics_.find(body.serial);
+  if (found == statics_.end()) {
+    statics_.emplace(body.serial, Kept{body, saves_ + 1});
+  } else {
+    found->second.last_save = saves_ + 1;
+  }
+}
+
+void RollbackStates::forget_all_but_last(uint64_t saves) {
+  const size_t forgotten =
+      std::erase_if(statics_, [&](const auto& entry) { return entry.second.last_save + saves <= saves_; });
+  if (forgotten > 0 && saves_ >= saves) oldest_restorable_ = std::max(oldest_restorable_, saves_ - saves + 1);
 }
 
 // The fields describe_body keeps in `statics` (and the filters block's).
 bool RollbackStates::recall(uint64_t serial, Body& body) const {
   const auto found = statics_.find(serial);
   if (found == statics_.end()) return false;
-  const Body& kept = found->second;
+  const Body& kept = found->second.body;
   body.type = kept.type;
   body.inverse_mass = kept.inverse_mass;
   body.inertia_local = kept.inertia_local;
@@ -74,6 +85,9 @@ size_t RollbackStates::save(const World& world, std::span<uint8_t> buffer) {
     statics_.clear();
     instance_ = world.instance();
   }
+  // Saves are numbered when written whole: a call that only asks the size
+  // marks its bodies as seen in the next one.
+  const uint64_t number = saves_ + 1;
   size_t at = header_bytes;
   const uint64_t step = world.step_count();
   state_bytes::ByteWriter<BufferPut> writer{BufferPut{buffer, &at}, this};
@@ -82,10 +96,12 @@ size_t RollbackStates::save(const World& world, std::span<uint8_t> buffer) {
                                              world.cars()});
   const size_t size = at + 8;
   if (size > buffer.size()) return size;
+  saves_ = number;
   std::copy(magic, magic + 8, buffer.begin());
   put_le(buffer, 8, rollback_state_version, 4);
   put_le(buffer, 12, world.instance(), 8);
-  put_le(buffer, 20, at - header_bytes, 8);
+  put_le(buffer, 20, saves_, 8);
+  put_le(buffer, 28, at - header_bytes, 8);
   put_le(buffer, at, XXH3_64bits(buffer.data(), at), 8);
   return size;
 }
@@ -98,7 +114,10 @@ std::optional<std::string> RollbackStates::restore(std::span<const uint8_t> imag
   if (get_le(image, 12, 8) != world.instance() || world.instance() != instance_) {
     return std::string("a rollback state of another world");
   }
-  const uint64_t payload = get_le(image, 20, 8);
+  if (get_le(image, 20, 8) < oldest_restorable_) {
+    return std::string("older than the states kept: a body it names was forgotten");
+  }
+  const uint64_t payload = get_le(image, 28, 8);
   if (payload != image.size() - header_bytes - 8) return std::string("truncated or padded");
   if (get_le(image, image.size() - 8, 8) != XXH3_64bits(image.data(), image.size() - 8)) {
     return std::string("checksum mismatch: the image is corrupt");

@@ -13,8 +13,8 @@
 // the one saved.
 //
 // Image: "BITSTEPR", version (u32), the world object's number (u64: a state
-// restores only into the world it was saved from), payload size (u64), the
-// payload, XXH3-64 of everything before it (u64).
+// restores only into the world it was saved from), the save's number (u64),
+// payload size (u64), the payload, XXH3-64 of everything before it (u64).
 #pragma once
 
 #include <cstdint>
@@ -44,6 +44,12 @@ class RollbackStates final : private state_bytes::BodyStatics {
   // nothing.
   std::optional<std::string> restore(std::span<const uint8_t> image, World& world) const;
 
+  // Forgets the static fields of the bodies that were in none of the last
+  // `saves` states saved: those states still restore; older ones are then
+  // refused (whole, before anything is read). A match that keeps spawning
+  // bodies calls it now and then (a session does).
+  void forget_all_but_last(uint64_t saves);
+
   // Bodies whose static fields are kept.
   size_t remembered_bodies() const { return statics_.size(); }
 
@@ -51,8 +57,14 @@ class RollbackStates final : private state_bytes::BodyStatics {
   void remember(const Body& body) override;
   bool recall(uint64_t serial, Body& body) const override;
 
+  struct Kept {
+    Body body;
+    uint64_t last_save;  // the number of the last save it was alive in
+  };
   uint64_t instance_ = 0;             // the world object they belong to (a new one: forgotten)
-  std::map<uint64_t, Body> statics_;  // by serial
+  uint64_t saves_ = 0;                // saves made
+  uint64_t oldest_restorable_ = 0;    // the number of the oldest save that still restores
+  std::map<uint64_t, Kept> statics_;  // by serial
   mutable std::vector<uint8_t> marks_;  // the reader's scratch, kept
 };
 

@@ -69,6 +69,15 @@ void Session::save_state(int64_t tick) {
   }
   buffer.resize(size);
   ring_tick_[k] = tick;
+  // Now and then, the bodies in none of the states a rollback or a desync
+  // report may still restore are forgotten. Between a state's save and its
+  // last use each of the ring's ticks may be simulated again at every
+  // rollback (ring^2 saves), and checksum ticks are kept for 8 intervals:
+  // four times that many saves is the margin.
+  if (tick % 256 == 0) {
+    const uint64_t ring = ring_.size();
+    states_.forget_all_but_last(4 * (ring * ring + remembered_states * static_cast<uint64_t>(config_.checksum_interval)));
+  }
 }
 
 bool Session::known(int player, int64_t tick) const {

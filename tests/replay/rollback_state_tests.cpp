@@ -114,3 +114,30 @@ TEST_CASE("rollback states follow their world: after a snapshot load they start 
   REQUIRE_FALSE(states.restore(state, world));
   CHECK(state_hash(world) == saved);
 }
+
+TEST_CASE("rollback states forget bodies gone from their last saves, and refuse the states that named them", "[rollback_state]") {
+  World world = test::world_of("stack20.json");
+  RollbackStates states;
+  world.step();
+  const std::vector<uint8_t> with_cube = save(states, world);
+  const size_t kept = states.remembered_bodies();
+  REQUIRE(world.remove_body({12, world.bodies()[12].generation}));
+  std::vector<uint8_t> later;
+  for (int i = 0; i < 3; ++i) {
+    world.step();
+    later = save(states, world);
+  }
+  states.forget_all_but_last(4);  // the cube was in the 4th last save: kept
+  CHECK(states.remembered_bodies() == kept);
+  states.forget_all_but_last(3);  // in none of the last 3: forgotten
+  CHECK(states.remembered_bodies() == kept - 1);
+  const uint64_t now = state_hash(world);
+  const auto refused = states.restore(with_cube, world);
+  REQUIRE(refused);
+  CHECK(*refused == "older than the states kept: a body it names was forgotten");
+  CHECK(state_hash(world) == now);  // refused whole: nothing read
+  // The last state still restores.
+  world.step();
+  REQUIRE_FALSE(states.restore(later, world));
+  CHECK(state_hash(world) == now);
+}
