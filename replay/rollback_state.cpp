@@ -106,6 +106,16 @@ size_t RollbackStates::save(const World& world, std::span<uint8_t> buffer) {
   return size;
 }
 
+void RollbackStates::save(const World& world, std::vector<uint8_t>& buffer) {
+  buffer.resize(buffer.capacity());  // as large as it has been
+  size_t size = save(world, std::span<uint8_t>(buffer));
+  if (size > buffer.size()) {
+    buffer.resize(size);
+    size = save(world, std::span<uint8_t>(buffer));
+  }
+  buffer.resize(size);
+}
+
 std::optional<std::string> RollbackStates::restore(std::span<const uint8_t> image, World& world) const {
   if (image.size() < header_bytes + 8 || !std::equal(magic, magic + 8, image.begin())) {
     return std::string("not a rollback state");

@@ -38,6 +38,10 @@ class RollbackStates final : private state_bytes::BodyStatics {
   // it to the size returned and save again). Allocates only to remember a
   // body it has not seen before.
   size_t save(const World& world, std::span<uint8_t> buffer);
+  // The same into a vector the caller keeps, grown when the state needs
+  // more (then saved again) and sized to it: no allocation once it is large
+  // enough.
+  void save(const World& world, std::vector<uint8_t>& buffer);
 
   // Reads a state this object saved from `world` back into it, or says why
   // it cannot (another world, a corrupt or truncated image) and changes

@@ -60,14 +60,7 @@ Session::Session(Simulation sim, SessionConfig config, ApplyInput apply)
 // a rollback state: no allocation once the buffers are large enough.
 void Session::save_state(int64_t tick) {
   const size_t k = static_cast<size_t>(tick) % ring_.size();
-  std::vector<uint8_t>& buffer = ring_[k];
-  buffer.resize(buffer.capacity());
-  size_t size = states_.save(sim_.world(), buffer);
-  if (size > buffer.size()) {
-    buffer.resize(size);
-    size = states_.save(sim_.world(), buffer);
-  }
-  buffer.resize(size);
+  states_.save(sim_.world(), ring_[k]);
   ring_tick_[k] = tick;
   // Now and then, the bodies in none of the states a rollback or a desync
   // report may still restore are forgotten. Between a state's save and its
@@ -229,7 +222,7 @@ void Session::check_checksum(int64_t tick, int player) {
 
 // A whole snapshot of a kept rollback state: the world goes there and back.
 std::vector<uint8_t> Session::snapshot_of(const std::vector<uint8_t>& state) {
-  std::vector<uint8_t> now(states_.save(sim_.world(), {}));
+  std::vector<uint8_t> now;
   states_.save(sim_.world(), now);
   if (states_.restore(state, sim_.world())) return {};
   std::vector<uint8_t> whole = sim_.save();

@@ -80,6 +80,8 @@ class Simulation {
   // The world's queries as it stands (core/query.h): build after each step.
   WorldQuery query() const { return WorldQuery(world_); }
 
+  // The scene it was built from (its bodies' names, materials, cars).
+  const Scene& scene() const { return scene_; }
   const World& world() const { return world_; }
   World& world() { return world_; }
 

@@ -26,13 +26,7 @@ class Keeper {
       image = snapshot(world);
       return;
     }
-    image.resize(image.capacity());  // the buffer as large as it has been
-    size_t size = states_.save(world, image);
-    if (size > image.size()) {
-      image.resize(size);
-      size = states_.save(world, image);
-    }
-    image.resize(size);
+    states_.save(world, image);
   }
   std::optional<std::string> restore(const std::vector<uint8_t>& image, World& world) const {
     return saves_ == SyncTestSaves::snapshots ? bitstep::restore(image, world) : states_.restore(image, world);

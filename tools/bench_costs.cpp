@@ -42,7 +42,7 @@ RollbackRow measure_rollback(const std::string& scenes_dir, const std::string& s
   row.rounds = rounds;
   // Saving, each way (the rollback state's buffer kept, as a game keeps it).
   RollbackStates states;
-  std::vector<uint8_t> state(states.save(world, {}));
+  std::vector<uint8_t> state;
   states.save(world, state);
   std::vector<uint8_t> image;
   Clock::duration saving_state{}, saving_snapshot{};
@@ -83,7 +83,6 @@ RollbackRow measure_rollback(const std::string& scenes_dir, const std::string& s
   // The snapshot made a new world object: the rollback state is saved again from it.
   states = RollbackStates{};
   if (const auto failed = restore(image, world)) throw std::runtime_error(path + ": restore: " + *failed);
-  state.resize(states.save(world, {}));
   states.save(world, state);
   time_rollbacks([&] { return states.restore(state, world); }, row.state_restore_ms, row.state_rollback_ms);
   return row;

@@ -62,7 +62,7 @@ Costs measure(const std::string& scene_json, const std::string& name, int sample
     c.step_ms = best_ms_per_tick(samples, ticks, [&] { sim.step(); });
     // Restoring a rollback state (in place), as a rollback does once a frame.
     RollbackStates states;
-    std::vector<uint8_t> state(states.save(sim.world(), {}));
+    std::vector<uint8_t> state;
     states.save(sim.world(), state);
     c.restore_ms = best_ms_per_tick(samples, ticks, [&] { (void)states.restore(state, sim.world()); });
   }

@@ -251,18 +251,13 @@ int peer_command(int argc, char** argv) {
     fmt::print(stderr, "bitstep peer: {}\n", error);
     return 2;
   }
-  auto loaded = load_scene_file(o.scene_path);
-  if (const auto* error = std::get_if<SceneError>(&loaded)) {
-    fmt::print(stderr, "bitstep peer: {}\n", error->message());
-    return 1;
-  }
-  const Scene scene = std::get<Scene>(std::move(loaded));
   std::string error;
   auto sim = Simulation::from_file(o.scene_path, error);
   if (!sim) {
     fmt::print(stderr, "bitstep peer: {}\n", error);
     return 1;
   }
+  const Scene scene = sim->scene();  // the inputs' names and materials (the session moves the simulation)
   if (o.reference) return run_reference(o, scene, std::move(*sim));
 
   Script script;

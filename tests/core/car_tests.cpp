@@ -34,7 +34,7 @@ struct TestCar {
   BodyId chassis;
   BodyId platform;
   CarId car;
-  explicit TestCar(Settings settings = {}, Vec3 platform_velocity = {}) : t(settings) {
+  explicit TestCar(Settings settings = {}, Vec3 platform_velocity = {}, int rays_per_wheel = 1) : t(settings) {
     if (platform_velocity == Vec3{}) {
       platform = t.add_ground(tarmac());
     } else {
@@ -54,6 +54,7 @@ struct TestCar {
     chassis = t.world.create_body(body).id;
     CarDef def;
     def.chassis = chassis;
+    def.rays_per_wheel = rays_per_wheel;
     for (int w = 0; w < 4; ++w) {
       const bool front = w < 2;
       def.wheels.push_back({{w % 2 == 0 ? 0.8_fx : -0.8_fx, -0.3_fx, front ? 1.4_fx : -1.4_fx}, !front, front});
@@ -184,30 +185,18 @@ TEST_CASE("a driven car restores from a snapshot and continues bit for bit", "[c
 
 TEST_CASE("over a 10 cm bump at 15 m/s no wheel ray starts inside the ground and the chassis never touches it",
           "[car]") {
-  TestWorld t;
-  t.add_ground(tarmac());
+  TestCar car({}, {}, 3);  // three rays per wheel trace the bump
+  TestWorld& t = car.t;
   BodyDef bump;
   bump.type = BodyType::static_body;
   bump.pose = {{Fixed{}, Fixed{}, 20.0_fx}, bitstep::test::about_degrees({Fixed{}, Fixed{}, Fixed::one()}, 90.0_fx)};
   bump.shapes.push_back({ShapeType::capsule, {}, 0.1_fx, 3.0_fx, {}});  // lying across the road, 10 cm high
   bump.material = tarmac();
   const BodyId bump_id = t.world.create_body(bump).id;
-  BodyDef body;
-  body.pose.position = {Fixed{}, 0.9_fx, Fixed{}};
-  body.mass = Fixed::from_int(1000);
-  body.shapes.push_back({ShapeType::box, {0.9_fx, 0.3_fx, 2.0_fx}, {}, {}, {}});
-  const BodyId chassis = t.world.create_body(body).id;
-  CarDef def;
-  def.chassis = chassis;
-  def.rays_per_wheel = 3;
-  for (int w = 0; w < 4; ++w) {
-    def.wheels.push_back({{w % 2 == 0 ? 0.8_fx : -0.8_fx, -0.3_fx, w < 2 ? 1.4_fx : -1.4_fx}, w >= 2, w < 2});
-  }
-  std::string error;
-  t.world.create_car(def, error);
-  REQUIRE(error.empty());
+  const BodyId chassis = car.chassis;
   t.simulate_steps(120);
   t.world.set_velocity(chassis, {Fixed{}, Fixed{}, 15.0_fx}, {});
+  const CarDef& def = car.state().def;
   const Fixed full = def.rest_length + def.wheel_radius;
   double deepest = 0;
   bool met_bump = false;

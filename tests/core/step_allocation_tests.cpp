@@ -139,13 +139,14 @@ TEST_CASE("a rollback state of a settled world is saved and restored in place wi
   add_resting_scene(t);
   t.simulate_steps(240);  // settled
   RollbackStates states;
-  std::vector<uint8_t> buffer(states.save(t.world, {}));  // asks the size
-  REQUIRE(states.save(t.world, buffer) == buffer.size());  // remembers every body once
+  std::vector<uint8_t> buffer;
+  states.save(t.world, buffer);  // grows the buffer, remembers every body once
+  REQUIRE_FALSE(buffer.empty());
   REQUIRE_FALSE(states.restore(buffer, t.world));            // warms the reader's scratch up
   const uint64_t saved = state_hash(t.world);
   t.simulate_steps(8);
   const long before = allocations.load();
-  REQUIRE(states.save(t.world, buffer) == buffer.size());
+  states.save(t.world, buffer);
   REQUIRE_FALSE(states.restore(buffer, t.world));
   CHECK(allocations.load() - before == 0);
   CHECK(state_hash(t.world) != saved);  // the later state, restored
