@@ -2,18 +2,29 @@
 # Installs the Debian 12 packages bitstep needs, only those missing.
 #   tools/install_deps.sh build   compiler, cmake and the libraries
 #   tools/install_deps.sh bench   build + gnuplot (the bench's plots) and Bullet (its optional peer)
-#   tools/install_deps.sh test    bench + clang and the cross toolchains with qemu-user
+#   tools/install_deps.sh wasm    cmake, the header-only libraries, emscripten with node
+#   tools/install_deps.sh viewer  wasm + Chromium (the viewer's browser test)
+#   tools/install_deps.sh npm     npm, where node came without it (tools/viewer/install.sh)
+#   tools/install_deps.sh test    bench + viewer + clang and the cross toolchains with qemu-user
 set -euo pipefail
 
 build_packages=(cmake make gcc g++ catch2 libfmt-dev nlohmann-json3-dev libxxhash-dev libenet-dev pkg-config)
 bench_packages=(gnuplot-nox libbullet-dev)
-test_packages=(clang g++-i686-linux-gnu g++-aarch64-linux-gnu g++-s390x-linux-gnu qemu-user)
+# Debian's emscripten 3.1.6 with its prebuilt system libraries; emcc needs
+# node-acorn. nodejs: Debian's, unless a newer one is installed already.
+wasm_packages=(cmake make nlohmann-json3-dev libxxhash-dev emscripten node-acorn nodejs)
+viewer_packages=("${wasm_packages[@]}" chromium)
+test_packages=(clang g++-i686-linux-gnu g++-aarch64-linux-gnu g++-s390x-linux-gnu g++-arm-linux-gnueabihf
+  g++-riscv64-linux-gnu g++-powerpc64le-linux-gnu qemu-user)
 
 case "${1:-build}" in
   build) wanted=("${build_packages[@]}") ;;
   bench) wanted=("${build_packages[@]}" "${bench_packages[@]}") ;;
-  test) wanted=("${build_packages[@]}" "${bench_packages[@]}" "${test_packages[@]}") ;;
-  *) echo "install_deps.sh: unknown set '$1' (expected build, bench or test)" >&2; exit 2 ;;
+  wasm) wanted=("${wasm_packages[@]}") ;;
+  viewer) wanted=("${viewer_packages[@]}") ;;
+  npm) wanted=(npm) ;;
+  test) wanted=("${build_packages[@]}" "${bench_packages[@]}" "${viewer_packages[@]}" "${test_packages[@]}") ;;
+  *) echo "install_deps.sh: unknown set '$1' (expected build, bench, wasm, viewer or test)" >&2; exit 2 ;;
 esac
 
 missing=()
