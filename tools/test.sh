@@ -2,14 +2,17 @@
 # The test command: install what is missing, then
 #   1. a Debug build with BITSTEP_CHECKED, AddressSanitizer and UBSan: every test;
 #   2. a Release build: every test again, optimised, unchecked;
-#   3. tools/crosscheck.sh (beside 2's tests): the known-answer hash across
-#      compilers, the portable 128-bit path and i686 / aarch64 / s390x under
-#      qemu-user;
+#   3. tools/crosscheck.sh (beside 2's tests): the known-answer hash and the
+#      golden replays across compilers, the portable 128-bit path, i686 /
+#      aarch64 / s390x / armhf / riscv64 / ppc64le under qemu-user and
+#      WebAssembly under node;
 #   4. the installed package: a C and a C++ consumer built against it
 #      (tools/check_package.sh);
 #   5. bitstep peer processes on 127.0.0.1 playing a match, 2 and 4 peers,
 #      lockstep and rollback, with and without faults (tools/peer_test.sh);
-#   6. a ThreadSanitizer build: the threaded solver's golden-replay test.
+#   6. the browser viewer: its wasm engine under node, then the page in
+#      headless Chromium (tools/viewer_test.sh);
+#   7. a ThreadSanitizer build: the threaded solver's golden-replay test.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=$(nproc)
@@ -50,6 +53,9 @@ tools/check_package.sh build/release
 
 step "bitstep peer: 2 and 4 peers on 127.0.0.1, lockstep and rollback, with faults"
 tools/peer_test.sh build/release/bitstep
+
+step "the browser viewer: the wasm engine under node, the page in headless Chromium"
+tools/viewer_test.sh build/release/bitstep
 
 # The solver's sweeps on several workers (core/ordered_sweeps.h) under
 # ThreadSanitizer: every golden replay on 2, 3 and 8 workers, optimised
