@@ -10,6 +10,7 @@
 #include "core/mass.h"
 #include "core/query.h"
 #include "core/solver.h"
+#include "core/world_scratch.h"
 
 namespace bitstep {
 
@@ -66,19 +67,16 @@ uint64_t WorldInstance::next() {
   return ++counter;
 }
 
-World::World(const Settings& settings) : settings_(settings) {}
+World::World(const Settings& settings) : settings_(settings), scratch_(std::make_unique<WorldScratch>()) {}
+World::World(World&&) noexcept = default;
+World& World::operator=(World&&) noexcept = default;
+World::~World() = default;
 
-namespace {
-
-// Destroys and default-constructs a cache in place (some hold atomics and
-// cannot be assigned).
-template <class T>
-void reset(T& cache) {
-  std::destroy_at(&cache);
-  std::construct_at(&cache);
-}
-
-}  // namespace
+uint64_t World::shared_sweep_runs() const { return scratch_->solver_scratch.sweeps.shared_runs; }
+uint64_t World::reused_shape_pairs() const { return scratch_->narrowphase_cache.reused; }
+uint64_t World::tested_shape_pairs() const { return scratch_->narrowphase_cache.tested; }
+uint64_t World::reused_manifold_rows() const { return scratch_->solver_scratch.row_cache.reused; }
+uint64_t World::built_manifold_rows() const { return scratch_->solver_scratch.row_cache.built; }
 
 void World::after_in_place_restore() {
   special_bodies_ = sensor_bodies_ = 0;
@@ -86,28 +84,10 @@ void World::after_in_place_restore() {
     if (body.alive) count_special(body, +1);
   }
   events_.clear();
-  reset(proxies_);
-  reset(pairs_);
-  reset(joined_);
-  reset(contact_pairs_);
-  reset(broadphase_scratch_);
-  reset(previous_contacts_);
-  reset(previous_overlaps_);
-  reset(keys_before_);
-  reset(sensor_keys_before_);
-  reset(keys_after_);
-  reset(woken_by_cars_);
-  reset(turn_speed_);
-  reset(shape_extents_);
-  reset(narrowphase_cache_);
-  reset(inertia_cache_);
-  reset(push_);
-  reset(solver_scratch_);
-  reset(joint_rows_);
-  reset(joint_tree_);
-  reset(touching_);
-  reset(sleep_scratch_);
-  reset(before_prediction_);
+  // A world built from a state has no caches: the scratch is made anew in
+  // place (no allocation; some of it holds atomics and cannot be assigned).
+  std::destroy_at(scratch_.get());
+  std::construct_at(scratch_.get());
 }
 
 World World::from_state(const Settings& settings, uint64_t step_count, std::vector<Body> bodies,
@@ -193,18 +173,18 @@ bool World::is_alive(BodyId id) const {
 }
 
 void World::forget_narrowphase(uint32_t slot) {
-  std::erase_if(narrowphase_cache_.entries,
+  std::erase_if(scratch_->narrowphase_cache.entries,
                 [slot](const NarrowphaseCache::Entry& e) { return e.key.body_a == slot || e.key.body_b == slot; });
 }
 
 void World::set_contact_reuse(bool on) {
-  broadphase_scratch_.reuse = on;
-  broadphase_scratch_.last_proxies.clear();
-  pairs_.clear();  // what no proxies give: the pairs and last_proxies agree
-  narrowphase_cache_.enabled = on;
-  narrowphase_cache_.entries.clear();
-  solver_scratch_.row_cache.enabled = on;
-  solver_scratch_.row_cache.entries.clear();
+  scratch_->broadphase_scratch.reuse = on;
+  scratch_->broadphase_scratch.last_proxies.clear();
+  scratch_->pairs.clear();  // what no proxies give: the pairs and last_proxies agree
+  scratch_->narrowphase_cache.enabled = on;
+  scratch_->narrowphase_cache.entries.clear();
+  scratch_->solver_scratch.row_cache.enabled = on;
+  scratch_->solver_scratch.row_cache.entries.clear();
 }
 
 void World::count_special(const Body& body, int change) {
@@ -417,17 +397,17 @@ void World::wake_islands_of(const std::vector<uint32_t>& slots) {
 void World::step() {
   // The events compare what touches and overlaps before and after the step.
   if (events_on_) {
-    touching_keys(contacts_, keys_before_);
-    sensor_keys_before_.clear();
-    for (const SensorOverlap& o : sensor_overlaps_) sensor_keys_before_.push_back(o.key);
+    touching_keys(contacts_, scratch_->keys_before);
+    scratch_->sensor_keys_before.clear();
+    for (const SensorOverlap& o : sensor_overlaps_) scratch_->sensor_keys_before.push_back(o.key);
   }
   // Cars first: their wheel forces join the pending forces (core/car.h).
   if (std::any_of(cars_.begin(), cars_.end(), [](const Car& car) { return car.alive; })) {
-    woken_by_cars_.clear();
-    drive_cars(WorldQuery(*this, car_region(cars_, bodies_)), settings_.dt, bodies_, cars_, woken_by_cars_);
-    for (const uint32_t slot : woken_by_cars_) wake_if_asleep(slot);
+    scratch_->woken_by_cars.clear();
+    drive_cars(WorldQuery(*this, car_region(cars_, bodies_)), settings_.dt, bodies_, cars_, scratch_->woken_by_cars);
+    for (const uint32_t slot : scratch_->woken_by_cars) wake_if_asleep(slot);
   }
-  std::vector<BodyRates>& start = solver_scratch_.start_velocities;
+  std::vector<BodyRates>& start = scratch_->solver_scratch.start_velocities;
   start.resize(bodies_.size());
   for (size_t i = 0; i < bodies_.size(); ++i) start[i] = {bodies_[i].linear_velocity, bodies_[i].angular_velocity};
   if (settings_.pipeline == Pipeline::guendelman) {
@@ -435,8 +415,8 @@ void World::step() {
   } else {
     step_standard();
   }
-  bitstep::integrate_positions(settings_, bodies_, push_, solver_scratch_.start_velocities, contacts_, joints_, touching_);
-  if (settings_.sleep_method != SleepMethod::off) sleep_islands(settings_, bodies_, sleep_scratch_);
+  bitstep::integrate_positions(settings_, bodies_, scratch_->push, scratch_->solver_scratch.start_velocities, contacts_, joints_, scratch_->touching);
+  if (settings_.sleep_method != SleepMethod::off) sleep_islands(settings_, bodies_, scratch_->sleep_scratch);
   // Joints whose impulse this step went past their break_impulse: gone
   // before the next step (their bodies wake, as any removal's).
   for (uint32_t j = 0; j < joints_.size(); ++j) {
@@ -445,17 +425,17 @@ void World::step() {
   ++step_count_;
   events_.clear();
   if (!events_on_) return;
-  touching_keys(contacts_, keys_after_);
-  append_changes(keys_before_, keys_after_, EventKind::contact_begin, EventKind::contact_end, events_);
-  keys_after_.clear();
-  for (const SensorOverlap& o : sensor_overlaps_) keys_after_.push_back(o.key);
-  append_changes(sensor_keys_before_, keys_after_, EventKind::sensor_begin, EventKind::sensor_end, events_);
+  touching_keys(contacts_, scratch_->keys_after);
+  append_changes(scratch_->keys_before, scratch_->keys_after, EventKind::contact_begin, EventKind::contact_end, events_);
+  scratch_->keys_after.clear();
+  for (const SensorOverlap& o : sensor_overlaps_) scratch_->keys_after.push_back(o.key);
+  append_changes(scratch_->sensor_keys_before, scratch_->keys_after, EventKind::sensor_begin, EventKind::sensor_end, events_);
 }
 
 void World::step_standard() {
-  bitstep::integrate_velocities(settings_, bodies_, &inertia_cache_);
+  bitstep::integrate_velocities(settings_, bodies_, &scratch_->inertia_cache);
   find_contacts();
-  if (settings_.sleep_method != SleepMethod::off) wake_islands(settings_, bodies_, contacts_, joints_, sleep_scratch_);
+  if (settings_.sleep_method != SleepMethod::off) wake_islands(settings_, bodies_, contacts_, joints_, scratch_->sleep_scratch);
   solve_contacts();
 }
 
@@ -472,11 +452,11 @@ void World::step_standard() {
 // standard pipeline). Moved a long way, it would be looked for on the far
 // side of a thin wall (or past it, finding nothing) and go through.
 void World::step_guendelman() {
-  before_prediction_.resize(bodies_.size());
+  scratch_->before_prediction.resize(bodies_.size());
   for (size_t i = 0; i < bodies_.size(); ++i) {
     Body& body = bodies_[i];
     if (!is_awake_dynamic(body)) continue;
-    SavedMotion& saved = before_prediction_[i];
+    WorldScratch::SavedMotion& saved = scratch_->before_prediction[i];
     saved = {body.pose, body.linear_velocity, body.angular_velocity, body.force, body.torque, body.pose};
     integrate_velocity(settings_, body);
     if (moves_far(body)) continue;
@@ -490,7 +470,7 @@ void World::step_guendelman() {
   for (size_t i = 0; i < bodies_.size(); ++i) {
     Body& body = bodies_[i];
     if (!is_awake_dynamic(body)) continue;
-    const SavedMotion& saved = before_prediction_[i];
+    const WorldScratch::SavedMotion& saved = scratch_->before_prediction[i];
     body.pose = saved.pose;
     body.linear_velocity = saved.linear_velocity;
     body.angular_velocity = saved.angular_velocity;
@@ -499,10 +479,10 @@ void World::step_guendelman() {
     refresh_inverse_inertia(body);  // of the pose the step starts from
   }
   move_contacts_back();
-  if (settings_.sleep_method != SleepMethod::off) wake_islands(settings_, bodies_, contacts_, joints_, sleep_scratch_, false);
-  bitstep::solve_contacts(settings_, bodies_, contacts_, {joints_, joint_rows_, joint_tree_}, push_, solver_scratch_, SolvePass::collision, executor_);
+  if (settings_.sleep_method != SleepMethod::off) wake_islands(settings_, bodies_, contacts_, joints_, scratch_->sleep_scratch, false);
+  bitstep::solve_contacts(settings_, bodies_, contacts_, {joints_, scratch_->joint_rows, scratch_->joint_tree}, scratch_->push, scratch_->solver_scratch, SolvePass::collision, executor_);
   bitstep::integrate_velocities(settings_, bodies_);
-  bitstep::solve_contacts(settings_, bodies_, contacts_, {joints_, joint_rows_, joint_tree_}, push_, solver_scratch_, SolvePass::contact, executor_);
+  bitstep::solve_contacts(settings_, bodies_, contacts_, {joints_, scratch_->joint_rows, scratch_->joint_tree}, scratch_->push, scratch_->solver_scratch, SolvePass::contact, executor_);
 }
 
 // Whether a body's motion this step (its centre's, and its farthest point's
@@ -534,12 +514,12 @@ bool World::moves_far(const Body& body) const {
 void World::move_contacts_back() {
   const auto displacement = [&](uint32_t slot, Vec3 point) {
     if (!is_awake_dynamic(bodies_[slot])) return Vec3{};
-    const SavedMotion& saved = before_prediction_[slot];
+    const WorldScratch::SavedMotion& saved = scratch_->before_prediction[slot];
     if (saved.predicted == saved.pose) return Vec3{};
     return point - saved.pose.apply(saved.predicted.apply_inverse(point));
   };
   const auto shift_of = [&](uint32_t slot) {
-    return before_prediction_[slot].predicted.position - before_prediction_[slot].pose.position;
+    return scratch_->before_prediction[slot].predicted.position - scratch_->before_prediction[slot].pose.position;
   };
   for (Contact& c : contacts_) {
     const bool a_moved = is_awake_dynamic(bodies_[c.key.body_a]);
@@ -563,15 +543,15 @@ void World::move_contacts_back() {
 }
 
 void World::find_contacts() {
-  proxies_.clear();
-  turn_speed_.assign(bodies_.size(), Fixed{});
-  shape_extents_.resize(bodies_.size());
+  scratch_->proxies.clear();
+  scratch_->turn_speed.assign(bodies_.size(), Fixed{});
+  scratch_->shape_extents.resize(bodies_.size());
   for (uint32_t i = 0; i < bodies_.size(); ++i) {
     const Body& body = bodies_[i];
     if (!body.alive) continue;
     // The reach and bounds found last for this body, or found now (the
     // bounds again only where the pose moved by a bit).
-    ShapeExtent& extent = shape_extents_[i];
+    WorldScratch::ShapeExtent& extent = scratch_->shape_extents[i];
     if (!extent.known || extent.generation != body.generation) {
       extent = {true, body.generation, body_radius(body), body.pose, body_bounds(body)};
     } else if (!(extent.pose == body.pose)) {
@@ -583,17 +563,17 @@ void World::find_contacts() {
     // 0.01 kg compound 87 m across at 100 rad/s would otherwise keep points
     // 140 m apart, whose arms overflow its rows).
     if (body.angular_velocity != Vec3{}) {
-      turn_speed_[i] = min(length(body.angular_velocity) * extent.radius, settings_.max_linear_speed);
+      scratch_->turn_speed[i] = min(length(body.angular_velocity) * extent.radius, settings_.max_linear_speed);
     }
     // Grown by the speculative distance and this step's motion, the turn's
     // included (contact_update.cpp).
-    const Fixed margin = settings_.speculative_distance + (length(body.linear_velocity) + turn_speed_[i]) * settings_.dt;
-    proxies_.push_back({i, extent.bounds.expanded(margin), needs_contacts(body)});
+    const Fixed margin = settings_.speculative_distance + (length(body.linear_velocity) + scratch_->turn_speed[i]) * settings_.dt;
+    scratch_->proxies.push_back({i, extent.bounds.expanded(margin), needs_contacts(body)});
   }
-  find_pairs(proxies_, pairs_, broadphase_scratch_);
-  update_contacts(bodies_, contact_pairs(), settings_, turn_speed_, contacts_, previous_contacts_,
-                  narrowphase_cache_);
-  if (sensor_bodies_ > 0 || !sensor_overlaps_.empty()) update_sensor_overlaps(bodies_, pairs_, sensor_overlaps_, previous_overlaps_);
+  find_pairs(scratch_->proxies, scratch_->pairs, scratch_->broadphase_scratch);
+  update_contacts(bodies_, contact_pairs(), settings_, scratch_->turn_speed, contacts_, scratch_->previous_contacts,
+                  scratch_->narrowphase_cache);
+  if (sensor_bodies_ > 0 || !sensor_overlaps_.empty()) update_sensor_overlaps(bodies_, scratch_->pairs, sensor_overlaps_, scratch_->previous_overlaps);
 }
 
 // Two bodies joined by a joint do not collide (a chain's links meet at
@@ -601,24 +581,24 @@ void World::find_contacts() {
 // filters keep them apart. The broadphase keeps its pairs for reuse, so
 // they are filtered into a copy, and only when there are joints or filters.
 const std::vector<BodyPair>& World::contact_pairs() {
-  joined_.clear();
+  scratch_->joined.clear();
   for (const Joint& j : joints_) {
-    if (j.alive) joined_.push_back({std::min(j.body_a, j.body_b), std::max(j.body_a, j.body_b)});
+    if (j.alive) scratch_->joined.push_back({std::min(j.body_a, j.body_b), std::max(j.body_a, j.body_b)});
   }
-  if (joined_.empty() && special_bodies_ == 0) return pairs_;
-  std::sort(joined_.begin(), joined_.end());
-  contact_pairs_.clear();
-  for (const BodyPair& pair : pairs_) {
-    if (std::binary_search(joined_.begin(), joined_.end(), pair)) continue;
+  if (scratch_->joined.empty() && special_bodies_ == 0) return scratch_->pairs;
+  std::sort(scratch_->joined.begin(), scratch_->joined.end());
+  scratch_->contact_pairs.clear();
+  for (const BodyPair& pair : scratch_->pairs) {
+    if (std::binary_search(scratch_->joined.begin(), scratch_->joined.end(), pair)) continue;
     if (!collide_together(bodies_[pair.a].filter, bodies_[pair.b].filter)) continue;
     if (bodies_[pair.a].sensor || bodies_[pair.b].sensor) continue;  // sensors push nothing (core/sensor.h)
-    contact_pairs_.push_back(pair);
+    scratch_->contact_pairs.push_back(pair);
   }
-  return contact_pairs_;
+  return scratch_->contact_pairs;
 }
 
 void World::solve_contacts() {
-  bitstep::solve_contacts(settings_, bodies_, contacts_, {joints_, joint_rows_, joint_tree_}, push_, solver_scratch_, SolvePass::standard, executor_);
+  bitstep::solve_contacts(settings_, bodies_, contacts_, {joints_, scratch_->joint_rows, scratch_->joint_tree}, scratch_->push, scratch_->solver_scratch, SolvePass::standard, executor_);
 }
 
 StepStats World::stats() const {

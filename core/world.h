@@ -2,20 +2,18 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "core/body.h"
-#include "core/broadphase.h"
 #include "core/car.h"
 #include "core/contact.h"
-#include "core/contact_update.h"
 #include "core/envelope.h"
-#include "core/integrate.h"
+#include "core/executor.h"
 #include "core/joint.h"
 #include "core/sensor.h"
 #include "core/settings.h"
-#include "core/sleep.h"
-#include "core/solver.h"
 
 namespace bitstep {
 
@@ -60,9 +58,14 @@ class WorldInstance {
   uint64_t id_;
 };
 
+struct WorldScratch;
+
 class World {
  public:
   explicit World(const Settings& settings = {});
+  World(World&&) noexcept;
+  World& operator=(World&&) noexcept;
+  ~World();
 
   // A world continuing from a saved state (replay/snapshot.cpp): the caller
   // has checked that contacts and free slots refer to existing slots.
@@ -152,13 +155,13 @@ class World {
   Executor* executor() const { return executor_; }
   // Sweep runs (a solve's iterations, or its position passes) that were
   // shared among several workers, over the world's life.
-  uint64_t shared_sweep_runs() const { return solver_scratch_.sweeps.shared_runs; }
+  uint64_t shared_sweep_runs() const;
   // Shape pairs whose collision test was reused / run, over the world's life.
-  uint64_t reused_shape_pairs() const { return narrowphase_cache_.reused; }
-  uint64_t tested_shape_pairs() const { return narrowphase_cache_.tested; }
+  uint64_t reused_shape_pairs() const;
+  uint64_t tested_shape_pairs() const;
   // Manifolds whose solver rows were reused / built, over the world's life.
-  uint64_t reused_manifold_rows() const { return solver_scratch_.row_cache.reused; }
-  uint64_t built_manifold_rows() const { return solver_scratch_.row_cache.built; }
+  uint64_t reused_manifold_rows() const;
+  uint64_t built_manifold_rows() const;
 
  private:
   void step_standard();
@@ -190,43 +193,10 @@ class World {
   // skips filtering and sensor tests when there are none.
   uint32_t special_bodies_ = 0, sensor_bodies_ = 0;
   void count_special(const Body& body, int change);
-  // Per-step scratch, kept to reuse its memory (not state: rebuilt every step).
-  std::vector<BroadphaseProxy> proxies_;
-  std::vector<BodyPair> pairs_;
-  std::vector<BodyPair> joined_, contact_pairs_;  // contact_pairs's
-  BroadphaseScratch broadphase_scratch_;
-  std::vector<Contact> previous_contacts_;  // workspace of update_contacts
-  std::vector<SensorOverlap> previous_overlaps_;  // workspace of update_sensor_overlaps
-  std::vector<ContactKey> keys_before_, sensor_keys_before_, keys_after_;  // the events' workspace
-  std::vector<uint32_t> woken_by_cars_;
-  std::vector<Fixed> turn_speed_;           // per slot: |w| times the body's reach (m/s), this step
-  // Per slot, what find_contacts takes from a body's shapes, which never
-  // change while it lives (a slot's next occupant has a new generation):
-  // its reach, and its bounds at the pose they were found for. Not state.
-  struct ShapeExtent {
-    bool known = false;
-    uint32_t generation = 0;
-    Fixed radius;  // body_radius
-    Pose pose;
-    Aabb bounds;   // body_bounds at `pose`
-  };
-  std::vector<ShapeExtent> shape_extents_;
-  NarrowphaseCache narrowphase_cache_;      // a removed body's entries dropped at once
-  InertiaCache inertia_cache_;              // the standard pipeline's velocity integration
-  PushVelocities push_;
-  SolverScratch solver_scratch_;
-  std::vector<JointRow> joint_rows_;
-  JointTree joint_tree_;
+  // What the step keeps only to reuse memory and exact results
+  // (core/world_scratch.h): never state, rebuilt or checked every step.
+  std::unique_ptr<WorldScratch> scratch_;
   Executor* executor_ = nullptr;
-  std::vector<uint8_t> touching_;
-  SleepScratch sleep_scratch_;
-  // guendelman: each body's motion before the prediction moved it.
-  struct SavedMotion {
-    Pose pose;
-    Vec3 linear_velocity, angular_velocity, force, torque;
-    Pose predicted;  // where contacts were found: the prediction, or the pose itself for a fast body
-  };
-  std::vector<SavedMotion> before_prediction_;
   bool moves_far(const Body& body) const;
   void move_contacts_back();
 };
