@@ -524,8 +524,14 @@ void write_velocities(const std::vector<SolverBody>& solver_bodies, std::vector<
 
 }  // namespace
 
-void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::vector<Contact>& contacts,
-                    JointSet joints, PushVelocities& push, SolverScratch& scratch, SolvePass kind, Executor* executor) {
+void solve_contacts(const SolveContext& context, SolvePass kind) {
+  const Settings& settings = context.settings;
+  std::vector<Body>& bodies = context.bodies;
+  std::vector<Contact>& contacts = context.contacts;
+  const JointSet& joints = context.joints;
+  PushVelocities& push = context.push;
+  SolverScratch& scratch = context.scratch;
+  Executor* executor = context.executor;
   std::vector<SolverBody>& solver_bodies = scratch.bodies;
   gather_bodies(bodies, solver_bodies);
   if (kind == SolvePass::collision) save_impulses(contacts, scratch.saved_impulses);

@@ -37,13 +37,25 @@ struct JointSet {
   JointTree& tree;
 };
 
-// `executor` (null: the caller's thread alone) spreads the iterations and
-// position passes over its workers; the result is the same bits. Joints
-// take part in the standard and contact passes (not in the guendelman
-// collision pass, whose restitution acts on contacts alone); with joints
-// the sweeps stay on the caller's thread.
-void solve_contacts(const Settings& settings, std::vector<Body>& bodies, std::vector<Contact>& contacts,
-                    JointSet joints, PushVelocities& push, SolverScratch& scratch,
-                    SolvePass pass = SolvePass::standard, Executor* executor = nullptr);
+// What one solve works on: the world's state it changes (bodies,
+// contacts), its joints, the workspace it keeps from step to step, and who
+// runs its sweeps. `executor` (null: the caller's thread alone) spreads the
+// iterations and position passes over its workers; the result is the same
+// bits.
+struct SolveContext {
+  const Settings& settings;
+  std::vector<Body>& bodies;
+  std::vector<Contact>& contacts;
+  JointSet joints;
+  PushVelocities& push;
+  SolverScratch& scratch;
+  Executor* executor = nullptr;
+};
+
+// One solve of the contacts and joints. Joints take part in the standard
+// and contact passes (not in the guendelman collision pass, whose
+// restitution acts on contacts alone); with joints the sweeps stay on the
+// caller's thread.
+void solve_contacts(const SolveContext& context, SolvePass pass = SolvePass::standard);
 
 }  // namespace bitstep

@@ -72,6 +72,11 @@ World::World(World&&) noexcept = default;
 World& World::operator=(World&&) noexcept = default;
 World::~World() = default;
 
+SolveContext World::solve_context() {
+  return {settings_, bodies_, contacts_, {joints_, scratch_->joint_rows, scratch_->joint_tree}, scratch_->push,
+          scratch_->solver_scratch, executor_};
+}
+
 uint64_t World::shared_sweep_runs() const { return scratch_->solver_scratch.sweeps.shared_runs; }
 uint64_t World::reused_shape_pairs() const { return scratch_->narrowphase_cache.reused; }
 uint64_t World::tested_shape_pairs() const { return scratch_->narrowphase_cache.tested; }
@@ -480,9 +485,9 @@ void World::step_guendelman() {
   }
   move_contacts_back();
   if (settings_.sleep_method != SleepMethod::off) wake_islands(settings_, bodies_, contacts_, joints_, scratch_->sleep_scratch, false);
-  bitstep::solve_contacts(settings_, bodies_, contacts_, {joints_, scratch_->joint_rows, scratch_->joint_tree}, scratch_->push, scratch_->solver_scratch, SolvePass::collision, executor_);
+  bitstep::solve_contacts(solve_context(), SolvePass::collision);
   bitstep::integrate_velocities(settings_, bodies_);
-  bitstep::solve_contacts(settings_, bodies_, contacts_, {joints_, scratch_->joint_rows, scratch_->joint_tree}, scratch_->push, scratch_->solver_scratch, SolvePass::contact, executor_);
+  bitstep::solve_contacts(solve_context(), SolvePass::contact);
 }
 
 // Whether a body's motion this step (its centre's, and its farthest point's
@@ -598,7 +603,7 @@ const std::vector<BodyPair>& World::contact_pairs() {
 }
 
 void World::solve_contacts() {
-  bitstep::solve_contacts(settings_, bodies_, contacts_, {joints_, scratch_->joint_rows, scratch_->joint_tree}, scratch_->push, scratch_->solver_scratch, SolvePass::standard, executor_);
+  bitstep::solve_contacts(solve_context(), SolvePass::standard);
 }
 
 StepStats World::stats() const {

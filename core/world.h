@@ -59,6 +59,7 @@ class WorldInstance {
 };
 
 struct WorldScratch;
+struct SolveContext;
 
 class World {
  public:
@@ -169,6 +170,7 @@ class World {
   void find_contacts();
   const std::vector<BodyPair>& contact_pairs();
   void solve_contacts();
+  SolveContext solve_context();  // this world's, for core/solver.h
   void wake_islands_of(const std::vector<uint32_t>& slots);
   void wake_if_asleep(uint32_t slot);
   // Drops the narrowphase results of a slot whose body is removed.
