@@ -69,7 +69,7 @@ struct BodyDef {
   Material material;
   Fixed linear_damping;   // 1/s
   Fixed angular_damping;  // 1/s
-  bool asleep = false;    // start asleep (dynamic, at rest): a wall built to stand (first seed)
+  bool asleep = false;    // start asleep (dynamic, at rest): a wall built to stand (as in Kenwright's engine)
   CollisionFilter filter;
   // Its shapes report what overlaps them (core/sensor.h) and make no
   // contact: a trigger volume. They still give the body its mass.

@@ -1,4 +1,4 @@
-// The second seed's raycast car: a chassis body on wheels that are rays,
+// JigLib's raycast car: a chassis body on wheels that are rays,
 // not bodies. "The car just uses ray casts for the suspension (you can set
 // it up to use multiple rays per wheel). Drive forces are applied at each
 // wheel to both the chassis, the wheel, and the object that it touches."

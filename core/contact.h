@@ -1,5 +1,6 @@
 // A contact: the manifold between one shape of body a and one of body b,
-// keyed so that it can be matched with last step's (rule 1: sorted by ids).
+// keyed so that it can be matched with last step's (sorted by ids: creation order is the only
+// source of simulation order).
 #pragma once
 
 #include <cstdint>

@@ -1,5 +1,6 @@
 // Integration: forces into velocities, velocities (plus split-impulse
-// pseudo-velocities) into poses. Semi-implicit Euler, as both seeds.
+// pseudo-velocities) into poses. Semi-implicit Euler, as in Kenwright's
+// simple impulse engine and JigLib.
 #pragma once
 
 #include <vector>

@@ -1,5 +1,5 @@
 // Islands: the groups of dynamic bodies joined by touching contacts and
-// joints. An island sleeps and wakes as one (issue 5). Static
+// joints. An island sleeps and wakes as one. Static
 // bodies never join: two stacks on one ground are two islands.
 #pragma once
 

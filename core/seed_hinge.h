@@ -1,7 +1,7 @@
-// The second seed's hinge, built from its two constraints: a point joint
+// JigLib's hinge, built from its two constraints: a point joint
 // at the hinge's centre, two max-distance joints at +-half_width along the
 // axis whose slack (`sloppiness`) lets the axis tilt a little (which suits
-// ragdoll joints, the seed says), and one more max-distance joint whose
+// ragdoll joints, JigLib says), and one more max-distance joint whose
 // length bounds the angle: a point of b at `half_width` from the axis, at
 // angle 0, may be no farther from a's point at the middle of the range
 // than 2 r sin(half range / 2). bitstep's own hinge (JointType::hinge)
@@ -15,7 +15,7 @@
 
 namespace bitstep {
 
-// The joints that make `hinge` (a JointType::hinge definition) the seed's
+// The joints that make `hinge` (a JointType::hinge definition) JigLib's
 // way, in the order to create them: the point, the two sides, the limit
 // (when hinge.limited).
 std::vector<JointDef> seed_hinge(const JointDef& hinge, Fixed half_width, Fixed sloppiness);

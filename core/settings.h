@@ -36,15 +36,16 @@ inline constexpr Fixed max_gravity = 1000.0_fx;      // m/s^2, per axis
 // How bodies fall asleep (core/sleep.h). Off: no sleep bookkeeping at all.
 enum class SleepMethod : uint8_t {
   off,
-  motion,  // first seed: a recently-weighted average of v.v + w.w stays below sleep_epsilon
-  still,   // second seed: the pose stays within tolerances of a reference pose for sleep_time
+  motion,  // Kenwright's engine: a recently-weighted average of v.v + w.w stays below sleep_epsilon
+  still,   // JigLib: the pose stays within tolerances of a reference pose for sleep_time
 };
 
 // The order of a step (core/world.cpp).
 enum class Pipeline : uint8_t {
   standard,    // forces, contacts, one solve (restitution placed at the moment of impact), positions
-  guendelman,  // second seed: contacts where forces would take the bodies, a collision pass with
-               // restitution on the current velocities, forces, an inelastic contact pass, positions
+  guendelman,  // JigLib (after Guendelman, Bridson and Fedkiw 2003): contacts where forces would take
+               // the bodies, a collision pass with restitution on the current velocities, forces, an
+               // inelastic contact pass, positions
 };
 
 struct Settings {
@@ -57,14 +58,14 @@ struct Settings {
                                                      // uneven overlaps that tilted a capsule pile into rolling)
   Fixed split_impulse_factor = 0.2_fx;               // 1, fraction of the overlap beyond the slop removed per step
   Fixed max_push_out_speed = 3.0_fx;                 // m/s, cap of the penetration-recovery speed
-  bool baumgarte = false;                            // first seed: bias the real velocity instead of split impulse
+  bool baumgarte = false;                            // Kenwright's way: bias the real velocity instead of split impulse
   Fixed baumgarte_factor = 0.2_fx;                   // 1, used when baumgarte is on
   Fixed restitution_threshold = 1.0_fx;              // m/s, approach speeds below it do not bounce
   Fixed speculative_distance = 0.02_fx;              // m, contacts are kept this far before touching
   Fixed max_linear_speed = envelope::max_linear_speed;    // m/s, world envelope: velocities are clamped to it
   Fixed max_angular_speed = envelope::max_angular_speed;  // rad/s, world envelope
   bool warm_starting = true;                         // start each step from last step's impulses
-  bool shock_propagation = true;                     // second seed: a last pass upward from the ground, lower bodies immovable
+  bool shock_propagation = true;                     // JigLib's: last pass up from the ground, lower bodies immovable
   int shock_iterations = 32;                         // most passes over each shock level (until nothing changes)
   Pipeline pipeline = Pipeline::standard;            // the order of the step
   SleepMethod sleep_method = SleepMethod::off;       // islands at rest stop costing anything

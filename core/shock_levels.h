@@ -1,4 +1,4 @@
-// Shock levels (the second seed, after Guendelman, Bridson and Fedkiw):
+// Shock levels (JigLib's, after Guendelman, Bridson and Fedkiw 2003):
 // the order in which the shock step makes bodies immovable. Upward from
 // the static, kinematic and sleeping bodies along the direction opposite
 // gravity, and sideways from anything immovable a body is pressed against,

@@ -20,7 +20,7 @@ uint32_t steps_for(Fixed time, Fixed dt) {
   return static_cast<uint32_t>(std::clamp<int64_t>(steps, 1, INT32_MAX));
 }
 
-// v.v + w.w (m^2/s^2 and rad^2/s^2 added as numbers, as the first seed does).
+// v.v + w.w (m^2/s^2 and rad^2/s^2 added as numbers, as Kenwright's simple impulse engine does).
 Fixed motion_of(const Body& body) { return length_sq(body.linear_velocity) + length_sq(body.angular_velocity); }
 
 // The fastest speed (m/s) at which `toucher` closes in on the sleeping body
@@ -36,9 +36,9 @@ Fixed closing_speed(const Body& toucher, const Manifold& m, Vec3 normal) {
 
 // Does awake body `toucher`, in contact m with a sleeping body, wake it?
 // A speculative contact counts when the toucher closes in. motion: the
-// toucher's v.v + w.w exceeds 2 epsilon (first seed). still: it closes in
-// faster than the tolerance per sleep time, or touches and has just left
-// its own tolerance (a body sliding along the sleeper).
+// toucher's v.v + w.w exceeds 2 epsilon (as in Kenwright's engine). still:
+// it closes in faster than the tolerance per sleep time, or touches and has
+// just left its own tolerance (a body sliding along the sleeper).
 bool wakes_on_touch(const Settings& settings, const Body& toucher, const Manifold& m, Vec3 normal) {
   if (toucher.type == BodyType::kinematic) return moves(toucher);
   if (!is_awake_dynamic(toucher)) return false;
@@ -106,8 +106,8 @@ bool update_measure(const Settings& settings, Body& body) {
 }  // namespace
 
 void reset_sleep(const Settings& settings, Body& body) {
-  // A woken body starts above epsilon (first seed: 2 epsilon), so that it
-  // stays awake for a while before it can be sleepy again.
+  // A woken body starts above epsilon (Kenwright's engine: 2 epsilon), so
+  // that it stays awake for a while before it can be sleepy again.
   body.sleep_motion = settings.sleep_epsilon * 2.0_fx;
   body.sleepy_steps = 0;
   body.sleep_reference = body.pose;

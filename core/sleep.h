@@ -1,15 +1,16 @@
-// Sleeping and activation (both seeds). Islands (core/islands.h) sleep and
-// wake as one. A sleeping body is not integrated, has zero velocity, and is
-// immovable to the bodies touching it; contacts between bodies that cannot
-// move are neither re-collided nor solved (core/contact_update.cpp).
+// Sleeping and activation (after Kenwright's simple impulse engine and
+// JigLib). Islands (core/islands.h) sleep and wake as one. A sleeping body
+// is not integrated, has zero velocity, and is immovable to the bodies
+// touching it; contacts between bodies that cannot move are neither
+// re-collided nor solved (core/contact_update.cpp).
 //
 // Methods (Settings::sleep_method):
-// - motion (first seed): rwa = bias rwa + (1 - bias) (v.v + w.w) each step,
+// - motion (Kenwright's simple impulse engine): rwa = bias rwa + (1 - bias) (v.v + w.w) each step,
 //   capped at 10 epsilon; a body is sleepy after rwa < epsilon for
 //   sleep_min_time. A body touching a sleeping one wakes its island when its
 //   own v.v + w.w exceeds 2 epsilon; a slower one rests on it as on the ground
 //   and may fall asleep there.
-// - still (second seed): a body whose pose stays within the tolerances of a
+// - still (JigLib's): a body whose pose stays within the tolerances of a
 //   reference pose for sleep_time is sleepy; over the second half of that
 //   time its velocities ramp down to zero. Any awake body touching a sleeping
 //   one wakes its island.

@@ -290,7 +290,7 @@ bool build_rows(const RowSetup& setup, size_t slot, size_t& cursor, RowMemo& mem
     const Fixed start_speed =
         may_bounce ? -relative_rate(start_velocities[ia], start_velocities[ib], row.normal) : Fixed{};
     if (pass == SolvePass::collision) {
-      // The second seed's collision pass: a point that meets this step
+      // JigLib's collision pass: a point that meets this step
       // leaves at e times its approach speed (the velocities have no
       // forces yet); nothing is pushed apart. With e = 0 it only arrives:
       // a gap closes by depth / dt, as in the iterations.
@@ -502,7 +502,8 @@ void sweep_free_rows(std::vector<SolverBody>& bodies, std::vector<PointRow>& row
 }
 
 // Sweeps alternate direction every pass, so no point of a symmetric stack
-// is always solved last (a seed remedy against drift).
+// is always solved last (a remedy against drift from the engines bitstep
+// follows: Kenwright's simple impulse engine, JigLib).
 template <class Solve>
 void sweep(std::vector<SolverBody>& bodies, const std::vector<PointRow>& rows, int pass, Solve solve) {
   if (pass % 2 == 0) {

@@ -1,8 +1,9 @@
 // The contact solver: sequential impulses with accumulated, warm-started
 // impulses (Catto), friction clamped by the normal impulse with static and
 // dynamic coefficients, restitution, and penetration recovery either by split
-// impulse (pseudo-velocities that never enter momentum, the second seed's way)
-// or by a Baumgarte bias on the real velocity (the first seed's way).
+// impulse (pseudo-velocities that never enter momentum, JigLib's way)
+// or by a Baumgarte bias on the real velocity (the way of Kenwright's simple
+// impulse engine).
 #pragma once
 
 #include <vector>

@@ -23,7 +23,8 @@ struct BodyRates {
   friend bool operator==(const BodyRates&, const BodyRates&) = default;
 };
 
-// The hot state of one body during the solve (STYLE rule 5): velocities,
+// The hot state of one body during the solve (hot data contiguous, structure of
+// arrays for the solver's per-body state): velocities,
 // pseudo-velocities and the inverse mass properties, contiguous by slot.
 struct SolverBody {
   BodyRates velocity;
@@ -82,11 +83,12 @@ struct PointRow {
 // A manifold's points taken together, at their centroid:
 // - a normal row whose impulse is shared equally by the points: a pure force
 //   through the centroid (no torque about it), so a stack's load is solved
-//   symmetrically before the point rows correct the torques (after the second
-//   seed's averaged extra point);
+//   symmetrically before the point rows correct the torques (after JigLib's
+//   averaged extra point);
 // - friction: two tangent rows and a twist row about the normal, anchored at
 //   the centroid and bounded by the manifold's total normal impulse (friction
-//   anchored at the manifold centre, one of the seeds' remedies for stacks).
+//   anchored at the manifold centre, a remedy for stacks from the engines
+//   bitstep follows: Kenwright's simple impulse engine, JigLib).
 struct ManifoldRow {
   uint32_t a, b;
   size_t first, count;  // its points in the point-row list

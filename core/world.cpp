@@ -317,7 +317,7 @@ JointResult World::create_joint(const JointDef& def) {
   result.id = {index, joints_[index].generation};
   // Joined to an awake body, a sleeping one wakes (its island now moves
   // with it); two sleeping bodies, or one and a static body, stay asleep
-  // (a ragdoll built asleep, as the seed's).
+  // (a ragdoll built asleep, as JigLib's are).
   if (is_awake_dynamic(bodies_[def.body_a.index]) || is_awake_dynamic(bodies_[def.body_b.index])) {
     wake_islands_of({def.body_a.index, def.body_b.index});
   }
@@ -444,13 +444,14 @@ void World::step_standard() {
   solve_contacts();
 }
 
-// The second seed's order. Contacts are found where this step's forces and
-// velocities would take the bodies (then the bodies go back); a collision
-// pass gives restitution on the velocities before the forces; the forces
-// come in; an inelastic contact pass and the shock step stop what they
-// would push through. A sphere resting on a plane: the prediction finds the
-// contact, the collision pass has nothing to do (no approach), gravity
-// gives -g dt, the contact pass takes it away, and the sphere does not move.
+// JigLib's order (after Guendelman, Bridson and Fedkiw 2003). Contacts are
+// found where this step's forces and velocities would take the bodies (then
+// the bodies go back); a collision pass gives restitution on the velocities
+// before the forces; the forces come in; an inelastic contact pass and the
+// shock step stop what they would push through. A sphere resting on a
+// plane: the prediction finds the contact, the collision pass has nothing
+// to do (no approach), gravity gives -g dt, the contact pass takes it away,
+// and the sphere does not move.
 //
 // A fast body is not moved for the prediction: its contacts are found where
 // it is, kept up to its whole step's motion apart (speculative, as in the

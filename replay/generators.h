@@ -27,7 +27,7 @@ enum class StackDirection : uint8_t { plus_x, minus_x, plus_y, minus_y, plus_z, 
 
 // Boxes one on another, centred over `position` (the middle of the bottom
 // face of the lowest box). Each contact, the ground's included, starts
-// overlapped by `overlap` (0: exactly touching; the second seed used the
+// overlapped by `overlap` (0: exactly touching; JigLib used the
 // allowed penetration, i.e. Settings::penetration_slop). The column grows
 // along `direction` (up by default); `half_extents` stay in world axes, so
 // the boxes' half height is their half-extent along that axis, and the
@@ -225,7 +225,7 @@ struct RagdollParams {
   Fixed scale = Fixed::one();              // 1: 1.8 m, 75 kg
   Quat orientation;                        // identity: standing upright along +y, facing +z (unit)
   Material material;
-  bool asleep = true;  // as the seed's ragdolls (when the scene's sleep is on)
+  bool asleep = true;  // as JigLib's ragdolls (when the scene's sleep is on)
   // 1/s, every part's: a limb hanging free swings on joints without
   // friction (Bullet's ragdoll demo damps its parts 0.05 and 0.85).
   Fixed linear_damping;

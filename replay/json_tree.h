@@ -1,7 +1,8 @@
 // A small JSON tree that keeps what exactness needs: objects keep their keys
 // in document order, numbers keep their text (the lexeme, never a double:
-// DESIGN rule 3), and every node knows its JSON path ("$.bodies[2].shapes[0]")
-// so that errors can name the value they are about.
+// numbers go from their decimal text straight to Fixed), and every node
+// knows its JSON path ("$.bodies[2].shapes[0]") so that errors can name
+// the value they are about.
 #pragma once
 
 #include <cstddef>

@@ -310,7 +310,7 @@ GeneratedStructure read_chain(ObjectReader& reader, const MaterialTable& materia
 }
 
 // Ragdolls: no density or mass keys (each part's mass is its share of
-// 75 kg x scale^3), and asleep by default, as the seed's ragdolls.
+// 75 kg x scale^3), and asleep by default, as JigLib's ragdolls.
 GeneratedStructure read_ragdoll(ObjectReader& reader, const MaterialTable& materials) {
   RagdollParams p;
   if (const Node* n = reader.find("name")) p.name = read_string(*n);

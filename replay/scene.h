@@ -1,6 +1,6 @@
 // Scene files (format "bitstep-scene", version 1; replay/README.md has the
 // format): JSON text -> Settings, body and joint definitions in creation order.
-// Numbers go from their text straight to Fixed (DESIGN rule 3); every error
+// Numbers go from their text straight to Fixed, never through a double; every error
 // names the file, the JSON path of the offending value and the reason.
 #pragma once
 

@@ -70,7 +70,8 @@ Material read_material_fields(const json::Node& node);
 // A material name from the table, or an inline object.
 Material read_material(const json::Node& node, const MaterialTable& table);
 
-// The helpers below override a field only when the key is present (STYLE 4).
+// The helpers below override a field only when the key is present: an
+// absent key keeps the default already in the field.
 void read_optional(ObjectReader& reader, std::string_view key, Fixed& field, Bound bound = Bound::any);
 void read_optional(ObjectReader& reader, std::string_view key, Vec3& field, Bound bound = Bound::any);
 void read_optional(ObjectReader& reader, std::string_view key, int& field, int lo, int hi);

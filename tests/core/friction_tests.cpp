@@ -143,7 +143,8 @@ struct CardHouse {
 
 }  // namespace
 
-// Before issue 14 the A-frame's feet slid apart and it fell within 6 s
+// Before a manifold's rows stood on its touching points only, the
+// A-frame's feet slid apart and it fell within 6 s
 // (the card house's roof sagged 1 cm): a manifold's centroid row shared its
 // impulse with the points of the plate's far bottom edge, 7 mm above the
 // ground, and the rows that took it back tilted the plate a little every

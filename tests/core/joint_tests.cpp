@@ -430,7 +430,7 @@ TEST_CASE("a cone joint keeps a flung arm within its cone and its twist limits t
   }
 }
 
-TEST_CASE("the seed's composite hinge against the rigid hinge: axis tilt and limit overshoot under a blow",
+TEST_CASE("JigLib's composite hinge against the rigid hinge: axis tilt and limit overshoot under a blow",
           "[joint][seed_hinge]") {
   // A 1 m, 1 kg arm hinged about z at a static anchor, limits -30..+45
   // degrees, falling onto its lower limit; then a 5 N s sideways blow at
@@ -438,12 +438,12 @@ TEST_CASE("the seed's composite hinge against the rigid hinge: axis tilt and lim
   struct Result {
     double tilt = 0, overshoot = 0, final_tilt = 0, final_angle = 0;
   };
-  const auto run = [](bool seed) {
+  const auto run = [](bool jiglib) {
     TestWorld t;
     const HingedArm parts = hinged_arm(t);
     const BodyId arm = parts.arm;
     const JointDef& hinge = parts.hinge;
-    if (seed) {
+    if (jiglib) {
       for (const JointDef& part : seed_hinge(hinge, 0.1_fx, 0.005_fx)) REQUIRE(t.world.create_joint(part).ok());
     } else {
       REQUIRE(t.world.create_joint(hinge).ok());
@@ -463,25 +463,25 @@ TEST_CASE("the seed's composite hinge against the rigid hinge: axis tilt and lim
     }
     return result;
   };
-  const Result rigid = run(false), seed = run(true);
-  INFO("rigid: tilt " << rigid.tilt << ", past the limit " << rigid.overshoot << " degrees; seed: tilt " << seed.tilt
-                      << ", past the limit " << seed.overshoot << " degrees");
-  INFO("after 10 s: rigid at " << rigid.final_angle << " tilted " << rigid.final_tilt << ", seed at "
-                                 << seed.final_angle << " tilted " << seed.final_tilt);
+  const Result rigid = run(false), jiglib = run(true);
+  INFO("rigid: tilt " << rigid.tilt << ", past the limit " << rigid.overshoot << " degrees; JigLib's: tilt "
+                      << jiglib.tilt << ", past the limit " << jiglib.overshoot << " degrees");
+  INFO("after 10 s: rigid at " << rigid.final_angle << " tilted " << rigid.final_tilt << ", JigLib's at "
+                                 << jiglib.final_angle << " tilted " << jiglib.final_tilt);
   // The rigid hinge (its two angular rows solved with its point block in
   // one block, joint_tree.h) keeps
   // its axis and its limit exactly.
   CHECK(rigid.tilt < 0.1);
   CHECK(rigid.overshoot < 0.1);
   CHECK(std::abs(rigid.final_angle + 30.0) < 0.1);
-  // The seed's, on the same solver (its side and limit ropes row by row,
+  // JigLib's, on the same solver (its side and limit ropes row by row,
   // its point block exact): measured 8.6 degrees past the limit as it
   // falls onto it, the blow tilts the axis 80 degrees and throws it 50
   // degrees past, and it comes back only slowly, still wobbling by ~2
   // degrees after 10 s. The ragdolls use the rigid hinge and the cone.
-  CHECK(seed.tilt > 10.0);
-  CHECK(std::abs(seed.final_angle + 30.0) < 2.0);
-  CHECK(seed.final_tilt < 5.0);
+  CHECK(jiglib.tilt > 10.0);
+  CHECK(std::abs(jiglib.final_angle + 30.0) < 2.0);
+  CHECK(jiglib.final_tilt < 5.0);
 }
 
 TEST_CASE("inverse_spd agrees with the exact inverse on joint blocks to 1e-6 relative", "[joint][inverse]") {

@@ -1,4 +1,4 @@
-// Mass ratios (issue 6): a light box caught between the ground and heavy
+// Mass ratios: a light box caught between the ground and heavy
 // ones is not pushed through and does not sink, under both pipelines (the
 // shock step holds the light box up as immovable for the bodies above it).
 #include <catch2/catch.hpp>
@@ -70,7 +70,7 @@ TEST_CASE("a 1 kg box under a stack of ten 100 kg boxes does not sink", "[physic
 
 namespace {
 
-// The second seed's car-and-wall case: a 1 kg unit cube on the ground
+// JigLib's car-and-wall case: a 1 kg unit cube on the ground
 // against a static wall (its face at x = 0), a 2,000 kg 2 m box sliding at
 // 5 m/s into it from 1 m away. Over 2 s: the cube never goes into the wall
 // by more than slop + 5 mm, the heavy box never into the cube by more, and

@@ -1,5 +1,6 @@
-// The second seed's pipeline (Settings::pipeline = guendelman): a body at
-// rest stays exactly at rest, restitution comes from the collision pass.
+// JigLib's pipeline, after Guendelman, Bridson and Fedkiw 2003
+// (Settings::pipeline = guendelman): a body at rest stays exactly at rest,
+// restitution comes from the collision pass.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -22,7 +23,7 @@ Settings guendelman() {
 
 }  // namespace
 
-// The seed's worked example: the prediction finds the contact, the
+// JigLib's worked example: the prediction finds the contact, the
 // collision pass has nothing to do, gravity gives -g dt, the inelastic
 // contact pass takes exactly that away, so the sphere never moves.
 TEST_CASE("guendelman: a sphere resting on a plane keeps exactly zero velocity and its position", "[pipeline]") {

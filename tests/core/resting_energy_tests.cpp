@@ -1,5 +1,5 @@
 // A pile released at rest stays at rest: no kinetic energy appears from
-// nothing. Issue 14 item 3: 5 layers of 4 capsules laid crosswise rolled
+// nothing. A pile of 5 layers of 4 capsules laid crosswise used to roll
 // apart. Two causes, both measured here:
 // - uneven overlaps below the old 5 mm penetration slop tilted the rails by
 //   1.6e-4 rad and the top layer rolled down them (collapse at ~10 s): the

@@ -1,4 +1,5 @@
-// TestWorld: a world with helpers that read like the physics (STYLE rule 10).
+// TestWorld: a world with helpers that read like the physics, so the tests
+// do too.
 #pragma once
 
 #include "core/world.h"

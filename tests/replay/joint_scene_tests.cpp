@@ -670,7 +670,7 @@ TEST_CASE("ragdoll generator in a scene: keys, defaults and errors", "[scene][jo
   CHECK(scene.bodies[22].name == "ragdoll.1.shin.r");
   CHECK(scene.bodies[12].def.pose.position == Vec3{Fixed{}, 1.06_fx + 2.5_fx, Fixed{}});
   CHECK(scene.bodies[5].def.material.restitution == 0.25_fx);
-  // Asleep by default (as the seed's ragdolls); "asleep": false wakes them.
+  // Asleep by default (as JigLib's ragdolls); "asleep": false wakes them.
   for (size_t i = 1; i < scene.bodies.size(); ++i) CHECK(scene.bodies[i].def.asleep);
   CHECK(RagdollParams{}.asleep);
   // Joint friction: 1 N m at scale 1, x scale^4.
@@ -740,7 +740,7 @@ TEST_CASE("ragdolls.json: ragdolls onto a pile and down a staircase", "[scene][j
   CHECK(widest_point_joint(world) <= one_micron * 10.0_fx);
 }
 
-// The issue's ragdoll case: ten ragdolls dropped onto a heap and down a
+// The ragdoll pile: ten ragdolls dropped onto a heap and down a
 // staircase, sleep on (motion), joint friction 1 N m. Measured (60 Hz, 10
 // iterations): KE 0.0016 J at 5 s, every body asleep at 5.9 s; at rest no
 // limb 0.1 degree past a limit and no overlap deeper than 1.2 mm; during the

@@ -1,5 +1,5 @@
 // The JSON reader at the sizes the readers must take in time proportional to
-// the text (issue 14, item 5). Nothing here measures time (tests assert
+// the text. Nothing here measures time (tests assert
 // behaviour only): a reader that is quadratic again makes these cases take
 // minutes (100,000 keys took 165 s on this machine before), which the
 // ctest timeout reports.

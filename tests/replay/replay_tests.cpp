@@ -244,7 +244,7 @@ TEST_CASE("malformed replays are refused with the file, the JSON path and the re
 }
 
 TEST_CASE("10,000 inputs naming bodies of a 10,000-body scene are read, each to its slot", "[replay][json]") {
-  // A scan of the bodies per input made this n^2 (issue 14, item 5).
+  // A scan of the bodies per input made this n^2.
   StackParams stack;
   stack.count = 10000;
   Scene scene;
@@ -545,7 +545,7 @@ TEST_CASE("car.replay.json drives the course: drive inputs steer the run", "[rep
   for (const WheelState& wheel : world.cars()[0].wheels) CHECK(wheel.on_ground);
 }
 
-// The second seed's "drive into a wall and squash a box" case with the real
+// JigLib's "drive into a wall and squash a box" case with the real
 // car, both pipelines: the throttle held down, the chassis pins the 1 kg
 // cube against the wall and never pushes it more than slop (0) + 5 mm in.
 TEST_CASE("car_wall: the car pins the cube against the wall without pushing it in", "[replay][car]") {

@@ -134,8 +134,8 @@ TEST_CASE("tables: five stacked compound tables stand 20 s with drift under 1 cm
   CHECK(m.largest_drift < 0.01);
 }
 
-// The walls (issue 6): wall128 (8,256 bricks, ~0.24 s a step) stands the
-// 2,000 steps the issue asks for with no brick moving 1 cm (it stood ~1,770
+// The walls: wall128 (8,256 bricks, ~0.24 s a step) stands the 2,000
+// steps asked of it with no brick moving 1 cm (it stood ~1,770
 // before the glue to several supports at once; 3,500 measured, none moving).
 // wall64's 2,000 steps are in the bench (and in this wall's lower rows).
 TEST_CASE("wall128 stands 2,000 steps: no brick moves 1 cm", "[scene-run][slow]") {

@@ -117,7 +117,7 @@ TEST_CASE("removing the bottom box of a sleeping stack20 wakes every box in that
     for (size_t i = 1; i < boxes.size(); ++i) CHECK_FALSE(world.bodies()[boxes[i]].asleep);
     world.step();
     for (size_t i = 1; i < boxes.size(); ++i) CHECK(world.bodies()[boxes[i]].pose.position.y < heights[i]);
-    // The whole stack falls at once (the second seed's test of recursive
+    // The whole stack falls at once (JigLib's test of recursive
     // waking): 20 steps on, before the bottom box lands (1 m takes 27),
     // every box has dropped at least 0.45 m (a free body drops 0.545 m; one
     // woken three steps late, 0.41 m). The lower boxes drop faster than
