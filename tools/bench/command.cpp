@@ -15,7 +15,7 @@
 //                programs built at -O0 and at -O3 -ffast-math.
 // Everything goes into a report directory: CSV per experiment, summary.md,
 // and a gnuplot script per plot drawn as SVG and PNG.
-#include "tools/bench_command.h"
+#include "tools/bench/command.h"
 
 #include <fmt/core.h>
 #include <unistd.h>
@@ -34,14 +34,14 @@
 #include <string_view>
 #include <vector>
 
-#include "tools/bench_bitstep_engine.h"
-#include "tools/bench_experiments.h"
-#include "tools/bench_report.h"
-#include "tools/bench_costs.h"
-#include "tools/bench_scale.h"
-#include "tools/bench_stats.h"
-#include "tools/bench_scene_specs.h"
-#include "tools/bench_speed.h"
+#include "tools/bench/bitstep_engine.h"
+#include "tools/bench/experiments.h"
+#include "tools/bench/report.h"
+#include "tools/bench/costs.h"
+#include "tools/bench/scale.h"
+#include "tools/bench/stats.h"
+#include "tools/bench/scene_specs.h"
+#include "tools/bench/speed.h"
 #include "tools/thread_option.h"
 #include "tools/progress_bar.h"
 
