@@ -4,11 +4,11 @@
 
 #include <cmath>
 
-#include "tools/bench_bitstep_engine.h"
-#include "tools/bench_costs.h"
-#include "tools/bench_experiments.h"
-#include "tools/bench_speed.h"
-#include "tools/bench_stats.h"
+#include "tools/bench/bitstep_engine.h"
+#include "tools/bench/costs.h"
+#include "tools/bench/experiments.h"
+#include "tools/bench/speed.h"
+#include "tools/bench/stats.h"
 
 namespace bitstep::bench {
 

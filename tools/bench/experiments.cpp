@@ -2,7 +2,7 @@
 // Engine interface, steps them with the given dt and iteration count, and
 // measures one error against an analytic answer (accuracy) or one stability
 // figure on a hard case (stability), with the wall-clock time spent stepping.
-#include "tools/bench_experiments.h"
+#include "tools/bench/experiments.h"
 
 #include <algorithm>
 #include <chrono>
@@ -12,7 +12,7 @@
 #include <stdexcept>
 
 #include "replay/generators.h"
-#include "tools/bench_scene_specs.h"
+#include "tools/bench/scene_specs.h"
 
 namespace bitstep::bench {
 

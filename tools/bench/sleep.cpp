@@ -7,7 +7,7 @@
 // until every dynamic body sleeps, then `steps` steps timed. Each figure is
 // the mean ms/step of one timed run (std::chrono::steady_clock); the ratio is
 // awake / asleep. The asleep run also checks that nothing moved while asleep.
-#include "tools/bench_sleep.h"
+#include "tools/bench/sleep.h"
 
 #include <fmt/core.h>
 

@@ -1,11 +1,11 @@
-// bitstep behind the benchmark's Engine interface (tools/bench_engine.h), in
+// bitstep behind the benchmark's Engine interface (tools/bench/engine.h), in
 // its four variants: pipeline standard or guendelman, shock step off or on.
 #pragma once
 
 #include <vector>
 
 #include "core/pose.h"
-#include "tools/bench_engine.h"
+#include "tools/bench/engine.h"
 
 namespace bitstep::bench {
 

@@ -1,6 +1,6 @@
 // What a benchmark experiment needs from a physics engine, in doubles, so
 // that bitstep and a peer (Bullet) are built, stepped and measured by the
-// same experiment code (tools/bench_experiments.cpp). Reports may use
+// same experiment code (tools/bench/experiments.cpp). Reports may use
 // floating point; bitstep's simulation behind this interface never does.
 #pragma once
 

@@ -12,7 +12,7 @@
 // cost: 600 steps of a 1,200 kg chassis on a ground box with and without
 // its car (4 wheels of 1 and of 3 rays, driving), over 100 and 1,000 other
 // bodies resting on the ground (the car's query tree covers them all).
-#include "tools/bench_queries.h"
+#include "tools/bench/queries.h"
 
 #include <fmt/core.h>
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "tools/bench_engine.h"
+#include "tools/bench/engine.h"
 
 namespace bitstep::bench {
 

@@ -1,4 +1,4 @@
-// A bitstep scene file as engine-neutral body specs (tools/bench_engine.h),
+// A bitstep scene file as engine-neutral body specs (tools/bench/engine.h),
 // so a peer engine builds exactly the bodies bitstep builds.
 #pragma once
 
@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "replay/scene.h"
-#include "tools/bench_engine.h"
+#include "tools/bench/engine.h"
 
 namespace bitstep::bench {
 

@@ -1,4 +1,4 @@
-#include "tools/bench_speed.h"
+#include "tools/bench/speed.h"
 
 #include <algorithm>
 #include <chrono>

@@ -1,4 +1,4 @@
-#include "tools/bench_scene_specs.h"
+#include "tools/bench/scene_specs.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -7,7 +7,7 @@
 #include "core/world.h"
 #include "replay/replay.h"
 #include "replay/scene.h"
-#include "tools/bench_bitstep_engine.h"
+#include "tools/bench/bitstep_engine.h"
 
 namespace bitstep::bench {
 

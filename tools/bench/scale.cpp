@@ -4,7 +4,7 @@
 //   columns  10-cube stacks side by side on a square grid, 1.5 m apart.
 // Method: 3 untimed steps, then steps are timed (std::chrono::steady_clock)
 // until 0.5 s have passed or 200 steps ran, at least 3.
-#include "tools/bench_scale.h"
+#include "tools/bench/scale.h"
 
 #include <algorithm>
 #include <chrono>

@@ -1,4 +1,4 @@
-// The peer engine: Bullet's btDiscreteDynamicsWorld behind tools/bench_engine.h,
+// The peer engine: Bullet's btDiscreteDynamicsWorld behind tools/bench/engine.h,
 // single-threaded, with Bullet's defaults except where the benchmark needs the
 // same model as bitstep (noted below).
 //
@@ -36,8 +36,8 @@
 #include <memory>
 #include <vector>
 
-#include "tools/bench_bitstep_engine.h"
-#include "tools/bench_peer.h"
+#include "tools/bench/bitstep_engine.h"
+#include "tools/bench/peer.h"
 
 namespace bitstep::bench {
 
@@ -135,7 +135,7 @@ class BulletEngine final : public Engine {
     // (it stores a diagonal inertia). Compute bitstep's mass properties from
     // the shapes at uniform density, then re-base the shapes onto that frame,
     // principal = (rotation from principal to body axes, centre of mass in the
-    // body frame). Specs from scenes are already centred (bench_scene_specs),
+    // body frame). Specs from scenes are already centred (tools/bench/scene_specs.h),
     // and for one shape at the body origin or a symmetric compound the
     // rotation is identity, so most bodies are created exactly as specified.
     // (The tensor is summed in btScalar: float, like everything Bullet does.)

@@ -3,7 +3,7 @@
 // into the same world before each round, then the same with a rollback
 // state (replay/rollback_state.h) restored in place; times by
 // std::chrono::steady_clock.
-#include "tools/bench_costs.h"
+#include "tools/bench/costs.h"
 
 #include <sys/resource.h>
 

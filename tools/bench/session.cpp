@@ -11,7 +11,7 @@
 // 60 Hz, 50 ms at 20 Hz); a rollback game must also afford the worst case
 // of a rollback every frame: restoring a state and simulating its 8
 // predicted ticks again, so 9 ticks and a restore per frame.
-#include "tools/bench_session.h"
+#include "tools/bench/session.h"
 
 #include <fmt/core.h>
 

@@ -1,4 +1,4 @@
-#include "tools/bench_bitstep_engine.h"
+#include "tools/bench/bitstep_engine.h"
 
 #include <cmath>
 #include <stdexcept>

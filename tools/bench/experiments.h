@@ -1,5 +1,5 @@
 // The benchmark's experiments: accuracy against analytic answers and
-// stability on hard cases, each written once against tools/bench_engine.h
+// stability on hard cases, each written once against tools/bench/engine.h
 // so bitstep and a peer engine are measured by the same code.
 #pragma once
 
@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "tools/bench_engine.h"
+#include "tools/bench/engine.h"
 
 namespace bitstep::bench {
 

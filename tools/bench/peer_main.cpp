@@ -1,6 +1,6 @@
 // A peer program: the benchmark's experiments on the engines compiled into
 // it (Bullet, and bitstep's variants), one run per invocation, its result
-// printed in the text form of tools/bench_experiments.h. bitstep bench runs
+// printed in the text form of tools/bench/experiments.h. bitstep bench runs
 // it as a child process, so bitstep itself never links a peer engine.
 //
 //   PROGRAM list
@@ -16,11 +16,11 @@
 #include <string_view>
 #include <vector>
 
-#include "tools/bench_costs.h"
-#include "tools/bench_experiments.h"
-#include "tools/bench_peer.h"
-#include "tools/bench_scene_specs.h"
-#include "tools/bench_speed.h"
+#include "tools/bench/costs.h"
+#include "tools/bench/experiments.h"
+#include "tools/bench/peer.h"
+#include "tools/bench/scene_specs.h"
+#include "tools/bench/speed.h"
 
 namespace {
 

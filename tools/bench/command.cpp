@@ -1,0 +1,183 @@
+// `bitstep bench`: the suite that reports speed against error.
+//
+//   results      every experiment at 60 Hz and 10 iterations, on each of
+//                bitstep's four variants and on Bullet (when its peer program
+//                was built): the error, ms/step, the stability time series;
+//   sweep        the work-precision sweep: dt x iterations x variants for
+//                the cheap experiments, error against ms per simulated
+//                second, with the Pareto front marked;
+//   scale        ms/step against body count, awake and asleep, with the
+//                exponent of a power-law fit;
+//   speed        CPU ms/step of bitstep's default and Bullet in standing,
+//                impact and settled phases of shipped scenes, and the ratio;
+//   costs        an 8-frame rollback's cost and wall128's peak memory;
+//   determinism  the final state hash of bitstep and Bullet from the peer
+//                programs built at -O0 and at -O3 -ffast-math.
+// Everything goes into a report directory: CSV per experiment, summary.md,
+// and a gnuplot script per plot drawn as SVG and PNG. This file parses the
+// options, runs the chosen sections (tools/bench/sections.h) and writes
+// summary.md.
+#include "tools/bench/command.h"
+
+#include <fmt/core.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <string_view>
+
+#include "tools/bench/context.h"
+#include "tools/bench/report.h"
+#include "tools/bench/sections.h"
+#include "tools/thread_option.h"
+
+namespace bitstep {
+
+namespace {
+
+using namespace bitstep::bench;
+
+// The sections in the order they run and appear in summary.md.
+struct SectionEntry {
+  const char* name;
+  int (*runs)(const Context&);
+  Section (*run)(Context&);
+};
+
+constexpr SectionEntry all_sections[] = {
+    {"results", results_runs, run_results}, {"sweep", sweep_runs, run_sweep},
+    {"scale", scale_runs, run_scale},       {"speed", speed_runs, run_speed},
+    {"costs", costs_runs, run_costs},       {"determinism", determinism_runs, run_determinism},
+};
+
+std::string machine_line(const Options& options, double seconds) {
+  std::string cpu = "unknown CPU";
+  std::ifstream info("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(info, line)) {
+    if (line.rfind("model name", 0) == 0) {
+      cpu = line.substr(line.find(':') + 2);
+      break;
+    }
+  }
+  const std::time_t now = std::time(nullptr);
+  char date[32];
+  std::strftime(date, sizeof date, "%Y-%m-%d", std::gmtime(&now));
+  return fmt::format(
+      "{}, {}, {} hardware threads, single-threaded runs (but the speed section's threads column); `bitstep bench{}` "
+      "took {:.0f} s.",
+      date, cpu, sysconf(_SC_NPROCESSORS_ONLN), options.quick ? " --quick" : "", seconds);
+}
+
+// Runs the chosen sections; writes summary.md. Returns the exit code.
+int run_bench(const Options& options) {
+  Context context(options);
+  std::error_code error;
+  std::filesystem::create_directories(options.out, error);
+  if (error) {
+    fmt::print(stderr, "bitstep bench: cannot create {}: {}\n", options.out, error.message());
+    return 1;
+  }
+  context.plots = gnuplot_available();
+  int planned = 0;
+  for (const SectionEntry& s : all_sections) planned += context.wants(s.name) ? s.runs(context) : 0;
+  ProgressBar progress(planned);
+  context.progress = &progress;
+  if (!context.peer_note.empty()) progress.note(context.peer_note);
+  if (!context.plots) progress.note("plots skipped: gnuplot not found (tools/install_deps.sh bench installs gnuplot-nox)");
+  const auto start = std::chrono::steady_clock::now();
+  bool ok = true;
+  std::string sections;
+  for (const SectionEntry& s : all_sections) {
+    if (!context.wants(s.name)) continue;
+    const Section section = s.run(context);
+    ok = section.ok && ok;
+    sections += section.markdown;
+  }
+  const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
+  progress.finish();
+  std::string md = fmt::format("# bitstep bench report\n\n{}\n\n", machine_line(options, elapsed.count()));
+  if (!context.peer_note.empty()) md += context.peer_note + ".\n\n";
+  ok = context.write("summary.md", md + sections) && ok;
+  fmt::print("report: {}/summary.md ({:.0f} s)\n", options.out, elapsed.count());
+  return ok ? 0 : 1;
+}
+
+std::set<std::string> split(const std::string& list) {
+  std::set<std::string> items;
+  std::stringstream in(list);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    if (!item.empty()) items.insert(item);
+  }
+  return items;
+}
+
+// The option at argv[i] (its value at argv[i + 1], i then moved past it);
+// false (said on stderr) when it is unknown or invalid.
+bool parse_option(int argc, char** argv, int& i, Options& options) {
+  const std::string_view arg = argv[i];
+  const bool has_value = i + 1 < argc;
+  if (arg == "--quick") {
+    options.quick = true;
+  } else if (arg == "--full") {
+    options.quick = false;
+  } else if (arg == "--out" && has_value) {
+    options.out = argv[++i];
+  } else if (arg == "--scenes" && has_value) {
+    options.scenes = argv[++i];
+  } else if (arg == "--no-peer") {
+    options.peer = false;
+  } else if (arg == "--threads" && has_value) {
+    if (!parse_threads(argv[++i], options.threads) || options.threads < 2) {
+      fmt::print(stderr, "bitstep bench: --threads needs an integer 2..{}, got '{}'\n", max_threads, argv[i]);
+      return false;
+    }
+  } else if (arg == "--sections" && has_value) {
+    options.sections = split(argv[++i]);
+    for (const std::string& s : options.sections) {
+      if (s != "results" && s != "sweep" && s != "scale" && s != "speed" && s != "costs" && s != "determinism") {
+        fmt::print(stderr, "bitstep bench: unknown section '{}' (results, sweep, scale, speed, costs, determinism)\n",
+                   s);
+        return false;
+      }
+    }
+  } else if (arg == "--only" && has_value) {
+    options.only = split(argv[++i]);
+    for (const std::string& name : options.only) {
+      if (find_experiment(name) == nullptr) {
+        fmt::print(stderr, "bitstep bench: unknown experiment '{}'\n", name);
+        return false;
+      }
+    }
+  } else {
+    fmt::print(stderr,
+               "bitstep bench: unknown option '{}' (options: --quick, --full, --out DIR, --scenes DIR, "
+               "--sections LIST, --only EXPERIMENTS, --no-peer, --threads N)\n",
+               arg);
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+int run_bench_suite(int argc, char** argv) {
+  Options options;
+  for (int i = 0; i < argc; ++i) {
+    if (!parse_option(argc, argv, i, options)) return 2;
+  }
+  try {
+    return run_bench(options);
+  } catch (const std::exception& error) {
+    fmt::print(stderr, "bitstep bench: {}\n", error.what());
+    return 1;
+  }
+}
+
+}  // namespace bitstep

@@ -1,0 +1,102 @@
+// `bitstep bench`'s determinism section: the final state hash of bitstep's
+// default and of the peer engine from the peer programs built at -O0 and at
+// -O3 -ffast-math, and bitstep's from this build.
+#include <fmt/core.h>
+#include <unistd.h>
+
+#include <utility>
+
+#include "tools/bench/bitstep_engine.h"
+#include "tools/bench/scene_specs.h"
+#include "tools/bench/sections.h"
+
+namespace bitstep::bench {
+
+namespace {
+
+constexpr int steps = 300;
+
+struct HashRow {
+  std::string engine, scene, build_o0, build_fast, this_build;
+};
+
+std::string this_build_hash(const std::string& path) {
+  SceneSpecs specs;
+  std::string reason;
+  if (!specs_from_scene_file(path, specs, reason)) return "error: " + reason;
+  for (const Variant& v : bitstep_variants()) {
+    if (v.name != default_variant) continue;
+    auto engine = v.make(StepConfig{});
+    specs.add_to(*engine);
+    for (int i = 0; i < steps; ++i) engine->step();
+    return fmt::format("{:016x}", engine->state_hash());
+  }
+  return "-";
+}
+
+// The hash from each peer program (and this build's, for bitstep); false
+// (noted) when a program fails.
+bool hash_row(Context& context, const std::string& o0, const std::string& fast, HashRow& row) {
+  bool ok = true;
+  const std::string path = context.options.scenes + "/" + row.scene;
+  for (auto [program, out] : {std::pair{o0, &row.build_o0}, std::pair{fast, &row.build_fast}}) {
+    const std::string command =
+        fmt::format("{} hash {} --variant {} --steps {}", quote(program), quote(path), row.engine, steps);
+    if (!capture(command, *out)) {
+      context.progress->note("bitstep bench: " + command + " failed: " + *out);
+      ok = false;
+    }
+    while (!out->empty() && (out->back() == '\n' || out->back() == '\r')) out->pop_back();
+  }
+  if (row.engine == default_variant) row.this_build = this_build_hash(path);
+  return ok;
+}
+
+std::string determinism_markdown(const std::vector<HashRow>& hashes) {
+  std::string md = "## Determinism across builds\n\n";
+  md += "Final state hash after 300 steps at 60 Hz, 10 iterations, from the peer program compiled "
+        "(with bitstep's sources) at -O0 and at -O3 -ffast-math, and from this bitstep. Debian's Bullet "
+        "library is a prebuilt binary: only its header-inlined code changes with these flags.\n\n"
+        "| engine | scene | -O0 | -O3 -ffast-math | this build | same bits? |\n|---|---|---|---|---|---|\n";
+  for (const HashRow& r : hashes) {
+    const bool same = r.build_o0 == r.build_fast && (r.this_build == "-" || r.this_build == r.build_o0);
+    md += fmt::format("| {} | {} | `{}` | `{}` | `{}` | {} |\n", r.engine, r.scene, r.build_o0, r.build_fast,
+                      r.this_build, same ? "yes" : "**no**");
+  }
+  return md + "\n";
+}
+
+}  // namespace
+
+int determinism_runs(const Context&) { return 1; }
+
+Section run_determinism(Context& context) {
+  Section section;
+  context.progress->advance("determinism hashes");
+  const std::string dir = executable_dir();
+  const std::string o0 = dir + "/bitstep-peer-O0", fast = dir + "/bitstep-peer-O3-fast-math";
+  if (access(o0.c_str(), X_OK) != 0 || access(fast.c_str(), X_OK) != 0) {
+    const std::string note = "skipped: the peer programs bitstep-peer-O0 / bitstep-peer-O3-fast-math were not built "
+                             "(they need libbullet-dev)";
+    context.progress->note("determinism " + note);
+    section.markdown = "## Determinism across builds\n\n" + note + "\n\n";
+    return section;
+  }
+  std::vector<HashRow> hashes;
+  for (const char* scene : {"stack20.json", "thrown.json"}) {
+    for (const std::string& engine : {std::string(default_variant), std::string(peer_variant)}) {
+      HashRow row{engine, scene, {}, {}, "-"};
+      section.ok = hash_row(context, o0, fast, row) && section.ok;
+      hashes.push_back(row);
+    }
+  }
+  std::string csv = "engine,scene,steps,hash_O0,hash_O3_fast_math,hash_this_build\n";
+  for (const HashRow& r : hashes) {
+    csv += fmt::format("{},{},{},{},{},{}\n", r.engine, r.scene, steps, r.build_o0, r.build_fast, r.this_build);
+  }
+  section.ok = context.write("determinism.csv", csv) && section.ok;
+  section.markdown = determinism_markdown(hashes);
+  return section;
+}
+
+}  // namespace bitstep::bench
