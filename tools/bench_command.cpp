@@ -42,6 +42,7 @@
 #include "tools/bench_stats.h"
 #include "tools/bench_scene_specs.h"
 #include "tools/bench_speed.h"
+#include "tools/exit_codes.h"
 #include "tools/thread_option.h"
 #include "tools/progress_bar.h"
 
@@ -125,7 +126,7 @@ class Bench {
     std::filesystem::create_directories(options_.out, error);
     if (error) {
       fmt::print(stderr, "bitstep bench: cannot create {}: {}\n", options_.out, error.message());
-      return 1;
+      return exit_code::output_failed;
     }
     plots_ = gnuplot_available();
     ProgressBar progress(planned_runs());
@@ -143,8 +144,9 @@ class Bench {
     const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
     progress.finish();
     ok = write_summary(elapsed.count()) && ok;
+    if (write_failed_) return exit_code::output_failed;  // its line was printed
     fmt::print("report: {}/summary.md ({:.0f} s)\n", options_.out, elapsed.count());
-    return ok ? 0 : 1;
+    return ok ? exit_code::success : exit_code::check_failed;
   }
 
  private:
@@ -750,6 +752,7 @@ class Bench {
     std::string reason;
     if (write_report_file(options_.out, name, text, reason)) return true;
     fmt::print(stderr, "bitstep bench: {}\n", reason);
+    write_failed_ = true;
     return false;
   }
 
@@ -761,6 +764,7 @@ class Bench {
   }
 
   Options options_;
+  mutable bool write_failed_ = false;  // a report file could not be written
   RunOptions run_options_;
   std::vector<std::string> variants_;
   std::string peer_, peer_note_, determinism_note_;

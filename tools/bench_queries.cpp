@@ -13,6 +13,7 @@
 // its car (4 wheels of 1 and of 3 rays, driving), over 100 and 1,000 other
 // bodies resting on the ground (the car's query tree covers them all).
 #include "tools/bench_queries.h"
+#include "tools/exit_codes.h"
 
 #include <fmt/core.h>
 
@@ -130,7 +131,7 @@ int run_bench_queries(int argc, char** argv) {
       samples = 2;
     } else {
       fmt::print(stderr, "bitstep bench queries: unknown option '{}'\n", argv[i]);
-      return 2;
+      return exit_code::usage;
     }
   }
   constexpr size_t questions = 1000;

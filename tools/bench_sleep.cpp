@@ -8,6 +8,7 @@
 // the mean ms/step of one timed run (std::chrono::steady_clock); the ratio is
 // awake / asleep. The asleep run also checks that nothing moved while asleep.
 #include "tools/bench_sleep.h"
+#include "tools/exit_codes.h"
 
 #include <fmt/core.h>
 
@@ -109,14 +110,14 @@ int run_bench_sleep(int argc, char** argv) {
       scenes_dir = argv[++i];
     } else {
       fmt::print(stderr, "bitstep bench sleep: unknown option '{}' (options: --quick, --still, --scenes DIR)\n", arg);
-      return 2;
+      return exit_code::usage;
     }
   }
   fmt::print("| scene | dynamic bodies | sleep | all asleep at step | awake ms/step | asleep ms/step | awake / asleep |\n");
   fmt::print("|---|---:|---|---:|---:|---:|---:|\n");
   for (const std::string& name : scenes) {
     SleepRow row;
-    if (!measure(scenes_dir + "/" + name, method, steps, row)) return 1;
+    if (!measure(scenes_dir + "/" + name, method, steps, row)) return exit_code::bad_input;  // a scene refused
     const char* method_name = method == SleepMethod::motion ? "motion" : "still";
     if (row.sleep_step < 0) {
       fmt::print("| {} | {} | {} | never (600 steps) | {:.3f} | - | - |\n", row.scene, row.bodies, method_name,
