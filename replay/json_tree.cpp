@@ -52,6 +52,8 @@ bool is_identifier(std::string_view key) {
 // members made an object of n keys cost O(n^2)).
 class TreeBuilder {
  public:
+  explicit TreeBuilder(size_t max_tree_bytes) : max_tree_bytes_(max_tree_bytes) {}
+
   using number_integer_t = nlohmann::json::number_integer_t;
   using number_unsigned_t = nlohmann::json::number_unsigned_t;
   using number_float_t = nlohmann::json::number_float_t;
@@ -123,21 +125,30 @@ class TreeBuilder {
     return parent.path + "[" + std::to_string(parent.children.size()) + "]";
   }
 
-  void place(Node node) {
+  // Counts a node's memory (its node, text, path, and its key twice: the
+  // member's and the object's index) against the limit;
+  // false (failed) when it crosses it.
+  bool count(const Node& node) {
+    tree_bytes_ += sizeof(Node) + node.path.size() + node.text.size() + 2 * pending_key_.size();
+    if (tree_bytes_ <= max_tree_bytes_) return true;
+    return fail(node.path, "the JSON tree would take more than the limit of " + std::to_string(max_tree_bytes_) +
+                               " bytes in memory");
+  }
+
+  bool place(Node node) {
     node.path = next_path();
+    if (!count(node)) return false;
     if (open_.empty()) {
       root_ = std::move(node);
-      return;
+      return true;
     }
     Node& parent = open_.back().node;
     if (parent.kind == Kind::object) node.key = std::move(pending_key_);
     parent.children.push_back(std::move(node));
-  }
-
-  bool add_scalar(Node node) {
-    place(std::move(node));
     return true;
   }
+
+  bool add_scalar(Node node) { return place(std::move(node)); }
   bool add_number(std::string lexeme) {
     Node node;
     node.kind = Kind::number;
@@ -152,6 +163,7 @@ class TreeBuilder {
     if (static_cast<int>(open_.size()) >= max_depth) {
       return fail(node.path, "nesting deeper than " + std::to_string(max_depth) + " levels");
     }
+    if (!count(node)) return false;
     if (!open_.empty() && open_.back().node.kind == Kind::object) node.key = std::move(pending_key_);
     open_.push_back({std::move(node), {}});
     return true;
@@ -177,6 +189,8 @@ class TreeBuilder {
   Node root_;
   std::vector<OpenValue> open_;
   std::string pending_key_;
+  size_t max_tree_bytes_;
+  size_t tree_bytes_ = 0;
   bool failed_ = false;
   SyntaxError error_;
 };
@@ -209,8 +223,8 @@ std::string member_path(const std::string& parent_path, std::string_view key) {
   return parent_path + "[" + quote(key) + "]";
 }
 
-std::variant<Node, SyntaxError> parse(std::string_view text) {
-  TreeBuilder builder;
+std::variant<Node, SyntaxError> parse(std::string_view text, size_t max_tree_bytes) {
+  TreeBuilder builder(max_tree_bytes);
   try {
     const bool ok = nlohmann::json::sax_parse(text.begin(), text.end(), &builder);
     if (!ok || builder.failed()) {

@@ -12,6 +12,8 @@
 #include <variant>
 #include <vector>
 
+#include "replay/limits.h"
+
 namespace bitstep::json {
 
 enum class Kind : uint8_t { null, boolean, number, string, array, object };
@@ -39,10 +41,12 @@ struct SyntaxError {
 };
 
 // Nesting deeper than this is refused (it would only mean a hostile file).
-inline constexpr int max_depth = 64;
+inline constexpr int max_depth = limits::max_json_depth;
 
-// Parses strict JSON (RFC 8259, UTF-8). Never throws.
-std::variant<Node, SyntaxError> parse(std::string_view text);
+// Parses strict JSON (RFC 8259, UTF-8). A tree that would take more than
+// `max_tree_bytes` (its nodes, texts, keys and paths) is refused at the
+// value that crosses it. Never throws.
+std::variant<Node, SyntaxError> parse(std::string_view text, size_t max_tree_bytes = limits::max_json_tree_bytes);
 
 // `text` in double quotes for a one-line message: quotes, backslashes and
 // control characters escaped as in JSON, cut to 60 bytes with "...".

@@ -6,6 +6,7 @@
 #include <map>
 #include <string_view>
 
+#include "replay/limits.h"
 #include "replay/scene_reader.h"
 #include "replay/snapshot.h"
 #include "replay/state_dump.h"
@@ -26,7 +27,7 @@ namespace {
 // clamps apply (core/envelope.h).
 constexpr Fixed max_impulse = 1000000.0_fx;  // N s
 constexpr Fixed max_force = 1000000.0_fx;    // N
-constexpr int max_steps = 100000000;
+constexpr int max_steps = limits::max_replay_steps;
 
 uint64_t read_hash(const Node& node) {
   const std::string& text = read_string(node);
@@ -176,6 +177,10 @@ void number_joints(std::vector<Input>& inputs, const Scene& scene) {
 
 std::vector<Input> read_inputs(const Node& node, const Scene& scene) {
   if (node.kind != Kind::array) fail(node, std::string("expected an array of inputs, got ") + json::describe(node.kind));
+  if (node.children.size() > static_cast<size_t>(limits::max_replay_inputs)) {
+    fail(node, std::to_string(node.children.size()) + " inputs: more than the limit of " +
+                   std::to_string(limits::max_replay_inputs));
+  }
   std::vector<Input> inputs;
   BodyNames names(scene);
   for (const Node& input : node.children) inputs.push_back(read_input(input, scene, names));
@@ -257,7 +262,11 @@ std::variant<Replay, ReplayError> load_replay_file(const std::string& path, bool
     }
     if (const SceneError* error = std::get_if<SceneError>(&loaded)) {
       scene_failed = true;
-      scene_error = ReplayError{error->file, error->path, error->reason};
+      // A scene file that cannot be read is named with the replay that
+      // needs it; an error inside it names its own file and path.
+      scene_error = error->path.empty() && replay.inline_scene.empty()
+                        ? ReplayError{path, scene.path, error->file + ": " + error->reason}
+                        : ReplayError{error->file, error->path, error->reason};
       return replay;
     }
     replay.scene = std::move(std::get<Scene>(loaded));
@@ -267,18 +276,24 @@ std::variant<Replay, ReplayError> load_replay_file(const std::string& path, bool
     }
     replay.scene_hash = read_hash(reader.require("scene_hash"));
     replay.steps = read_int(reader.require("steps"), 0, max_steps);
+    // The chain's length before the inputs: a replay claiming more steps
+    // than it has hashes is refused before anything else is read or run.
+    const Node* hashes = reader.find("hashes");
+    if (hashes != nullptr) {
+      if (hashes->kind != Kind::array) fail(*hashes, std::string("expected an array of hashes, got ") + json::describe(hashes->kind));
+      if (static_cast<int64_t>(hashes->children.size()) != replay.steps) {
+        fail(*hashes, std::to_string(hashes->children.size()) + " hashes for " + std::to_string(replay.steps) + " steps");
+      }
+    } else if (require_hashes) {
+      fail(root, "missing key \"hashes\" (the hash chain to verify against)");
+    }
     if (const Node* inputs = reader.find("inputs")) replay.inputs = read_inputs(*inputs, replay.scene);
     if (!replay.inputs.empty() && replay.inputs.back().step > replay.steps) {
       fail(replay.inputs.back().source.path + ".step", "after the last step (" + std::to_string(replay.steps) + ")");
     }
-    if (const Node* hashes = reader.find("hashes")) {
-      if (hashes->kind != Kind::array) fail(*hashes, std::string("expected an array of hashes, got ") + json::describe(hashes->kind));
+    if (hashes != nullptr) {
+      replay.hashes.reserve(hashes->children.size());
       for (const Node& h : hashes->children) replay.hashes.push_back(read_hash(h));
-      if (static_cast<int64_t>(replay.hashes.size()) != replay.steps) {
-        fail(*hashes, std::to_string(replay.hashes.size()) + " hashes for " + std::to_string(replay.steps) + " steps");
-      }
-    } else if (require_hashes) {
-      fail(root, "missing key \"hashes\" (the hash chain to verify against)");
     }
     reader.finish();
     return replay;

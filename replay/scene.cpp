@@ -10,6 +10,7 @@
 #include "core/envelope.h"
 #include "replay/generators.h"
 #include "replay/json_tree.h"
+#include "replay/limits.h"
 #include "replay/scene_reader.h"
 
 namespace bitstep {
@@ -20,9 +21,8 @@ using namespace scene_reader;
 
 namespace {
 
-constexpr int max_bodies = 1000000;  // in one scene, all generators included
-constexpr int max_joints = 1000000;  // likewise
-constexpr std::uintmax_t max_file_bytes = std::uintmax_t{1} << 30;
+constexpr int max_bodies = limits::max_scene_bodies;  // in one scene, all generators included
+constexpr int max_joints = limits::max_scene_joints;  // likewise
 constexpr Fixed max_distance = 1000.0_fx;  // m: a generator's gap, spacing, spread
 constexpr Fixed max_speed = 500.0_fx;      // m/s, as check_envelope
 constexpr Fixed max_spin = 100.0_fx;       // rad/s, as check_envelope
@@ -30,8 +30,16 @@ constexpr Fixed min_axis_length = 0.001_fx;  // a joint's axis, a chain's direct
 // pi rounded once to Q32.32, as scene_reader's (degrees -> radians).
 constexpr Fixed pi = 3.14159265358979323846264338327950288_fx;
 
+// An array of at most `limit` items of `what`, refused before any is read.
+void check_count(const Node& array, size_t limit, const char* what) {
+  if (array.children.size() > limit) {
+    fail(array, std::to_string(array.children.size()) + " " + what + ": more than the limit of " + std::to_string(limit));
+  }
+}
+
 MaterialTable read_materials(const Node& node) {
   if (node.kind != Kind::object) fail(node, std::string("expected an object of named materials, got ") + json::describe(node.kind));
+  check_count(node, limits::max_materials, "materials");
   MaterialTable table;
   // The keys of a JSON object are unique (json::parse refuses duplicates).
   for (const Node& entry : node.children) table.add(entry.key, read_material_fields(entry));
@@ -123,6 +131,7 @@ SceneBody read_body(const Node& node, const MaterialTable& materials) {
   read_optional(reader, "sensor", def.sensor);
   const Node& shapes = reader.require("shapes");
   if (shapes.kind != Kind::array) fail(shapes, std::string("expected an array of shapes, got ") + json::describe(shapes.kind));
+  check_count(shapes, limits::max_shapes_per_body, "shapes in a body");
   for (const Node& shape : shapes.children) def.shapes.push_back(read_shape(shape));
   reader.finish();
 
@@ -158,6 +167,14 @@ void read_common(ObjectReader& reader, const MaterialTable& materials, std::stri
   read_optional(reader, "asleep", substance.asleep);
 }
 
+// The bodies a generator's parameters ask for, before it makes them.
+void check_generated_count(ObjectReader& reader, int64_t bodies) {
+  if (bodies > limits::max_generated_bodies) {
+    fail(reader.node(), "would make " + std::to_string(bodies) + " bodies: more than the limit of " +
+                            std::to_string(limits::max_generated_bodies) + " in a scene");
+  }
+}
+
 // An overlap must leave boxes with positive height: below the half height.
 void check_overlap(ObjectReader& reader, Fixed overlap, Fixed half_height) {
   if (overlap >= half_height) fail(*reader.find("overlap"), "must be less than the boxes' half height");
@@ -189,6 +206,7 @@ GeneratedStructure read_pyramid(ObjectReader& reader, const MaterialTable& mater
   read_optional_within(reader, "gap", p.gap, Fixed{}, max_distance, "m");
   read_optional_within(reader, "overlap", p.overlap, Fixed{}, envelope::max_size, "m");
   check_overlap(reader, p.overlap, p.half_extents.y);
+  check_generated_count(reader, int64_t{p.base} * (p.base + 1) / 2);
   return {generate_pyramid(p), {}};
 }
 
@@ -206,6 +224,11 @@ GeneratedStructure read_wall(ObjectReader& reader, const MaterialTable& material
   read_optional_within(reader, "gap", p.gap, Fixed{}, max_distance, "m");
   read_optional_within(reader, "overlap", p.overlap, Fixed{}, envelope::max_size, "m");
   check_overlap(reader, p.overlap, p.half_extents.y);
+  // Rectangle: base bricks a row; triangle: base, base - 1, ... (rows <= base).
+  const int64_t bricks = p.shape == WallShape::rectangle
+                             ? int64_t{p.base} * p.rows
+                             : int64_t{p.rows} * (2 * int64_t{p.base} - p.rows + 1) / 2;
+  check_generated_count(reader, bricks);
   return {generate_wall(p), {}};
 }
 
@@ -431,6 +454,7 @@ void read_limits(const Node& node, JointDef& def) {
 std::vector<SceneJoint> read_joints(const Node& node, const Scene& scene, const std::map<std::string, uint32_t>& bodies,
                                     std::set<std::string>& names) {
   if (node.kind != Kind::array) fail(node, std::string("expected an array of joints, got ") + json::describe(node.kind));
+  check_count(node, static_cast<size_t>(max_joints), "joints");
   const BodyResolver resolve = [&](const Node& name) -> uint32_t {
     const auto found = bodies.find(read_string(name));
     if (found == bodies.end()) fail(name, "no body named " + json::quote(name.text));
@@ -503,6 +527,7 @@ Scene read_scene(const Node& root) {
   std::map<std::string, uint32_t> names;
   if (const Node* bodies = reader.find("bodies")) {
     if (bodies->kind != Kind::array) fail(*bodies, std::string("expected an array of bodies, got ") + json::describe(bodies->kind));
+    check_count(*bodies, max_bodies, "bodies");
     std::vector<SceneBody> read;
     for (const Node& body : bodies->children) read.push_back(read_body(body, materials));
     add_bodies(scene, names, std::move(read), *bodies, true);
@@ -515,6 +540,7 @@ Scene read_scene(const Node& root) {
     if (generators->kind != Kind::array) {
       fail(*generators, std::string("expected an array of generators, got ") + json::describe(generators->kind));
     }
+    check_count(*generators, limits::max_generators, "generators");
     for (const Node& generator : generators->children) {
       GeneratedStructure generated = read_generator(generator, materials);
       const auto first = static_cast<uint32_t>(scene.bodies.size());
@@ -532,6 +558,7 @@ Scene read_scene(const Node& root) {
                       std::make_move_iterator(generated_joints.end()));
   if (const Node* cars = reader.find("cars")) {
     if (cars->kind != Kind::array) fail(*cars, std::string("expected an array of cars, got ") + json::describe(cars->kind));
+    check_count(*cars, limits::max_scene_cars, "cars");
     std::set<std::string> car_names;
     for (const Node& car : cars->children) {
       scene.cars.push_back(read_car(car, scene, names));
@@ -620,17 +647,25 @@ std::variant<std::string, SceneError> apply_settings_text(std::string_view json_
   }
 }
 
-bool read_text_file(const std::string& path, std::string& text, std::string& reason) {
-  std::error_code ignored;
-  if (!std::filesystem::is_regular_file(path, ignored)) {
+std::string file_size_error(std::uintmax_t size, std::uintmax_t max_bytes) {
+  if (size <= max_bytes) return {};
+  return std::to_string(size) + " bytes: more than the limit of " + std::to_string(max_bytes) + " bytes (" +
+         std::to_string(max_bytes >> 20) + " MiB)";
+}
+
+bool read_text_file(const std::string& path, std::string& text, std::string& reason, std::uintmax_t max_bytes) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error)) {
     reason = "cannot read the file (no such regular file)";
     return false;
   }
-  const std::uintmax_t size = std::filesystem::file_size(path, ignored);
-  if (ignored || size > max_file_bytes) {
-    reason = "cannot read the file (unreadable or over 1 GiB)";
+  // The size first: a file over the limit is refused without reading it.
+  const std::uintmax_t size = std::filesystem::file_size(path, error);
+  if (error) {
+    reason = "cannot read the file (" + error.message() + ")";
     return false;
   }
+  if (reason = file_size_error(size, max_bytes); !reason.empty()) return false;
   text.assign(static_cast<size_t>(size), '\0');
   std::ifstream file(path, std::ios::binary);
   if (!file.read(text.data(), static_cast<std::streamsize>(size))) {

@@ -17,6 +17,7 @@
 #include "core/joint.h"
 #include "core/settings.h"
 #include "replay/json_tree.h"
+#include "replay/limits.h"
 #include "replay/material_table.h"
 
 namespace bitstep {
@@ -61,8 +62,13 @@ struct SceneError {
 // Parses scene JSON; on error returns the first error found and no scene.
 // Never throws.
 std::variant<Scene, SceneError> parse_scene(std::string_view json_text, const std::string& file_name);
-// Reads the whole file into `text` (at most 1 GiB); false with a reason.
-bool read_text_file(const std::string& path, std::string& text, std::string& reason);
+// Reads the whole file into `text`; false with a reason. Its size is
+// checked first: a file over `max_bytes` is refused unread.
+bool read_text_file(const std::string& path, std::string& text, std::string& reason,
+                    std::uintmax_t max_bytes = limits::max_json_file_bytes);
+// The one-line reason a file of `size` bytes is over `max_bytes` ("N bytes:
+// more than the limit of M bytes (K MiB)"), or empty.
+std::string file_size_error(std::uintmax_t size, std::uintmax_t max_bytes);
 // Reads the file, then parse_scene.
 std::variant<Scene, SceneError> load_scene_file(const std::string& path);
 

@@ -177,7 +177,11 @@ class ByteReader {
   template <class T, class F>
   void list(const char* name, std::vector<T>& items, size_t item_bytes, uint64_t hi, const char*, F&& describe) {
     const uint64_t n = take(4);
-    if (n > hi || n * item_bytes > bytes_.size() - at_) fail(std::string("too many ") + name);
+    if (n > hi) fail(std::to_string(n) + " " + name + ": more than the limit of " + std::to_string(hi));
+    if (n * item_bytes > bytes_.size() - at_) {
+      fail(std::to_string(n) + " " + name + ": more than the " + std::to_string(bytes_.size() - at_) +
+           " bytes left could hold");
+    }
     items.resize(static_cast<size_t>(n));
     for (T& item : items) {
       describe(item);

@@ -49,6 +49,7 @@
 #include "core/envelope.h"
 #include "core/joint.h"
 #include "core/settings.h"
+#include "replay/limits.h"
 
 namespace bitstep {
 
@@ -321,12 +322,12 @@ void describe_state(V& v, const StateParts<Reading>& state) {
   v.object("settings", [&] { describe_settings(v, state.settings); });
   const bool sleep = state.settings.sleep_method != SleepMethod::off;
   constexpr size_t body_bytes = 5;  // a dead slot: alive, generation
-  v.list("bodies", state.bodies, body_bytes, UINT32_MAX, "slot", [&](auto& body) { describe_body(v, body, sleep); });
+  v.list("bodies", state.bodies, body_bytes, limits::max_world_bodies, "slot", [&](auto& body) { describe_body(v, body, sleep); });
   // Free slots: exactly the dead slots, each once.
   describe_free_slots(v, "free_slots", state.free_slots, state.bodies);
   // Contacts: between live bodies and existing shapes, strictly in key order.
   constexpr size_t contact_bytes = 4 * 4 + 1;
-  v.list("contacts", state.contacts, contact_bytes, UINT32_MAX, nullptr, [&](auto& contact) {
+  v.list("contacts", state.contacts, contact_bytes, limits::max_world_contacts, nullptr, [&](auto& contact) {
     const size_t i = static_cast<size_t>(&contact - state.contacts.data());
     describe_contact(v, contact, state.bodies, i == 0 ? nullptr : &contact - 1);
   });
@@ -340,7 +341,7 @@ void describe_state(V& v, const StateParts<Reading>& state) {
   }
   constexpr size_t joint_bytes = 5;  // a dead slot: alive, generation
   v.trailing(!state.joints.empty() || !state.free_joint_slots.empty() || filtered, true, [&] {
-    v.list("joints", state.joints, joint_bytes, UINT32_MAX, "slot",
+    v.list("joints", state.joints, joint_bytes, limits::max_world_joints, "slot",
            [&](auto& joint) { describe_joint(v, joint, state.bodies); });
     describe_free_slots(v, "free_joint_slots", state.free_joint_slots, state.joints);
   });

@@ -11,6 +11,7 @@
 #include "tools/bench/queries.h"
 #include "tools/bench/session.h"
 #include "tools/bench/sleep.h"
+#include "tools/exit_codes.h"
 #include "tools/fixed_accuracy.h"
 #include "tools/known_answer.h"
 #include "tools/replay_command.h"
@@ -65,7 +66,17 @@ constexpr const char* usage =
     "  bench sleep [--quick] [--still] [--scenes DIR]\n"
     "                           ms/step of scenes awake and asleep (sleep motion, or still)\n"
     "  version                  engine version and build options\n"
-    "  help                     this text\n";
+    "  help                     this text\n"
+    "\n"
+    "exit status (every failure also prints one line: the file, the place, the reason):\n"
+    "  0  success\n"
+    "  1  a check failed: a hash differs (verify, synctest), two dumps differ (diff), a function is\n"
+    "     outside its bound (selftest), a peer timed out\n"
+    "  2  usage error: an unknown or malformed option, --settings that is not a settings object\n"
+    "  3  peer: a desync (the peers' states differ)\n"
+    "  4  an input file refused: missing, unreadable, over a limit (replay/limits.h), malformed, or not\n"
+    "     fitting (a snapshot of another scene, a scene body the world refuses)\n"
+    "  5  an output file could not be written (nothing is left under its name)\n";
 
 int selftest(int argc, char** argv) {
   uint64_t samples = 1000000;
@@ -75,11 +86,11 @@ int selftest(int argc, char** argv) {
       samples = std::strtoull(argv[++i], &end, 10);
       if (*end != '\0' || samples == 0) {
         fmt::print(stderr, "bitstep selftest: --samples needs a positive integer, got '{}'\n", argv[i]);
-        return 2;
+        return bitstep::exit_code::usage;
       }
     } else {
       fmt::print(stderr, "bitstep selftest: unknown option '{}'\n", argv[i]);
-      return 2;
+      return bitstep::exit_code::usage;
     }
   }
   const bitstep::KnownAnswer answer = bitstep::run_known_answer();
@@ -96,7 +107,7 @@ int selftest(int argc, char** argv) {
     fmt::print("| {} | {} | {} | {:.10f}{} | {} | {} |\n", row.function, row.reference, row.bound_ulps,
                row.worst_ulps, ok ? "" : " FAIL", row.samples, row.worst_input);
   }
-  return hash_ok && within ? 0 : 1;
+  return hash_ok && within ? bitstep::exit_code::success : bitstep::exit_code::check_failed;
 }
 
 }  // namespace
@@ -104,7 +115,7 @@ int selftest(int argc, char** argv) {
 int main(int argc, char** argv) {
   if (argc < 2) {
     fmt::print(stderr, "{}", usage);
-    return 2;
+    return bitstep::exit_code::usage;
   }
   const std::string_view command = argv[1];
   if (command == "run") return bitstep::run_scene_command(argc - 2, argv + 2);
@@ -137,5 +148,5 @@ int main(int argc, char** argv) {
     return 0;
   }
   fmt::print(stderr, "bitstep: unknown command '{}'\n{}", command, usage);
-  return 2;
+  return bitstep::exit_code::usage;
 }

@@ -14,6 +14,7 @@
 #include "replay/replay.h"
 #include "replay/session_codec.h"
 #include "tools/enet_transport.h"
+#include "tools/exit_codes.h"
 
 namespace bitstep {
 
@@ -224,7 +225,7 @@ int run_reference(const Options& o, const Scene& scene, Simulation sim) {
     auto script = read_script(path, scene, o.session.input_delay);
     if (const auto* error = std::get_if<std::string>(&script)) {
       fmt::print(stderr, "bitstep peer: {}\n", *error);
-      return 1;
+      return exit_code::bad_input;
     }
     scripts.push_back(std::get<Script>(std::move(script)));
   }
@@ -255,7 +256,7 @@ int peer_command(int argc, char** argv) {
   auto sim = Simulation::from_file(o.scene_path, error);
   if (!sim) {
     fmt::print(stderr, "bitstep peer: {}\n", error);
-    return 1;
+    return exit_code::bad_input;
   }
   const Scene scene = sim->scene();  // the inputs' names and materials (the session moves the simulation)
   if (o.reference) return run_reference(o, scene, std::move(*sim));
@@ -265,7 +266,7 @@ int peer_command(int argc, char** argv) {
     auto read = read_script(o.inputs[0], scene, o.session.input_delay);
     if (const auto* failure = std::get_if<std::string>(&read)) {
       fmt::print(stderr, "bitstep peer: {}\n", *failure);
-      return 1;
+      return exit_code::bad_input;
     }
     script = std::get<Script>(std::move(read));
   }
@@ -376,7 +377,7 @@ int peer_command(int argc, char** argv) {
   if (const auto& d = session.desync()) {
     fmt::print(stderr, "bitstep peer: player {}: desync at tick {} with player {}: {}{}\n", o.player, d->tick, d->player,
                d->difference, body_named(scene, d->difference));
-    return 3;
+    return exit_code::desync;
   }
   return 0;
 }

@@ -2,6 +2,7 @@
 
 #include <fmt/core.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -9,20 +10,23 @@
 #include <variant>
 
 #include "replay/json_tree.h"
+#include "replay/limits.h"
 #include "replay/replay.h"
 #include "tools/file_output.h"
 #include "replay/state_dump.h"
 #include "replay/state_hash.h"
+#include "tools/exit_codes.h"
 #include "tools/thread_option.h"
 
 namespace bitstep {
 
 namespace {
 
+// A step count 0..limits::max_replay_steps.
 bool parse_steps(const char* text, int64_t& out) {
   char* end = nullptr;
   const long long value = std::strtoll(text, &end, 10);
-  if (end == text || *end != '\0' || value < 0 || value > 100000000) return false;
+  if (end == text || *end != '\0' || value < 0 || value > limits::max_replay_steps) return false;
   out = value;
   return true;
 }
@@ -40,14 +44,15 @@ int record_command(int argc, char** argv, const char* engine_version) {
     if (arg == "--threads" && has_value) {
       if (!parse_threads(argv[++i], threads)) {
         fmt::print(stderr, "bitstep record: --threads needs an integer 1..{}, got '{}'\n", max_threads, argv[i]);
-        return 2;
+        return exit_code::usage;
       }
     } else if (arg == "--inputs" && has_value) {
       inputs_path = argv[++i];
     } else if (arg == "--steps" && has_value) {
       if (!parse_steps(argv[++i], steps)) {
-        fmt::print(stderr, "bitstep record: --steps needs an integer 0..100000000, got '{}'\n", argv[i]);
-        return 2;
+        fmt::print(stderr, "bitstep record: --steps needs an integer 0..{}, got '{}'\n", limits::max_replay_steps,
+                   argv[i]);
+        return exit_code::usage;
       }
     } else if (arg == "-o" && has_value) {
       output = argv[++i];
@@ -59,19 +64,19 @@ int record_command(int argc, char** argv, const char* engine_version) {
       scene_path = arg;
     } else {
       fmt::print(stderr, "bitstep record: unknown or incomplete option '{}'\n", arg);
-      return 2;
+      return exit_code::usage;
     }
   }
   if (scene_path.empty() || steps < 0 || output.empty()) {
     fmt::print(stderr,
                "bitstep record: usage: bitstep record SCENE [--inputs FILE] [--settings JSON] [--embed-scene] "
                "[--threads N] --steps N -o REPLAY\n");
-    return 2;
+    return exit_code::usage;
   }
   auto loaded = load_scene_file(scene_path);
   if (const SceneError* error = std::get_if<SceneError>(&loaded)) {
     fmt::print(stderr, "bitstep record: {}\n", error->message());
-    return 1;
+    return exit_code::bad_input;
   }
   Replay replay;
   replay.scene = std::move(std::get<Scene>(loaded));
@@ -80,14 +85,14 @@ int record_command(int argc, char** argv, const char* engine_version) {
     auto inputs = load_inputs_file(inputs_path, replay.scene);
     if (const ReplayError* error = std::get_if<ReplayError>(&inputs)) {
       fmt::print(stderr, "bitstep record: {}\n", error->message());
-      return 1;
+      return exit_code::bad_input;
     }
     replay.inputs = std::move(std::get<InputsFile>(inputs).inputs);
     replay.settings_override = std::get<InputsFile>(inputs).settings_override;
     if (!replay.inputs.empty() && replay.inputs.back().step > steps) {
       fmt::print(stderr, "bitstep record: {}: {}.step: after the last step ({})\n", inputs_path,
                  replay.inputs.back().source.path, steps);
-      return 1;
+      return exit_code::bad_input;
     }
   }
   // --settings replaces the settings override of a replay given as --inputs.
@@ -96,7 +101,7 @@ int record_command(int argc, char** argv, const char* engine_version) {
     auto applied = apply_settings_text(replay.settings_override, "--settings", replay.scene.settings);
     if (const SceneError* error = std::get_if<SceneError>(&applied)) {
       fmt::print(stderr, "bitstep record: {}\n", error->message());
-      return 2;
+      return exit_code::usage;
     }
     replay.settings_override = std::get<std::string>(applied);
   }
@@ -106,7 +111,7 @@ int record_command(int argc, char** argv, const char* engine_version) {
     std::string text, reason;
     if (!read_text_file(scene_path, text, reason)) {
       fmt::print(stderr, "bitstep record: {}: {}\n", scene_path, reason);
-      return 1;
+      return exit_code::bad_input;
     }
     replay.inline_scene = json::write(std::get<json::Node>(json::parse(text)));  // parsed above already
   } else {
@@ -119,19 +124,28 @@ int record_command(int argc, char** argv, const char* engine_version) {
   std::string reason;
   if (!build_world(replay.scene, world, reason)) {
     fmt::print(stderr, "bitstep record: {}: {}\n", scene_path, reason);
-    return 1;
+    return exit_code::bad_input;
+  }
+  // The output is opened (under its temporary name) before the run: an
+  // unwritable path fails at once, not after every step.
+  AtomicFile file;
+  if (!file.open(output, reason)) {
+    fmt::print(stderr, "bitstep record: {}\n", reason);
+    return exit_code::output_failed;
   }
   const std::unique_ptr<ThreadPool> pool = make_pool(threads);
   world.set_executor(pool.get());
   replay.scene_hash = state_hash(world);
   run_inputs(world, replay.inputs, steps, replay.hashes);
-  if (!write_file_atomically(output, replay_json(replay, std::string("bitstep ") + engine_version), reason)) {
+  const std::string text = replay_json(replay, std::string("bitstep ") + engine_version);
+  std::fwrite(text.data(), 1, text.size(), file.stream());
+  if (!file.commit(reason)) {
     fmt::print(stderr, "bitstep record: {}\n", reason);
-    return 1;
+    return exit_code::output_failed;
   }
   fmt::print("recorded {}: {} steps, {} inputs, final hash {:016x}\n", output, steps, replay.inputs.size(),
              replay.hashes.empty() ? replay.scene_hash : replay.hashes.back());
-  return 0;
+  return exit_code::success;
 }
 
 int verify_command(int argc, char** argv) {
@@ -144,54 +158,64 @@ int verify_command(int argc, char** argv) {
     if (arg == "--threads" && i + 1 < argc) {
       if (!parse_threads(argv[++i], threads)) {
         fmt::print(stderr, "bitstep verify: --threads needs an integer 1..{}, got '{}'\n", max_threads, argv[i]);
-        return 2;
+        return exit_code::usage;
       }
     } else if (arg == "--dump-at" && i + 2 < argc) {
       if (!parse_steps(argv[++i], dump_step)) {
-        fmt::print(stderr, "bitstep verify: --dump-at needs a step 0..100000000, got '{}'\n", argv[i]);
-        return 2;
+        fmt::print(stderr, "bitstep verify: --dump-at needs a step 0..{}, got '{}'\n", limits::max_replay_steps,
+                   argv[i]);
+        return exit_code::usage;
       }
       dump_path = argv[++i];
     } else if (!arg.empty() && arg[0] != '-') {
       paths.push_back(arg);
     } else {
       fmt::print(stderr, "bitstep verify: unknown or incomplete option '{}'\n", arg);
-      return 2;
+      return exit_code::usage;
     }
   }
   if (paths.empty() || (!dump_path.empty() && paths.size() != 1)) {
     fmt::print(stderr,
                "bitstep verify: usage: bitstep verify [--threads N] REPLAY... | bitstep verify REPLAY --dump-at STEP "
                "FILE\n");
-    return 2;
+    return exit_code::usage;
+  }
+  // The dump's file is opened (under its temporary name) before the run:
+  // an unwritable path fails at once.
+  AtomicFile dump_file;
+  if (std::string reason; !dump_path.empty() && !dump_file.open(dump_path, reason)) {
+    fmt::print(stderr, "bitstep verify: {}\n", reason);
+    return exit_code::output_failed;
   }
   const std::unique_ptr<ThreadPool> pool = make_pool(threads);
-  bool all_match = true;
+  // With several replays: 4 when any was refused, else 1 when any differs.
+  bool all_match = true, all_read = true;
   for (const std::string& path : paths) {
     auto loaded = load_replay_file(path, true);
     if (const ReplayError* error = std::get_if<ReplayError>(&loaded)) {
       fmt::print(stderr, "bitstep verify: {}\n", error->message());
-      all_match = false;
+      all_read = false;
       continue;
     }
     const Replay& replay = std::get<Replay>(loaded);
+    if (!dump_path.empty() && dump_step > replay.steps) {  // before the run, not after it
+      fmt::print(stderr, "bitstep verify: --dump-at {}: the replay {} has {} steps\n", dump_step, path, replay.steps);
+      return exit_code::usage;
+    }
     std::string dump;
     const Verification v = verify_replay(replay, dump_step, dump_path.empty() ? nullptr : &dump, pool.get());
-    if (!dump_path.empty()) {
+    if (!dump_path.empty() && !dump.empty()) {
       std::string reason;
-      if (dump_step > replay.steps) {
-        fmt::print(stderr, "bitstep verify: --dump-at {}: the replay has {} steps\n", dump_step, replay.steps);
-        return 2;
-      }
-      if (!dump.empty() && !write_file_atomically(dump_path, dump, reason)) {
+      std::fwrite(dump.data(), 1, dump.size(), dump_file.stream());
+      if (!dump_file.commit(reason)) {
         fmt::print(stderr, "bitstep verify: {}\n", reason);
-        return 1;
+        return exit_code::output_failed;
       }
-      if (!dump.empty()) fmt::print("wrote the state after step {} to {}\n", dump_step, dump_path);
+      fmt::print("wrote the state after step {} to {}\n", dump_step, dump_path);
     }
     if (!v.built) {
       fmt::print(stderr, "bitstep verify: {}: {}\n", path, v.reason);
-      all_match = false;
+      all_read = false;
       continue;
     }
     if (!v.scene_matches) {
@@ -210,30 +234,39 @@ int verify_command(int argc, char** argv) {
     fmt::print("{}: {} steps match, final hash {:016x}\n", path, replay.steps,
                v.hashes.empty() ? v.scene_hash : v.hashes.back());
   }
-  return all_match ? 0 : 1;
+  if (!all_read) return exit_code::bad_input;
+  return all_match ? exit_code::success : exit_code::check_failed;
 }
 
 int diff_command(int argc, char** argv) {
   if (argc != 2) {
     fmt::print(stderr, "bitstep diff: usage: bitstep diff DUMP_A DUMP_B (from bitstep verify --dump-at)\n");
-    return 2;
+    return exit_code::usage;
   }
   std::string a, b, reason;
-  if (!read_text_file(argv[0], a, reason) || !read_text_file(argv[1], b, reason)) {
-    fmt::print(stderr, "bitstep diff: {}\n", reason);
-    return 2;
+  for (int i = 0; i < 2; ++i) {
+    if (!read_text_file(argv[i], i == 0 ? a : b, reason)) {
+      fmt::print(stderr, "bitstep diff: {}: {}\n", argv[i], reason);
+      return exit_code::bad_input;
+    }
   }
   const DumpDifference d = diff_dumps(a, b);
   if (!d.readable) {
-    fmt::print(stderr, "bitstep diff: {}\n", d.reason);
-    return 2;
+    // "first dump: <where>: <reason>" -> "<file>: <where>: <reason>"
+    std::string line = d.reason;
+    for (int i = 0; i < 2; ++i) {
+      const std::string which = i == 0 ? "first dump: " : "second dump: ";
+      if (line.rfind(which, 0) == 0) line = std::string(argv[i]) + ": " + line.substr(which.size());
+    }
+    fmt::print(stderr, "bitstep diff: {}\n", line);
+    return exit_code::bad_input;
   }
   if (!d.first) {
     fmt::print("the states are identical\n");
-    return 0;
+    return exit_code::success;
   }
   fmt::print("first difference: {}\n", *d.first);
-  return 1;
+  return exit_code::check_failed;
 }
 
 }  // namespace bitstep

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <optional>
@@ -13,11 +14,13 @@
 #include <variant>
 #include <vector>
 
+#include "replay/limits.h"
 #include "replay/replay.h"
 #include "replay/scene.h"
 #include "replay/snapshot.h"
 #include "replay/state_hash.h"
 #include "tools/body_trace.h"
+#include "tools/exit_codes.h"
 #include "tools/file_output.h"
 #include "tools/thread_option.h"
 
@@ -149,6 +152,46 @@ struct IntervalMaxima {
   }
 };
 
+// Why a world restored from a snapshot is not one of this scene's, or
+// empty. Its settings are the scene's (after --settings), and every slot
+// the scene fills holds, unless it was emptied or refilled since (its
+// generation moved on), a body of the same type, mass and shapes. The
+// step's state may differ in anything else.
+bool same_shapes(const std::vector<Shape>& a, const std::vector<Shape>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i) {
+    const Shape& x = a[i];
+    const Shape& y = b[i];
+    if (x.type != y.type || !(x.half_extents == y.half_extents) || x.radius != y.radius ||
+        x.half_height != y.half_height || !(x.local.position == y.local.position) ||
+        !(x.local.orientation == y.local.orientation)) {
+      return false;
+    }
+  }
+  return true;
+}
+
+std::string snapshot_mismatch(const World& restored, const World& scene_world) {
+  // Two empty worlds hash alike exactly when their settings are the same.
+  if (state_hash(World(restored.settings())) != state_hash(World(scene_world.settings()))) {
+    return "its settings differ from the scene's";
+  }
+  const std::vector<Body>& theirs = restored.bodies();
+  const std::vector<Body>& ours = scene_world.bodies();
+  if (theirs.size() < ours.size()) {
+    return fmt::format("it has {} body slots, the scene {}", theirs.size(), ours.size());
+  }
+  for (size_t i = 0; i < ours.size(); ++i) {
+    const Body& a = theirs[i];
+    const Body& b = ours[i];
+    if (!a.alive || a.generation != b.generation) continue;  // removed or refilled since
+    if (a.type != b.type || a.inverse_mass != b.inverse_mass || !same_shapes(a.shapes, b.shapes)) {
+      return fmt::format("slot {} holds another body than the scene's body {}", i, i);
+    }
+  }
+  return {};
+}
+
 // Every dynamic body asleep (and there is at least one).
 bool all_asleep(const StepStats& stats) { return stats.awake_bodies == 0 && stats.sleeping_bodies > 0; }
 
@@ -161,61 +204,80 @@ int run_scene_command(int argc, char** argv) {
   RunOptions options;
   if (const std::string error = parse_options(argc, argv, options); !error.empty()) {
     fmt::print(stderr, "bitstep run: {}\n", error);
-    return 2;
+    return exit_code::usage;
   }
   auto loaded = load_scene_file(options.scene_path);
   if (const SceneError* error = std::get_if<SceneError>(&loaded)) {
     fmt::print(stderr, "bitstep run: {}\n", error->message());
-    return 1;
+    return exit_code::bad_input;
   }
   Scene& scene = std::get<Scene>(loaded);
   if (!options.settings.empty()) {
     auto applied = apply_settings_text(options.settings, "--settings", scene.settings);
     if (const SceneError* error = std::get_if<SceneError>(&applied)) {
       fmt::print(stderr, "bitstep run: {}\n", error->message());
-      return 2;
+      return exit_code::usage;
     }
   }
   World world(scene.settings);
   std::string reason;
   if (!build_world(scene, world, reason)) {
     fmt::print(stderr, "bitstep run: {}: {}\n", options.scene_path, reason);
-    return 1;
+    return exit_code::bad_input;
   }
   const std::unique_ptr<ThreadPool> pool = make_pool(options.threads);
   world.set_executor(pool.get());
   if (!options.restore_path.empty()) {
     std::string bytes;
-    if (!read_text_file(options.restore_path, bytes, reason)) {
+    if (!read_text_file(options.restore_path, bytes, reason, limits::max_snapshot_file_bytes)) {
       fmt::print(stderr, "bitstep run: {}: {}\n", options.restore_path, reason);
-      return 1;
+      return exit_code::bad_input;
     }
     const std::span<const uint8_t> image(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size());
-    if (const auto error = restore(image, world)) {
+    World restored(scene.settings);
+    if (const auto error = restore(image, restored)) {
       fmt::print(stderr, "bitstep run: {}: {}\n", options.restore_path, *error);
-      return 1;
+      return exit_code::bad_input;
     }
+    if (const std::string mismatch = snapshot_mismatch(restored, world); !mismatch.empty()) {
+      fmt::print(stderr, "bitstep run: {}: not a snapshot of {}: {}\n", options.restore_path, options.scene_path,
+                 mismatch);
+      return exit_code::bad_input;
+    }
+    restored.set_executor(pool.get());
+    world = std::move(restored);
   }
   long long steps = options.steps;
   if (steps < 0) {
     const ParseResult seconds = parse_fixed(options.seconds);
     if (!seconds.ok() || seconds.value < Fixed{}) {
       fmt::print(stderr, "bitstep run: --seconds '{}': {}\n", options.seconds, describe(seconds.error));
-      return 2;
+      return exit_code::usage;
     }
     steps = (seconds.value / scene.settings.dt).raw() >> 32;
+  }
+  if (options.snapshot_at >= 0 && (options.snapshot_at < 1 || options.snapshot_at > steps)) {
+    fmt::print(stderr, "bitstep run: --snapshot-at {}: the run has steps 1..{}\n", options.snapshot_at, steps);
+    return exit_code::usage;
+  }
+  // The snapshot's file is opened (under its temporary name) before the
+  // run: an unwritable path fails at once, not at step K.
+  AtomicFile snapshot_file;
+  if (!options.snapshot_path.empty() && !snapshot_file.open(options.snapshot_path, reason)) {
+    fmt::print(stderr, "bitstep run: --snapshot-at: {}\n", reason);
+    return exit_code::output_failed;
   }
   const long long steps_per_second = std::max<long long>(1, (Fixed::one() / scene.settings.dt).raw() >> 32);
   std::optional<BodyTrace> trace;
   if (!options.trace_path.empty()) {
     if (!BodyTrace::time_fits(scene.settings.dt, world.step_count() + static_cast<uint64_t>(steps))) {
       fmt::print(stderr, "bitstep run: --trace: the last step's time is beyond the Q32.32 range\n");
-      return 2;
+      return exit_code::usage;
     }
     trace.emplace(*trace_format(options.trace_format, options.trace_path), static_cast<uint64_t>(options.trace_every));
     if (!trace->open(options.trace_path, reason)) {
       fmt::print(stderr, "bitstep run: --trace: {}\n", reason);
-      return 1;
+      return exit_code::output_failed;
     }
     trace->record_start(world);
   }
@@ -259,9 +321,10 @@ int run_scene_command(int argc, char** argv) {
     }
     if (step == options.snapshot_at) {
       const std::vector<uint8_t> image = snapshot(world);
-      if (!write_file_atomically(options.snapshot_path, std::string(image.begin(), image.end()), reason)) {
-        fmt::print(stderr, "bitstep run: {}\n", reason);
-        return 1;
+      std::fwrite(image.data(), 1, image.size(), snapshot_file.stream());
+      if (!snapshot_file.commit(reason)) {
+        fmt::print(stderr, "bitstep run: --snapshot-at: {}\n", reason);
+        return exit_code::output_failed;
       }
       if (!options.json) fmt::print("step {}: snapshot written to {}\n", world.step_count(), options.snapshot_path);
     }
@@ -287,14 +350,14 @@ int run_scene_command(int argc, char** argv) {
   }
   if (trace && !trace->finish(reason)) {
     fmt::print(stderr, "bitstep run: --trace: {}\n", reason);
-    return 1;
+    return exit_code::output_failed;
   }
   const uint64_t final_hash = state_hash(world);
   if (!options.json) {
     if (scene.settings.sleep_method != SleepMethod::off) fmt::print("all asleep: {}\n", all_asleep_text(all_asleep_step));
     if (trace) fmt::print("trace written to {}\n", options.trace_path);
     fmt::print("final step {} hash {:016x}\n", world.step_count(), final_hash);
-    return 0;
+    return exit_code::success;
   }
   // Machine-readable: Fixed values as exact decimal text.
   fmt::print("{{\"scene\": \"{}\", \"bodies\": {}, \"dt\": \"{}\", \"steps\": {}, \"seconds\": [", options.scene_path,

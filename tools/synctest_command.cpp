@@ -8,6 +8,7 @@
 
 #include "replay/json_tree.h"
 #include "replay/sync_test.h"
+#include "tools/exit_codes.h"
 
 namespace bitstep {
 
@@ -42,23 +43,23 @@ int synctest_command(int argc, char** argv) {
     if (arg == "--frames" && has_value) {
       if (!parse_count(argv[++i], 1, 64, frames)) {
         fmt::print(stderr, "bitstep synctest: --frames needs an integer 1..64, got '{}'\n", argv[i]);
-        return 2;
+        return exit_code::usage;
       }
     } else if (arg == "--steps" && has_value) {
       if (!parse_count(argv[++i], 1, 1000000, steps)) {
         fmt::print(stderr, "bitstep synctest: --steps needs an integer 1..1000000, got '{}'\n", argv[i]);
-        return 2;
+        return exit_code::usage;
       }
     } else if (!arg.empty() && arg[0] != '-' && path.empty()) {
       path = arg;
     } else {
       fmt::print(stderr, "bitstep synctest: unknown or incomplete option '{}'\n", arg);
-      return 2;
+      return exit_code::usage;
     }
   }
   if (path.empty()) {
     fmt::print(stderr, "bitstep synctest: usage: bitstep synctest SCENE|REPLAY [--frames K] [--steps N]\n");
-    return 2;
+    return exit_code::usage;
   }
   Scene scene;
   std::vector<Input> inputs;
@@ -67,7 +68,7 @@ int synctest_command(int argc, char** argv) {
     auto loaded = load_replay_file(path, false);
     if (const auto* error = std::get_if<ReplayError>(&loaded)) {
       fmt::print(stderr, "bitstep synctest: {}\n", error->message());
-      return 1;
+      return exit_code::bad_input;
     }
     Replay& replay = std::get<Replay>(loaded);
     scene = std::move(replay.scene);
@@ -78,7 +79,7 @@ int synctest_command(int argc, char** argv) {
     auto loaded = load_scene_file(path);
     if (const auto* error = std::get_if<SceneError>(&loaded)) {
       fmt::print(stderr, "bitstep synctest: {}\n", error->message());
-      return 1;
+      return exit_code::bad_input;
     }
     scene = std::move(std::get<Scene>(loaded));
     if (steps < 0) steps = 600;
@@ -87,13 +88,13 @@ int synctest_command(int argc, char** argv) {
   std::string reason;
   if (!build_world(scene, world, reason)) {
     fmt::print(stderr, "bitstep synctest: {}: {}\n", path, reason);
-    return 1;
+    return exit_code::bad_input;
   }
   const SyncTestResult r = sync_test(world, inputs, steps, static_cast<int>(frames));
   if (!r.ok()) {
     fmt::print(stderr, "bitstep synctest: {}: tick {} simulated again gave {:016x}, the first time {:016x}: {}\n", path,
                r.mismatch_tick, r.again_hash, r.first_hash, r.difference);
-    return 1;
+    return exit_code::check_failed;
   }
   fmt::print("{}: {} ticks, {} frames rolled back after each: {} ticks simulated again, every hash the same\n", path,
              steps, frames, r.rollbacks);
@@ -102,11 +103,11 @@ int synctest_command(int argc, char** argv) {
     const int64_t divergent = first_divergent_step(golden, r.hashes);
     if (divergent != 0) {
       fmt::print(stderr, "bitstep synctest: {}: the chain differs from the replay's at step {}\n", path, divergent);
-      return 1;
+      return exit_code::check_failed;
     }
     fmt::print("the chain is the replay's ({} hashes)\n", golden.size());
   }
-  return 0;
+  return exit_code::success;
 }
 
 }  // namespace bitstep

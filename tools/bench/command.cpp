@@ -35,6 +35,7 @@
 #include "tools/bench/report.h"
 #include "tools/bench/sections.h"
 #include "tools/thread_option.h"
+#include "tools/exit_codes.h"
 
 namespace bitstep {
 
@@ -81,7 +82,7 @@ int run_bench(const Options& options) {
   std::filesystem::create_directories(options.out, error);
   if (error) {
     fmt::print(stderr, "bitstep bench: cannot create {}: {}\n", options.out, error.message());
-    return 1;
+    return exit_code::output_failed;
   }
   context.plots = gnuplot_available();
   int planned = 0;
@@ -104,8 +105,9 @@ int run_bench(const Options& options) {
   std::string md = fmt::format("# bitstep bench report\n\n{}\n\n", machine_line(options, elapsed.count()));
   if (!context.peer_note.empty()) md += context.peer_note + ".\n\n";
   ok = context.write("summary.md", md + sections) && ok;
+  if (context.write_failed) return exit_code::output_failed;  // its line was printed
   fmt::print("report: {}/summary.md ({:.0f} s)\n", options.out, elapsed.count());
-  return ok ? 0 : 1;
+  return ok ? exit_code::success : exit_code::check_failed;
 }
 
 std::set<std::string> split(const std::string& list) {

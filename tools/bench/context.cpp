@@ -121,6 +121,7 @@ bool Context::write(const std::string& name, const std::string& text) const {
   std::string reason;
   if (write_report_file(options.out, name, text, reason)) return true;
   fmt::print(stderr, "bitstep bench: {}\n", reason);
+  write_failed = true;
   return false;
 }
 

@@ -70,6 +70,7 @@ struct Context {
   std::vector<std::string> variants;
   std::string peer, peer_note;  // the peer program, or why there is none
   bool plots = false;           // gnuplot was found
+  mutable bool write_failed = false;  // a report file could not be written
   ProgressBar* progress = nullptr;
 };
 

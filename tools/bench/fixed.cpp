@@ -36,6 +36,8 @@
 #include "fixed/u128.h"
 #include "fixed/vec3.h"
 #include "fixed/splitmix64.h"
+#include "tools/exit_codes.h"
+#include "tools/file_output.h"
 
 namespace bitstep {
 
@@ -293,16 +295,16 @@ std::string today_utc() {
 
 double ratio(const Row& row) { return row.fixed.min_ns / row.single.min_ns; }
 
-bool write_csv(std::ofstream& out, const std::vector<Row>& rows) {
-  out << "operation,fixed_ns_per_op,float_ns_per_op,double_ns_per_op,fixed_over_float,"
-         "fixed_ns_median,float_ns_median,double_ns_median\n";
+std::string csv_text(const std::vector<Row>& rows) {
+  std::string out =
+      "operation,fixed_ns_per_op,float_ns_per_op,double_ns_per_op,fixed_over_float,"
+      "fixed_ns_median,float_ns_median,double_ns_median\n";
   for (const Row& r : rows) {
-    out << fmt::format("{},{:.3f},{:.3f},{:.3f},{:.2f},{:.3f},{:.3f},{:.3f}\n", r.operation, r.fixed.min_ns,
+    out += fmt::format("{},{:.3f},{:.3f},{:.3f},{:.2f},{:.3f},{:.3f},{:.3f}\n", r.operation, r.fixed.min_ns,
                        r.single.min_ns, r.dual.min_ns, ratio(r), r.fixed.median_ns, r.single.median_ns,
                        r.dual.median_ns);
   }
-  out.close();
-  return static_cast<bool>(out);
+  return out;
 }
 
 }  // namespace
@@ -319,16 +321,16 @@ int run_bench_fixed(int argc, char** argv) {
     } else {
       fmt::print(stderr, "bitstep bench fixed: {} (options: --quick, --csv FILE)\n",
                  arg == "--csv" ? std::string("--csv needs a file name") : fmt::format("unknown option '{}'", arg));
-      return 2;
+      return exit_code::usage;
     }
   }
-  std::ofstream csv;
-  if (!csv_path.empty()) {
-    csv.open(std::string(csv_path));
-    if (!csv) {
-      fmt::print(stderr, "bitstep bench fixed: cannot write '{}'\n", csv_path);
-      return 1;
-    }
+  // Opened (under its temporary name) before the run: an unwritable path
+  // fails at once; renamed into place only when whole.
+  AtomicFile csv;
+  std::string reason;
+  if (!csv_path.empty() && !csv.open(std::string(csv_path), reason)) {
+    fmt::print(stderr, "bitstep bench fixed: {}\n", reason);
+    return exit_code::output_failed;
   }
 #if !defined(__OPTIMIZE__)
   fmt::print(stderr, "bitstep bench fixed: warning: unoptimised build, the numbers mean little\n");
@@ -347,9 +349,13 @@ int run_bench_fixed(int argc, char** argv) {
   fmt::print("\nminimum of {} samples of ~{:.0f} ms over {} independent operands (throughput, loop included)\n",
              settings.samples, settings.sample_ns * 1e-6, operand_count);
 
-  if (csv.is_open() && !write_csv(csv, rows)) {
-    fmt::print(stderr, "bitstep bench fixed: cannot write '{}'\n", csv_path);
-    return 1;
+  if (!csv_path.empty()) {
+    const std::string text = csv_text(rows);
+    std::fwrite(text.data(), 1, text.size(), csv.stream());
+    if (!csv.commit(reason)) {
+      fmt::print(stderr, "bitstep bench fixed: {}\n", reason);
+      return exit_code::output_failed;
+    }
   }
   return 0;
 }

@@ -26,6 +26,7 @@
 
 #include "core/query.h"
 #include "fixed/splitmix64.h"
+#include "tools/exit_codes.h"
 
 namespace bitstep {
 
@@ -130,7 +131,7 @@ int run_bench_queries(int argc, char** argv) {
       samples = 2;
     } else {
       fmt::print(stderr, "bitstep bench queries: unknown option '{}'\n", argv[i]);
-      return 2;
+      return exit_code::usage;
     }
   }
   constexpr size_t questions = 1000;

@@ -24,6 +24,7 @@
 
 #include "replay/rollback_state.h"
 #include "replay/session.h"
+#include "tools/exit_codes.h"
 
 namespace bitstep {
 
@@ -99,7 +100,7 @@ int run_bench_session(int argc, char** argv) {
       scenes = argv[++i];
     } else {
       fmt::print(stderr, "bitstep bench session: unknown option '{}'\n", argv[i]);
-      return 2;
+      return exit_code::usage;
     }
   }
   const int samples = quick ? 2 : 5, ticks = quick ? 10 : 30;
@@ -139,7 +140,7 @@ int run_bench_session(int argc, char** argv) {
                largest(rollback, 50.0));
   } catch (const std::exception& e) {
     fmt::print(stderr, "bitstep bench session: {}\n", e.what());
-    return 1;
+    return exit_code::bad_input;  // a scene refused
   }
   return 0;
 }

@@ -21,6 +21,7 @@
 #include "core/world.h"
 #include "replay/replay.h"
 #include "replay/scene.h"
+#include "tools/exit_codes.h"
 
 namespace bitstep {
 
@@ -109,14 +110,14 @@ int run_bench_sleep(int argc, char** argv) {
       scenes_dir = argv[++i];
     } else {
       fmt::print(stderr, "bitstep bench sleep: unknown option '{}' (options: --quick, --still, --scenes DIR)\n", arg);
-      return 2;
+      return exit_code::usage;
     }
   }
   fmt::print("| scene | dynamic bodies | sleep | all asleep at step | awake ms/step | asleep ms/step | awake / asleep |\n");
   fmt::print("|---|---:|---|---:|---:|---:|---:|\n");
   for (const std::string& name : scenes) {
     SleepRow row;
-    if (!measure(scenes_dir + "/" + name, method, steps, row)) return 1;
+    if (!measure(scenes_dir + "/" + name, method, steps, row)) return exit_code::bad_input;  // a scene refused
     const char* method_name = method == SleepMethod::motion ? "motion" : "still";
     if (row.sleep_step < 0) {
       fmt::print("| {} | {} | {} | never (600 steps) | {:.3f} | - | - |\n", row.scene, row.bodies, method_name,
