@@ -24,8 +24,8 @@ esac
 tools/fuzz_build.sh "fuzz_$target"
 work=build/fuzz/work/$target
 mkdir -p "$work/corpus"
-cp tools/fuzz/corpus/"$target"/* "$work/corpus/"
-if [ -d tools/fuzz/regressions/"$target" ]; then cp tools/fuzz/regressions/"$target"/* "$work/corpus/"; fi
+cp -r tools/fuzz/corpus/"$target"/. "$work/corpus/"
+if [ -d tools/fuzz/regressions/"$target" ]; then cp -r tools/fuzz/regressions/"$target"/. "$work/corpus/"; fi
 status=0
 (cd "$work" && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
   "$root/build/fuzz/tools/fuzz/fuzz_$target" corpus -jobs=1 -max_total_time="$seconds" -timeout=20 -rss_limit_mb=4096 \

@@ -11,16 +11,16 @@ root=$PWD
 
 tools/fuzz_build.sh >/dev/null
 
-# target:runs, sized so that each takes about 12 s here.
-runs=(scene:20000 replay:20000 settings:20000 snapshot:20000 packet:20000)
+# target:runs, sized so that each takes about 10 s on 2 shared cores.
+runs=(scene:30000 replay:15000 settings:100000 snapshot:25000 packet:1000000)
 failed=()
 for entry in "${runs[@]}"; do
   target=${entry%%:*} n=${entry#*:}
   work=build/fuzz/test/$target
   rm -rf "$work"
   mkdir -p "$work/corpus"
-  cp tools/fuzz/corpus/"$target"/* "$work/corpus/"
-  if [ -d tools/fuzz/regressions/"$target" ]; then cp tools/fuzz/regressions/"$target"/* "$work/corpus/"; fi
+  cp -r tools/fuzz/corpus/"$target"/. "$work/corpus/"
+  if [ -d tools/fuzz/regressions/"$target" ]; then cp -r tools/fuzz/regressions/"$target"/. "$work/corpus/"; fi
   dict=()
   case "$target" in scene | replay | settings) dict=(-dict="$root/tools/fuzz/json.dict") ;; esac
   start=$SECONDS
