@@ -17,6 +17,8 @@ bool position_inside(Vec3 p) {
 
 bool size_inside(Fixed s) { return s >= envelope::min_size && s <= envelope::max_size; }
 
+}  // namespace
+
 EnvelopeError check_shape(const Shape& shape, int index) {
   auto error = [index](const char* field, const char* reason) { return EnvelopeError{field, index, reason}; };
   // Parts of a compound stay within 50 m of the body origin, so that the
@@ -44,6 +46,8 @@ EnvelopeError check_shape(const Shape& shape, int index) {
   }
   return {};
 }
+
+namespace {
 
 // A given mass is spread over the shapes' total volume; past 2^30 m^3 (a
 // compound of over 1,000 of the largest boxes) that sum could leave the range.

@@ -23,6 +23,10 @@ struct EnvelopeError {
 // origin, speeds within the clamps; a dynamic body's mass 0.01..1e5 kg and
 // density (given, or mass / volume) at most envelope::max_density.
 EnvelopeError check_envelope(const BodyDef& def);
+// One shape of a body: its size keys within 0.01..50 m (a capsule's
+// half_height 0..50 m) and its local position within 50 m of the body
+// origin; `index` goes into the error.
+EnvelopeError check_shape(const Shape& shape, int index);
 
 // The first setting outside the world envelope (its scene key), or null:
 // readers refuse a scene or snapshot that asks for one. dt 0.0001..0.1 s,

@@ -190,10 +190,10 @@ std::vector<Input> read_inputs(const Node& node, const Scene& scene) {
   return inputs;
 }
 
+// Parses `text` (the file `path`'s) and reads the tree; never throws.
 template <class Read>
-auto parse_file(const std::string& path, Read read) -> std::variant<decltype(read(std::declval<const Node&>())), ReplayError> {
-  std::string text, reason;
-  if (!read_text_file(path, text, reason)) return ReplayError{path, "", reason};
+auto parse_text(std::string_view text, const std::string& path, Read read)
+    -> std::variant<decltype(read(std::declval<const Node&>())), ReplayError> {
   try {
     auto tree = json::parse(text);
     if (const auto* error = std::get_if<json::SyntaxError>(&tree)) return ReplayError{path, error->where, error->reason};
@@ -203,6 +203,13 @@ auto parse_file(const std::string& path, Read read) -> std::variant<decltype(rea
   } catch (const std::exception& e) {  // allocation failure
     return ReplayError{path, "$", std::string("cannot load: ") + e.what()};
   }
+}
+
+template <class Read>
+auto parse_file(const std::string& path, Read read) -> std::variant<decltype(read(std::declval<const Node&>())), ReplayError> {
+  std::string text, reason;
+  if (!read_text_file(path, text, reason)) return ReplayError{path, "", reason};
+  return parse_text(text, path, read);
 }
 
 std::string hex(uint64_t value) {
@@ -233,6 +240,13 @@ std::string ReplayError::message() const {
 }
 
 std::variant<Replay, ReplayError> load_replay_file(const std::string& path, bool require_hashes) {
+  std::string text, reason;
+  if (!read_text_file(path, text, reason)) return ReplayError{path, "", reason};
+  return parse_replay(text, path, require_hashes);
+}
+
+std::variant<Replay, ReplayError> parse_replay(std::string_view json_text, const std::string& path,
+                                               bool require_hashes) {
   // The scene is loaded in the middle of reading the replay; its error, if
   // any, is the one reported.
   std::variant<Replay, ReplayError> scene_error;
@@ -298,7 +312,7 @@ std::variant<Replay, ReplayError> load_replay_file(const std::string& path, bool
     reader.finish();
     return replay;
   };
-  auto result = parse_file(path, read);
+  auto result = parse_text(json_text, path, read);
   if (scene_failed) return scene_error;
   return result;
 }

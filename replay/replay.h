@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
@@ -61,6 +62,10 @@ struct ReplayError {
 // chain must be there, one per step (for verify); a recording's input file
 // has none.
 std::variant<Replay, ReplayError> load_replay_file(const std::string& path, bool require_hashes);
+// The same from the file's text: `path` names it in errors, and a scene
+// file the replay names is read from `path`'s folder. Never throws.
+std::variant<Replay, ReplayError> parse_replay(std::string_view json_text, const std::string& path,
+                                               bool require_hashes);
 
 // Reads an inputs file for `bitstep record`: {"inputs": [...]} against a
 // scene, or a replay file (its inputs, to record it again, and its settings

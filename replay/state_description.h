@@ -53,6 +53,43 @@
 
 namespace bitstep {
 
+// What the reader checks of a body's motion and shapes (a restored world
+// steps: a state no world holds is refused, not stepped). Raw comparisons
+// only, so that no value, however corrupt, reaches arithmetic that
+// saturates.
+namespace state_checks {
+
+inline bool within(Fixed f, Fixed limit) { return f >= -limit && f <= limit; }
+inline bool within(Vec3 v, Fixed limit) { return within(v.x, limit) && within(v.y, limit) && within(v.z, limit); }
+
+// A rotation as a world keeps them: each component within +-2 and the norm
+// squared within 2^-10 of 1 (worlds normalise; a restored quaternion of norm
+// 10^9 scaled every shape it turned and overflowed the broadphase).
+inline bool unit_quaternion(Quat q) {
+  const Fixed two = Fixed::from_raw(int64_t{1} << 33);
+  if (!within(q.w, two) || !within(q.x, two) || !within(q.y, two) || !within(q.z, two)) return false;
+  const Fixed norm2 = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
+  return within(norm2 - Fixed::one(), Fixed::from_raw(int64_t{1} << 22));
+}
+
+// Positions within 2^20 m: 65 times the envelope's 16 km, so that a body
+// that left the envelope still restores, and far from where sums of
+// positions and sizes leave the range.
+inline constexpr Fixed max_position = Fixed::from_raw(int64_t{1} << 52);
+
+// Velocities, each component: twice the envelope's clamps (a world clamps
+// the length, to within a rounding of them).
+inline constexpr Fixed max_linear_speed = envelope::max_linear_speed + envelope::max_linear_speed;
+inline constexpr Fixed max_angular_speed = envelope::max_angular_speed + envelope::max_angular_speed;
+
+// A shape of the envelope (check_shape), with a unit local orientation.
+inline bool shape_inside(const Shape& shape) {
+  return within(shape.local.position, max_position) && unit_quaternion(shape.local.orientation) &&
+         check_shape(shape, 0).ok();
+}
+
+}  // namespace state_checks
+
 // The parts of a world's state: references to a world's own (const) for
 // writing, to the pieces a world will be made from for reading.
 template <bool Reading>
@@ -133,6 +170,8 @@ void describe_shape(V& v, Sh& shape) {
   v.fixed("half_height", shape.half_height);
   v.vec("position", shape.local.position);
   v.quat("orientation", shape.local.orientation);
+  v.require([&] { return state_checks::shape_inside(shape); },
+            [] { return std::string("a shape outside the envelope (size, position or orientation)"); });
 }
 
 template <class V, class B>
@@ -148,6 +187,14 @@ void describe_body(V& v, B& body, bool sleep) {
   v.vec("angular_velocity", body.angular_velocity);
   v.vec("force", body.force);
   v.vec("torque", body.torque);
+  v.require(
+      [&] {
+        return state_checks::within(body.pose.position, state_checks::max_position) &&
+               state_checks::unit_quaternion(body.pose.orientation) &&
+               state_checks::within(body.linear_velocity, state_checks::max_linear_speed) &&
+               state_checks::within(body.angular_velocity, state_checks::max_angular_speed);
+      },
+      [] { return std::string("a body's position, orientation or velocity no world holds"); });
   // What the body is made of (a spawned body is part of the state too).
   v.statics([&] {
     v.fixed("inverse_mass", body.inverse_mass);
@@ -176,6 +223,12 @@ void describe_body(V& v, B& body, bool sleep) {
     v.object("sleep_reference", [&] {
       v.vec("position", body.sleep_reference.position);
       v.quat("orientation", body.sleep_reference.orientation);
+      v.require(
+          [&] {
+            return state_checks::within(body.sleep_reference.position, state_checks::max_position) &&
+                   state_checks::unit_quaternion(body.sleep_reference.orientation);
+          },
+          [] { return std::string("a sleep reference no world holds"); });
     });
   }
   v.statics([&] {
@@ -339,13 +392,19 @@ void describe_state(V& v, const StateParts<Reading>& state) {
   for (const Body& body : state.bodies) {
     filtered = filtered || (body.alive && (body.filter != CollisionFilter{} || body.sensor));
   }
+  // (The reader notes which blocks it read: a block the writer would not
+  // have written, e.g. an empty joints block, is refused at the end, so that
+  // every state has one image.)
+  bool joints_read = false, filters_read = false, cars_read = false;
   constexpr size_t joint_bytes = 5;  // a dead slot: alive, generation
   v.trailing(!state.joints.empty() || !state.free_joint_slots.empty() || filtered, true, [&] {
+    joints_read = true;
     v.list("joints", state.joints, joint_bytes, limits::max_world_joints, "slot",
            [&](auto& joint) { describe_joint(v, joint, state.bodies); });
     describe_free_slots(v, "free_joint_slots", state.free_joint_slots, state.joints);
   });
   v.trailing(filtered, false, [&] {
+    filters_read = true;
     v.items("filters", state.bodies.size(), [&](size_t i) {
       auto& body = state.bodies[i];
       v.statics([&] {
@@ -378,8 +437,21 @@ void describe_state(V& v, const StateParts<Reading>& state) {
   // and the controls (what the wheels found is found again each step).
   constexpr size_t car_bytes = 1;  // a dead car: alive
   v.trailing(!state.cars.empty(), false, [&] {
+    cars_read = true;
     v.list("cars", state.cars, car_bytes, UINT32_MAX, nullptr, [&](auto& car) { describe_car(v, car, state.bodies); });
   });
+  if constexpr (Reading) {
+    bool filtered_read = !state.sensor_overlaps.empty() || !state.cars.empty();
+    for (const Body& body : state.bodies) {
+      filtered_read = filtered_read || (body.alive && (body.filter != CollisionFilter{} || body.sensor));
+    }
+    v.require(
+        [&] {
+          return joints_read == (!state.joints.empty() || !state.free_joint_slots.empty() || filtered_read) &&
+                 filters_read == filtered_read && cars_read == !state.cars.empty();
+        },
+        [] { return std::string("a joints, filters or cars block that this state does not have"); });
+  }
 }
 
 }  // namespace bitstep

@@ -8,11 +8,13 @@
 #      WebAssembly under node;
 #   4. the installed package: a C and a C++ consumer built against it
 #      (tools/check_package.sh);
-#   5. bitstep peer processes on 127.0.0.1 playing a match, 2 and 4 peers,
+#   5. the fuzz targets (libFuzzer, ASan, UBSan): each reader of untrusted
+#      input for a fixed number of runs from its seeds (tools/fuzz_test.sh);
+#   6. bitstep peer processes on 127.0.0.1 playing a match, 2 and 4 peers,
 #      lockstep and rollback, with and without faults (tools/peer_test.sh);
-#   6. the browser viewer: its wasm engine under node, then the page in
+#   7. the browser viewer: its wasm engine under node, then the page in
 #      headless Chromium (tools/viewer_test.sh);
-#   7. a ThreadSanitizer build: the threaded solver's golden-replay test.
+#   8. a ThreadSanitizer build: the threaded solver's golden-replay test.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=$(nproc)
@@ -50,6 +52,9 @@ if [ "$crosscheck_status" -ne 0 ]; then echo "test.sh: cross-build check failed"
 
 step "the installed package: a C and a C++ consumer print the golden hash"
 tools/check_package.sh build/release
+
+step "fuzz targets: scene, replay, settings, snapshot and packet readers (libFuzzer, ASan, UBSan)"
+tools/fuzz_test.sh
 
 step "bitstep peer: 2 and 4 peers on 127.0.0.1, lockstep and rollback, with faults"
 tools/peer_test.sh build/release/bitstep

@@ -122,8 +122,10 @@ TEST_CASE("every byte of the state is in the dump: flipped, it is restored and d
     }
     INFO("accepted " << accepted << ", refused " << refused);
     // Most flips land in a value (a coordinate, an impulse) and restore;
-    // those refused broke a count, a flag or an order.
-    CHECK(accepted > 9 * refused);
+    // those refused broke a count, a flag or an order, or put a value
+    // where no world holds one (a high bit of a position, a velocity, a
+    // quaternion or a shape size: about 6 accepted for 1 refused).
+    CHECK(accepted > 5 * refused);
     // Among them, every field the dump used to leave out.
     for (const char* field : {"$.settings.dt", "$.settings.flags", "$.settings.shock_iterations", "$.bodies[].inertia_local[][]",
                               "$.bodies[].inverse_inertia_local[][]", "$.bodies[].material.rolling_resistance",
