@@ -4,6 +4,7 @@
 #include <fmt/core.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -123,6 +124,11 @@ bool Context::write(const std::string& name, const std::string& text) const {
   fmt::print(stderr, "bitstep bench: {}\n", reason);
   write_failed = true;
   return false;
+}
+
+size_t variant_style(const Context& context, const std::string& variant) {
+  const auto at = std::find(context.variants.begin(), context.variants.end(), variant);
+  return static_cast<size_t>(at - context.variants.begin());
 }
 
 bool Context::draw(const std::string& stem, const std::string& commands) const {

@@ -4,6 +4,7 @@
 // the peer program), and writing a report file or drawing a gnuplot plot.
 #pragma once
 
+#include <cstddef>
 #include <set>
 #include <string>
 #include <string_view>
@@ -48,6 +49,11 @@ std::string quote(const std::string& text);
 bool capture(const std::string& command, std::string& output);
 // "1/60".
 std::string dt_name(double dt);
+
+struct Context;
+
+// A variant's place among the variants run: its colour and marker in every plot.
+size_t variant_style(const Context& context, const std::string& variant);
 
 struct Context {
   explicit Context(const Options& options);

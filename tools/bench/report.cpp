@@ -2,8 +2,11 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 
 #include "tools/file_output.h"
 
@@ -81,6 +84,55 @@ bool plot(const std::string& dir, const std::string& stem, const std::string& co
   }
   std::remove((dir + "/" + stem + ".gp.log").c_str());
   return true;
+}
+
+std::string plots_line(const std::vector<std::string>& plots) {
+  if (plots.empty()) return "";
+  std::string line = "Plots (`gnuplot NAME.gp` draws one again):";
+  for (size_t i = 0; i < plots.size(); ++i) line += fmt::format("{} `{}`", i == 0 ? "" : ",", plots[i]);
+  return line + ".\n\n";
+}
+
+std::string key_below(int entries) {
+  return fmt::format(
+      "set key at screen 0.5, screen 0.01 center bottom horizontal Left reverse noenhanced samplen 2.5\n"
+      "set bmargin {}\n",
+      4 + (entries + 1) / 2);
+}
+
+LogZeroRow log_y_with_zero_row(const std::vector<double>& values) {
+  bool zero = false;
+  double smallest = std::numeric_limits<double>::infinity();
+  for (double v : values) {
+    if (v == 0) zero = true;
+    if (v > 0 && std::isfinite(v)) smallest = std::min(smallest, v);
+  }
+  LogZeroRow row;
+  row.entries = zero ? 1 : 0;
+  if (!zero) {
+    row.commands = "shown(v) = v\n";
+    return row;
+  }
+  // The lowest decade tic is 10^decade; the zero row sits half a decade
+  // below it, the dotted line between, the axis ends just under the row.
+  const double decade = std::isfinite(smallest) ? std::floor(std::log10(smallest)) : 0;
+  row.commands = fmt::format(
+      "zero_row = {:.6g}\nshown(v) = v == 0 ? zero_row : v\nset yrange [{:.6g}:*]\nset ytics add ('0' zero_row)\n"
+      "set arrow 9 from graph 0, first {:.6g} to graph 1, first {:.6g} nohead dt 3 lw 1.5 lc 'gray40' back\n",
+      std::pow(10.0, decade - 0.5), std::pow(10.0, decade - 0.8), std::pow(10.0, decade - 0.25),
+      std::pow(10.0, decade - 0.25));
+  row.key_entry = ", \\\n     keyentry with lines dt 3 lw 1.5 lc 'gray40' title 'exactly 0 (drawn on row \"0\")'";
+  return row;
+}
+
+std::vector<int> earlier_equal(const std::vector<std::vector<double>>& series) {
+  std::vector<int> equal(series.size(), -1);
+  for (size_t i = 0; i < series.size(); ++i) {
+    for (size_t j = 0; j < i && equal[i] < 0; ++j) {
+      if (!series[i].empty() && series[i] == series[j]) equal[i] = static_cast<int>(j);
+    }
+  }
+  return equal;
 }
 
 }  // namespace bitstep::bench

@@ -28,18 +28,38 @@ bool write_series(Context& context, const Experiment& e, const std::vector<Row>&
   const std::string file = "series_" + e.name + ".csv";
   if (!context.write(file, csv)) return false;
   if (!context.plots) return true;
-  std::string lines;
+  // Each variant keeps its colour, dash and marker in every plot; a curve
+  // drawn later is thinner, so one lying on an earlier curve shows inside it,
+  // and the key names it "(same as ...)".
+  std::vector<std::vector<double>> drifts;
+  std::vector<double> all;
   for (const Row& r : rows) {
-    lines += fmt::format("{}'{}' using (strcol(1) eq '{}' ? $2 : NaN):(max($3, 1e-6)) with lines lw 2 title '{}'",
-                         lines.empty() ? "plot " : ", \\\n     ", file, r.variant, r.variant);
+    drifts.emplace_back();
+    for (const auto& values : r.result.rows) {
+      if (values.size() > 1) drifts.back().push_back(values[1]);
+    }
+    all.insert(all.end(), drifts.back().begin(), drifts.back().end());
+  }
+  const std::vector<int> same = earlier_equal(drifts);
+  const LogZeroRow zero_row = log_y_with_zero_row(all);
+  std::string lines;
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const Row& r = rows[i];
+    const size_t style = variant_style(context, r.variant);
+    const std::string title =
+        same[i] < 0 ? r.variant : r.variant + " (same as " + rows[static_cast<size_t>(same[i])].variant + ")";
+    lines += fmt::format(
+        "{}'{}' using (strcol(1) eq '{}' ? $2 : NaN):(shown($3)) with linespoints lc {} lw {} dt {} pt {} ps 1.3 "
+        "pi {} title '{}'",
+        lines.empty() ? "plot " : ", \\\n     ", file, r.variant, line_colours[style % 5], draw_widths[i % 5],
+        dash_types[style % 5], point_types[style % 5], 17 + 4 * static_cast<int>(i), title);
   }
   const std::string commands = fmt::format(
-      "max(a, b) = a > b ? a : b\n"
       "set title '{}: {} (60 Hz, 10 iterations)' noenhanced\n"
       "set xlabel 'simulated time (s)'\nset ylabel 'largest drift of any body from its start (m)'\n"
-      "set logscale y\nset format y '10^{{%L}}'\nset key left top noenhanced\nset grid\n"
-      "set label 1 'drift below 1 um is drawn at 1 um' at graph 0.98, graph 0.04 right font ',9'\n{}",
-      e.name, e.description, lines);
+      "set logscale y\nset format y '10^{{%L}}'\n{}set grid\n{}{}{}",
+      e.name, e.description, key_below(static_cast<int>(rows.size()) + zero_row.entries), zero_row.commands, lines,
+      zero_row.key_entry);
   return context.draw("stability_" + e.name, commands);
 }
 
@@ -118,13 +138,13 @@ std::string results_markdown(const Context& context, const std::vector<Row>& res
     }
     if (!figures.empty()) md += fmt::format("| {} | {} | {} |\n", r.experiment, r.variant, figures);
   }
-  md += "\n";
+  std::vector<std::string> plots;
   for (const std::string& name : names) {
     if (context.plots && std::filesystem::exists(context.options.out + "/stability_" + name + ".png")) {
-      md += fmt::format("![{0}](stability_{0}.png)\n", name);
+      plots.push_back("stability_" + name + ".png");
     }
   }
-  return md + "\n";
+  return md + "\n" + plots_line(plots);
 }
 
 }  // namespace

@@ -3,6 +3,9 @@
 // exponent of a power-law fit and a plot.
 #include <fmt/core.h>
 
+#include <algorithm>
+
+#include "tools/bench/report.h"
 #include "tools/bench/scale.h"
 #include "tools/bench/sections.h"
 #include "tools/bench/stats.h"
@@ -30,18 +33,34 @@ bool write_scale(Context& context, const std::vector<ScaleRow>& scale) {
                        r.ms_per_step, r.stayed_asleep ? 1 : 0);
   }
   if (!context.write("scale.csv", csv)) return false;
-  if (!context.plots) return true;
+  if (!context.plots || scale.empty()) return true;
+  // The x range spans the sizes measured (a decade's margin left nothing
+  // but white); each line keeps its own dash and marker.
+  std::vector<double> ms;
+  int fewest = 0, most = 0;
+  for (const ScaleRow& r : scale) {
+    ms.push_back(r.ms_per_step);
+    fewest = fewest == 0 ? r.bodies : std::min(fewest, r.bodies);
+    most = std::max(most, r.bodies);
+  }
+  const LogZeroRow zero_row = log_y_with_zero_row(ms);
   std::string lines;
+  int line = 0;
   for (const char* structure : {"pyramid", "columns"}) {
     for (const char* state : {"awake", "asleep"}) {
       lines += fmt::format(
-          "{}'scale.csv' using (strcol(1) eq '{}' && strcol(2) eq '{}' ? $3 : NaN):5 with linespoints lw 2 title '{} {}'",
-          lines.empty() ? "plot " : ", \\\n     ", structure, state, structure, state);
+          "{}'scale.csv' using (strcol(1) eq '{}' && strcol(2) eq '{}' ? $3 : NaN):(shown($5)) with linespoints "
+          "lc {} lw 2 dt {} pt {} ps 1.3 title '{} {}'",
+          lines.empty() ? "plot " : ", \\\n     ", structure, state, line_colours[line], dash_types[line],
+          point_types[line], structure, state);
+      ++line;
     }
   }
-  return context.draw("scale", "set title 'bitstep ms/step against body count (60 Hz, 10 iterations)'\n"
-                               "set xlabel 'dynamic bodies'\nset ylabel 'ms per step'\nset logscale xy\n"
-                               "set key left top\nset grid\n" + lines);
+  return context.draw("scale", fmt::format("set title 'bitstep ms/step against body count (60 Hz, 10 iterations)'\n"
+                                           "set xlabel 'dynamic bodies'\nset ylabel 'ms per step'\nset logscale xy\n"
+                                           "set xrange [{}:{}]\n{}set grid\n{}{}{}",
+                                           fewest / 1.3, most * 1.3, key_below(4 + zero_row.entries), zero_row.commands,
+                                           lines, zero_row.key_entry));
 }
 
 std::string scale_markdown(const Context& context, const std::vector<ScaleRow>& scale) {
@@ -61,8 +80,7 @@ std::string scale_markdown(const Context& context, const std::vector<ScaleRow>& 
                         fit.ok ? fmt::format("{:.2f}", fit.exponent) : std::string("-"));
     }
   }
-  if (context.plots) md += "\n![scale](scale.png)\n";
-  return md + "\n";
+  return md + "\n" + plots_line(context.plots ? std::vector<std::string>{"scale.png"} : std::vector<std::string>{});
 }
 
 }  // namespace

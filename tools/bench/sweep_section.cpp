@@ -5,6 +5,7 @@
 
 #include <algorithm>
 
+#include "tools/bench/report.h"
 #include "tools/bench/sections.h"
 #include "tools/bench/stats.h"
 
@@ -36,26 +37,49 @@ std::vector<const Row*> cheapest_first_front(const std::vector<Row>& rows, const
   return front;
 }
 
-std::string plot_commands(const Context& context, const Experiment& e, const std::string& file,
-                          const std::string& front_file) {
-  std::string lines;
-  int point_type = 5;
-  for (const std::string& variant : context.variants) {
-    lines += fmt::format(
-        "{}'{}' using (strcol(1) eq '{}' ? $4 : NaN):(max($5, floor_error)) with points pt {} ps 1.2 title '{}'",
-        lines.empty() ? "plot " : ", \\\n     ", file, variant, point_type++, variant);
+// The plot: a marker per run, each variant's its own (a later variant's
+// smaller, so one on an earlier variant's shows inside it, and the key names
+// a variant whose errors all equal an earlier one's "(same as ...)"), the
+// Pareto front as a line, labelled where its error has dropped twofold
+// since the last label (summary.md lists every point of it).
+std::string plot_commands(const Context& context, const Experiment& e, const std::vector<Row>& rows,
+                          const std::string& file, const std::string& front_file) {
+  std::vector<std::vector<double>> errors(context.variants.size());
+  std::vector<double> all;
+  for (const Row& r : rows) {
+    const size_t style = variant_style(context, r.variant);
+    if (style < errors.size()) errors[style].push_back(r.result.error);
+    all.push_back(r.result.error);
   }
-  lines += fmt::format(", \\\n     '{0}' using 1:(max($2, floor_error)) with lines lw 2 lc 'black' title 'Pareto front', \\\n"
-                       "     '{0}' using 1:(max($2, floor_error)):3 with labels left offset 0.6,0.3 font ',7' notitle",
-                       front_file);
+  const std::vector<int> same = earlier_equal(errors);
+  const LogZeroRow zero_row = log_y_with_zero_row(all);
+  static constexpr double sizes[5] = {1.9, 1.9, 1.5, 1.5, 1.3};
+  std::string lines;
+  for (size_t i = 0; i < context.variants.size(); ++i) {
+    const std::string& variant = context.variants[i];
+    const std::string title =
+        same[i] < 0 ? variant : variant + " (same as " + context.variants[static_cast<size_t>(same[i])] + ")";
+    lines += fmt::format(
+        "{}'{}' using (strcol(1) eq '{}' ? $4 : NaN):(shown($5)) with points lc {} pt {} ps {} lw 1.5 title '{}'",
+        lines.empty() ? "plot " : ", \\\n     ", file, variant, line_colours[i % 5], point_types[i % 5], sizes[i % 5],
+        title);
+  }
+  // Drawing the front's line resets `labelled`, the error last labelled
+  // (the script is drawn twice, as SVG and as PNG).
+  lines += fmt::format(
+      ", \\\n     '{0}' using 1:(labelled = 1e300, shown($2)) with lines lw 2 lc 'black' title 'Pareto front', \\\n"
+      "     '{0}' using 1:(shown($2)):($2 < labelled / 2 ? label_at($2, strcol(3)) : '') "
+      "with labels left offset 0.7,0.5 font ',8' notitle",
+      front_file);
   return fmt::format(
-      "max(a, b) = a > b ? a : b\nfloor_error = 1e-12\n"
-      "set title '{}: {}' noenhanced\n"
+      "labelled = 1e300\nlabel_at(error, text) = (labelled = error, text)\n"
+      "set title '{}: {}' noenhanced offset 0,0.8\nset tmargin 4\n"
       "set xlabel 'cost: wall-clock ms per simulated second'\nset ylabel 'error: {}'\n"
-      "set logscale xy\nset format y '10^{{%L}}'\nset key outside right noenhanced\nset grid\n"
-      "set label 1 'dt in {{1/30 .. 1/240}} x iterations in {{{}}}; errors below 1e-12 drawn at 1e-12' at graph 0, graph -0.13 font ',9'\n"
-      "set bmargin 6\n{}",
-      e.name, e.description, e.error_label, iterations_text(context), lines);
+      "set logscale xy\nset format y '10^{{%L}}'\n{}set grid\n"
+      "set label 1 'dt in {{1/30 .. 1/240}} x iterations in {{{}}}; front labels: variant dt iterations' "
+      "at graph 0.5, graph 1.03 center font ',9'\n{}{}{}",
+      e.name, e.description, e.error_label, key_below(static_cast<int>(context.variants.size()) + 1 + zero_row.entries),
+      iterations_text(context), zero_row.commands, lines, zero_row.key_entry);
 }
 
 // wp_<experiment>.csv and wp_<experiment>_front.csv, and their plot.
@@ -73,7 +97,7 @@ bool write_sweep_plot(Context& context, const Experiment& e, const std::vector<R
   const std::string file = "wp_" + e.name + ".csv", front_file = "wp_" + e.name + "_front.csv";
   if (!context.write(file, csv) || !context.write(front_file, front_csv)) return false;
   if (!context.plots) return true;
-  return context.draw("wp_" + e.name, plot_commands(context, e, file, front_file));
+  return context.draw("wp_" + e.name, plot_commands(context, e, rows, file, front_file));
 }
 
 // Every variant x dt x iterations of one experiment, the Pareto front marked.
@@ -117,11 +141,11 @@ std::string sweep_markdown(const Context& context, const std::vector<Row>& sweep
     }
     md += fmt::format("| {} | {} |\n", name, cells);
   }
-  md += "\n";
+  std::vector<std::string> plots;
   for (const std::string& name : names) {
-    if (context.plots) md += fmt::format("![{0}](wp_{0}.png)\n", name);
+    if (context.plots) plots.push_back("wp_" + name + ".png");
   }
-  return md + "\n";
+  return md + "\n" + plots_line(plots);
 }
 
 }  // namespace
