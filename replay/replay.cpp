@@ -278,9 +278,14 @@ std::variant<Replay, ReplayError> parse_replay(std::string_view json_text, const
       scene_failed = true;
       // A scene file that cannot be read is named with the replay that
       // needs it; an error inside it names its own file and path.
-      scene_error = error->path.empty() && replay.inline_scene.empty()
-                        ? ReplayError{path, scene.path, error->file + ": " + error->reason}
-                        : ReplayError{error->file, error->path, error->reason};
+      // (Field by field: gcc 12's -Wmaybe-uninitialized misreads a
+      // conditional between two temporaries here under -fsanitize=thread.)
+      const bool unreadable = error->path.empty() && replay.inline_scene.empty();
+      ReplayError refused;
+      refused.file = unreadable ? path : error->file;
+      refused.path = unreadable ? scene.path : error->path;
+      refused.reason = unreadable ? error->file + ": " + error->reason : error->reason;
+      scene_error = std::move(refused);
       return replay;
     }
     replay.scene = std::move(std::get<Scene>(loaded));
