@@ -248,15 +248,15 @@ function afterLoad() {
   $('download').disabled = false;
   drawings[0].clear();
   drawings[1].clear();
+  drawings[0].sync(engine.poses(0));
+  if (state.comparing) drawings[1].sync(engine.poses(1));
   // Contact points crowd a large scene: shown by default below 400 bodies
   // (contacts=0 or 1 in the URL decides).
-  const bodies = engine.shapes(0).length;
+  const bodies = drawings[0].bodies.filter(Boolean).length;
   $('show-contacts').checked = params.has('contacts') ? params.get('contacts') === '1' : bodies < 400;
-  drawings[0].update(true, true);
-  if (state.comparing) drawings[1].update(true, true);
   fillFollow();
+  refresh();  // poses the bodies, which frame() then fits in view
   frame();
-  refresh();
 }
 
 async function fetchText(url) {
@@ -290,16 +290,13 @@ async function loadPicked(player, files) {
     engine.loadScene(player, engine.writeFile(`${folder}/${name}`, texts[name]));
     return;
   }
+  // The scene is the picked file of the same name, whatever folder the
+  // replay names it in.
   const path = await stageReplay(engine, folder, replayName, texts[replayName], (scene) => {
     const base = scene.slice(scene.lastIndexOf('/') + 1);
     if (!(base in texts)) throw new Error(`${replayName} names the scene ${scene}: pick it too`);
     return texts[base];
   });
-  // The scene sits beside the replay, whatever folder the replay names.
-  const scene = JSON.parse(texts[replayName]).scene;
-  if (typeof scene === 'string') {
-    engine.writeFile(`${folder}/${scene}`, texts[scene.slice(scene.lastIndexOf('/') + 1)]);
-  }
   engine.loadReplay(player, path);
 }
 

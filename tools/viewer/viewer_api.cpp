@@ -57,7 +57,7 @@ struct Player {
   std::optional<InputRun> run;
   std::vector<uint64_t> computed;  // the state hash after each step computed so far
   int64_t diverged_at = 0;         // the first step whose hash differs from the recorded one
-  bool scene_matches = true;       // the world before step 1 hashes as recorded
+  uint64_t start_hash = 0;         // the state hash of the world before step 1
   std::vector<Keyframe> keyframes;
   std::vector<uint32_t> first_generation;  // per scene body: its slot's generation when built
   std::vector<float> floats;               // the last buffer handed out
@@ -95,7 +95,7 @@ int start(Player& p, Replay replay) {
   p.replay = std::move(replay);
   p.world = std::move(world);
   p.run.emplace(*p.world);
-  p.scene_matches = p.replay.hashes.empty() || state_hash(*p.world) == p.replay.scene_hash;
+  p.start_hash = state_hash(*p.world);
   for (size_t i = 0; i < p.replay.scene.bodies.size(); ++i) p.first_generation.push_back(p.world->bodies()[i].generation);
   p.loaded = true;
   keyframe(p);
@@ -224,7 +224,7 @@ VIEWER_EXPORT int bv_diverged_at(int v) {
 }
 VIEWER_EXPORT int bv_scene_matches(int v) {
   const Player* p = player(v);
-  return p != nullptr && p->loaded && p->scene_matches ? 1 : 0;
+  return p != nullptr && p->loaded && (p->replay.hashes.empty() || p->start_hash == p->replay.scene_hash) ? 1 : 0;
 }
 
 // The state hash now (16 hex digits), and the recorded hash after `step`
@@ -249,18 +249,16 @@ VIEWER_EXPORT int bv_seek(int v, int tick) {
   Player* p = player(v);
   if (p == nullptr || !p->loaded || tick < 0) return -1;
   const int64_t now = static_cast<int64_t>(p->world->step_count());
-  if (tick < now || tick - now > keyframe_every) {
-    const Keyframe* best = &p->keyframes.front();
-    for (const Keyframe& k : p->keyframes) {
-      if (k.tick <= tick && k.tick > best->tick) best = &k;
+  // The last keyframe at or before `tick` (they are in step order; the
+  // first is step 0): restored when going back, or when it is ahead of now.
+  auto best = p->keyframes.rbegin();
+  while (best->tick > tick) ++best;
+  if (tick < now || best->tick > now) {
+    if (const auto error = restore(best->image, *p->world)) {
+      last_error = "keyframe at step " + std::to_string(best->tick) + ": " + *error;
+      return -1;
     }
-    if (best->tick > now || tick < now) {
-      if (const auto error = restore(best->image, *p->world)) {
-        last_error = "keyframe at step " + std::to_string(best->tick) + ": " + *error;
-        return -1;
-      }
-      *p->run = best->run;
-    }
+    *p->run = best->run;
   }
   int mismatches = 0;
   while (static_cast<int64_t>(p->world->step_count()) < tick) mismatches += step_once(*p) == 0 ? 1 : 0;
@@ -418,10 +416,7 @@ VIEWER_EXPORT const char* bv_replay_json(int v) {
   while (!out.inputs.empty() && out.inputs.back().step > tick) out.inputs.pop_back();
   out.steps = tick;
   out.hashes.assign(p->computed.begin(), p->computed.begin() + static_cast<std::ptrdiff_t>(tick));
-  World start(out.scene.settings);
-  std::string reason;
-  build_world(out.scene, start, reason);
-  out.scene_hash = state_hash(start);
+  out.scene_hash = p->start_hash;
   p->text = replay_json(out, "bitstep viewer");
   return p->text.c_str();
 }
