@@ -32,8 +32,8 @@ void list_items(const std::vector<PointRow>& rows, const std::vector<ManifoldRow
   for (uint32_t i = 0; i < manifolds.size(); ++i) {
     const ManifoldRow& m = manifolds[i];
     plan.items[all_manifolds].push_back(i);
-    if (m.count >= 2) plan.items[several_points].push_back(i);
-    if (m.rocking[0].active || m.rocking[1].active) plan.items[rocking_rows].push_back(i);
+    if (has_centroid_row(m)) plan.items[several_points].push_back(i);
+    if (has_rocking_rows(m)) plan.items[rocking_rows].push_back(i);
   }
   for (uint32_t i = 0; i < rows.size(); ++i) {
     if (!rows[i].in_resting_face) plan.items[free_rows].push_back(i);
@@ -121,14 +121,18 @@ void plan_updates(const SweepStep* steps, size_t step_count, int workers, const 
     const bool manifold_items = on_manifolds(steps[s].kind);
     const std::vector<uint8_t>& worker_of = manifold_items ? plan.manifold_worker : plan.row_worker;
     const size_t n = items.size();
+    // The centroid and rocking sweeps run on arrays of their own (SweepRows),
+    // listed as their items are: an update names its place in the list.
+    const bool by_place = steps[s].kind == SweepKind::manifold_normal || steps[s].kind == SweepKind::rocking;
     for (size_t i = 0; i < n; ++i) {
-      const uint32_t item = items[steps[s].reversed ? n - 1 - i : i];
+      const uint32_t place = static_cast<uint32_t>(steps[s].reversed ? n - 1 - i : i);
+      const uint32_t item = items[place];
       const uint32_t body_a = manifold_items ? manifolds[item].a : rows[item].a;
       const uint32_t body_b = manifold_items ? manifolds[item].b : rows[item].b;
       // Places are numbered in one-thread order: a's before b's.
       const uint32_t place_a = place_of(body_a);
       const uint32_t place_b = place_of(body_b);
-      plan.updates_of[worker_of[item]].push_back({item, body_a, body_b, place_a, place_b});
+      plan.updates_of[worker_of[item]].push_back({by_place ? place : item, body_a, body_b, place_a, place_b});
     }
     for (size_t w = 0; w < w_count; ++w) plan.list_end[s * w_count + w] = static_cast<uint32_t>(plan.updates_of[w].size());
   }
@@ -141,6 +145,7 @@ struct SweepRun {
   std::vector<SolverBody>* bodies;
   std::vector<PointRow>* rows;
   const std::vector<ManifoldRow>* manifolds;
+  const SweepRows* sweep_rows;
   OrderedSweeps* plan;
 };
 
@@ -155,13 +160,13 @@ void wait_for(const std::atomic<uint32_t>& progress, uint32_t place) {
 
 // One update of a sweep of this kind on item i.
 template <SweepKind kind>
-void solve_item(SolverBody& a, SolverBody& b, uint32_t i, std::vector<PointRow>& rows,
-                const std::vector<ManifoldRow>& manifolds) {
+void solve_item(SolverBody& a, SolverBody& b, uint32_t i, const SweepRun& run) {
+  std::vector<PointRow>& rows = *run.rows;
   if constexpr (kind == SweepKind::warm_point) warm_start_point(a, b, rows[i]);
-  if constexpr (kind == SweepKind::warm_manifold) warm_start_manifold(a, b, manifolds[i]);
-  if constexpr (kind == SweepKind::friction) solve_friction(a, b, manifolds[i]);
-  if constexpr (kind == SweepKind::manifold_normal) solve_manifold_normal(a, b, manifolds[i]);
-  if constexpr (kind == SweepKind::rocking) solve_rocking(a, b, manifolds[i]);
+  if constexpr (kind == SweepKind::warm_manifold) warm_start_manifold(a, b, (*run.manifolds)[i]);
+  if constexpr (kind == SweepKind::friction) solve_friction(a, b, run.sweep_rows->friction[i]);
+  if constexpr (kind == SweepKind::manifold_normal) solve_manifold_normal(a, b, run.sweep_rows->centroids[i]);
+  if constexpr (kind == SweepKind::rocking) solve_rocking(a, b, run.sweep_rows->rocking[i]);
   if constexpr (kind == SweepKind::point_normal) solve_normal(a, b, rows[i]);
   if constexpr (kind == SweepKind::point_push) solve_push(a, b, rows[i]);
 }
@@ -182,8 +187,7 @@ void run_updates(const SweepRun& run, const OrderedSweeps::Update* begin, const 
     const bool movable_a = u->place_a != OrderedSweeps::immovable, movable_b = u->place_b != OrderedSweeps::immovable;
     if (!movable_a) spare_a = bodies[u->body_a];
     if (!movable_b) spare_b = bodies[u->body_b];
-    solve_item<kind>(movable_a ? bodies[u->body_a] : spare_a, movable_b ? bodies[u->body_b] : spare_b, u->item,
-                     *run.rows, *run.manifolds);
+    solve_item<kind>(movable_a ? bodies[u->body_a] : spare_a, movable_b ? bodies[u->body_b] : spare_b, u->item, run);
     if (wait_a) plan.progress[u->body_a].store(u->place_a + 1, std::memory_order_release);
     if (wait_b) plan.progress[u->body_b].store(u->place_b + 1, std::memory_order_release);
   }
@@ -224,15 +228,20 @@ void plan_inputs(int workers, const std::vector<SweepStep>& steps, const std::ve
   key.push_back(static_cast<uint32_t>(movable.size()));
   for (const uint8_t m : movable) key.push_back(m);
   key.push_back(static_cast<uint32_t>(manifolds.size()));
-  for (const ManifoldRow& m : manifolds) key.insert(key.end(), {m.a, m.b});
+  // Which lists a manifold is in: a count or a rocking row that changes
+  // with the same bodies and rows changes the centroid and rocking lists.
+  for (const ManifoldRow& m : manifolds) {
+    key.insert(key.end(), {m.a, m.b, (has_centroid_row(m) ? 1u : 0u) + (has_rocking_rows(m) ? 2u : 0u)});
+  }
   key.push_back(static_cast<uint32_t>(rows.size()));
   for (const PointRow& r : rows) key.insert(key.end(), {r.a, r.b, r.in_resting_face ? 1u : 0u});
 }
 
 }  // namespace
 
-bool run_ordered_sweeps(Executor& executor, const std::vector<SweepStep>& steps, const std::vector<uint8_t>& movable, std::vector<SolverBody>& bodies,
-                        std::vector<PointRow>& rows, const std::vector<ManifoldRow>& manifolds, OrderedSweeps& plan) {
+bool run_ordered_sweeps(Executor& executor, const std::vector<SweepStep>& steps, const std::vector<uint8_t>& movable,
+                        std::vector<SolverBody>& bodies, std::vector<PointRow>& rows,
+                        const std::vector<ManifoldRow>& manifolds, const SweepRows& sweep_rows, OrderedSweeps& plan) {
   const int workers = std::min(executor.workers(), max_workers);
   // The plan is a function of its inputs alone: made again only when one
   // of them changed (a standing wall's every step is the same plan: 0.9 ms
@@ -250,7 +259,7 @@ bool run_ordered_sweeps(Executor& executor, const std::vector<SweepStep>& steps,
     plan.progress_size = bodies.size();
   }
   for (size_t i = 0; i < bodies.size(); ++i) plan.progress[i].store(0, std::memory_order_relaxed);
-  SweepRun run{steps.data(), steps.size(), workers, &bodies, &rows, &manifolds, &plan};
+  SweepRun run{steps.data(), steps.size(), workers, &bodies, &rows, &manifolds, &sweep_rows, &plan};
   executor.run(run_worker, &run);
   ++plan.shared_runs;
   return true;

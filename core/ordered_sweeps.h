@@ -33,6 +33,7 @@ namespace bitstep {
 struct SolverBody;
 struct PointRow;
 struct ManifoldRow;
+struct SweepRows;
 
 enum class SweepKind : uint8_t {
   warm_point,       // warm_start_point over every row
@@ -58,8 +59,8 @@ struct OrderedSweeps {
   // Places below these are waited for.
   static constexpr uint32_t immovable = UINT32_MAX;    // a static or sleeping side
   static constexpr uint32_t no_wait = UINT32_MAX - 1;  // a body of one worker's share alone
-  // One update: its item (a manifold or a point row), its two bodies and
-  // their places.
+  // One update: its item (a point row, a manifold, or a place in a sweep's
+  // own array: SweepRows), its two bodies and their places.
   struct Update {
     uint32_t item, body_a, body_b, place_a, place_b;
   };
@@ -95,6 +96,7 @@ struct OrderedSweeps {
 // space); the caller then runs the sweeps on its own thread.
 bool run_ordered_sweeps(Executor& executor, const std::vector<SweepStep>& steps, const std::vector<uint8_t>& movable,
                         std::vector<SolverBody>& bodies,
-                        std::vector<PointRow>& rows, const std::vector<ManifoldRow>& manifolds, OrderedSweeps& plan);
+                        std::vector<PointRow>& rows, const std::vector<ManifoldRow>& manifolds,
+                        const SweepRows& sweep_rows, OrderedSweeps& plan);
 
 }  // namespace bitstep

@@ -501,6 +501,13 @@ void sweep_free_rows(std::vector<SolverBody>& bodies, std::vector<PointRow>& row
   }
 }
 
+// One sweep of the iterations over manifolds (rows or their sweep copies),
+// in order.
+template <class Row, class Solve>
+void sweep_manifolds(std::vector<SolverBody>& bodies, const std::vector<Row>& rows, Solve solve) {
+  for (const Row& m : rows) solve(bodies[m.a], bodies[m.b], m);
+}
+
 // Sweeps alternate direction every pass, so no point of a symmetric stack
 // is always solved last (a remedy against drift from the engines bitstep
 // follows: Kenwright's simple impulse engine, JigLib).
@@ -596,6 +603,9 @@ void solve_contacts(const SolveContext& context, SolvePass kind) {
   // is enough to share.
   bool parallel = executor && executor->workers() > 1 && joint_rows.empty() &&
                   manifold_rows.size() >= min_parallel_manifolds * static_cast<size_t>(executor->workers());
+  SweepRows& sweep_rows = scratch.sweep_rows;
+  const bool copies = parallel || manifold_rows.size() >= scratch.sweep_copies_from;
+  if (copies) split_sweep_rows(manifold_rows, sweep_rows);
   if (parallel) {
     std::vector<SweepStep>& steps = scratch.sweeps.steps;
     steps.clear();
@@ -609,7 +619,7 @@ void solve_contacts(const SolveContext& context, SolvePass kind) {
     std::vector<uint8_t>& movable = scratch.sweeps.movable;
     movable.resize(bodies.size());
     for (size_t i = 0; i < bodies.size(); ++i) movable[i] = is_awake_dynamic(bodies[i]) ? 1 : 0;
-    parallel = run_ordered_sweeps(*executor, steps, movable, solver_bodies, rows, manifold_rows, scratch.sweeps);
+    parallel = run_ordered_sweeps(*executor, steps, movable, solver_bodies, rows, manifold_rows, sweep_rows, scratch.sweeps);
   }
   if (!parallel) {
     if (warm) warm_start_joints(solver_bodies, joint_rows);
@@ -620,9 +630,15 @@ void solve_contacts(const SolveContext& context, SolvePass kind) {
       if (!rows[i].in_resting_face) free_rows.push_back(i);
     }
     for (int pass = 0; pass < settings.velocity_iterations; ++pass) {
-      for (const ManifoldRow& m : manifold_rows) solve_friction(solver_bodies[m.a], solver_bodies[m.b], m);
-      for (const ManifoldRow& m : manifold_rows) solve_manifold_normal(solver_bodies[m.a], solver_bodies[m.b], m);
-      for (const ManifoldRow& m : manifold_rows) solve_rocking(solver_bodies[m.a], solver_bodies[m.b], m);
+      if (copies) {
+        sweep_manifolds(solver_bodies, sweep_rows.friction, solve_friction<FrictionRow>);
+        sweep_manifolds(solver_bodies, sweep_rows.centroids, solve_manifold_normal<CentroidRow>);
+        sweep_manifolds(solver_bodies, sweep_rows.rocking, solve_rocking<RockingRow>);
+      } else {
+        sweep_manifolds(solver_bodies, manifold_rows, solve_friction<ManifoldRow>);
+        sweep_manifolds(solver_bodies, manifold_rows, solve_manifold_normal<ManifoldRow>);
+        sweep_manifolds(solver_bodies, manifold_rows, solve_rocking<ManifoldRow>);
+      }
       sweep_free_rows(solver_bodies, rows, free_rows, pass);
       solve_joints(solver_bodies, joint_rows, joints.tree);
     }
@@ -644,7 +660,8 @@ void solve_contacts(const SolveContext& context, SolvePass kind) {
     steps.clear();
     for (int pass = 0; pass < settings.position_iterations; ++pass) steps.push_back({SweepKind::point_push, pass % 2 == 1});
     if (!parallel ||
-        !run_ordered_sweeps(*executor, steps, scratch.sweeps.movable, solver_bodies, rows, manifold_rows, scratch.sweeps)) {
+        !run_ordered_sweeps(*executor, steps, scratch.sweeps.movable, solver_bodies, rows, manifold_rows, sweep_rows,
+                            scratch.sweeps)) {
       for (int pass = 0; pass < settings.position_iterations; ++pass) {
         // The joints last: contacts pushed after them pressed ragdoll
         // limbs past their limits (an elbow 20 degrees for a second in a

@@ -4,14 +4,16 @@ namespace bitstep {
 
 namespace {
 
-Fixed total_normal_impulse(const ManifoldRow& m) {
+template <class Row>
+Fixed total_normal_impulse(const Row& m) {
   Fixed total;
   for (size_t i = 0; i < m.count; ++i) total += point_of(m, i).normal_impulse;
   return total;
 }
 
 // Whether no point of m pulls (every accumulated normal impulse >= 0).
-bool none_pull(const ManifoldRow& m) {
+template <class Row>
+bool none_pull(const Row& m) {
   for (size_t i = 0; i < m.count; ++i) {
     if (point_of(m, i).normal_impulse < Fixed{}) return false;
   }
@@ -25,7 +27,7 @@ bool none_pull(const ManifoldRow& m) {
 // root.
 // Returns the disc's radius hold j_n.
 template <class Part>
-Fixed solve_disc(SolverBody& a, SolverBody& b, const Part (&rows)[2], Fixed (&impulse)[2], Fixed hold, Fixed slide,
+Fixed solve_disc(SolverBody& a, SolverBody& b, const Part* rows, Fixed (&impulse)[2], Fixed hold, Fixed slide,
                  Fixed normal) {
   const Fixed old0 = impulse[0], old1 = impulse[1];
   Fixed new0 = old0 - mul_in_range(rows[0].mass, relative_velocity(a, b, rows[0]));
@@ -85,7 +87,8 @@ AngularPart make_twist(const SolverBody& a, const SolverBody& b, Vec3 n) {
 // within the static cone |j_t| <= mu_s j_n (j_n the manifold's total normal
 // impulse), else scaled onto the dynamic cone mu_d j_n; the twist likewise
 // with the cone scaled by the points' mean radius; then rolling resistance.
-void solve_friction(SolverBody& a, SolverBody& b, const ManifoldRow& m) {
+template <class Row>
+void solve_friction(SolverBody& a, SolverBody& b, const Row& m) {
   Manifold& manifold = *m.manifold;
   const Fixed normal = total_normal_impulse(m);
 
@@ -114,7 +117,8 @@ void solve_friction(SolverBody& a, SolverBody& b, const ManifoldRow& m) {
 }
 
 
-void solve_manifold_normal(SolverBody& a, SolverBody& b, const ManifoldRow& m) {
+template <class Row>
+void solve_manifold_normal(SolverBody& a, SolverBody& b, const Row& m) {
   if (m.count < 2) return;  // a single point is its own centroid
   const Fixed vn = relative_velocity(a, b, m.normal);
   Fixed share = mul_in_range(m.share_mass, m.velocity_target - vn);
@@ -129,7 +133,8 @@ void solve_manifold_normal(SolverBody& a, SolverBody& b, const ManifoldRow& m) {
 
 // Drives the relative rocking rate to zero, keeping every point's
 // accumulated normal impulse >= 0 (contacts push, never pull).
-void solve_rocking(SolverBody& a, SolverBody& b, const ManifoldRow& m) {
+template <class Row>
+void solve_rocking(SolverBody& a, SolverBody& b, const Row& m) {
   for (const ManifoldRow::Rocking& r : m.rocking) {
     if (!r.active) continue;
     Fixed lambda = -mul_in_range(r.row.mass, relative_spin(a, b, r.row));
@@ -155,6 +160,27 @@ void solve_rocking(SolverBody& a, SolverBody& b, const ManifoldRow& m) {
       p.normal_impulse = clamped ? max(p.normal_impulse + mul_in_range(lambda, r.alpha[i]), Fixed{}) : next[i];
     }
     apply_spin(a, b, r.row, lambda);
+  }
+}
+
+template void solve_friction(SolverBody&, SolverBody&, const ManifoldRow&);
+template void solve_friction(SolverBody&, SolverBody&, const FrictionRow&);
+template void solve_manifold_normal(SolverBody&, SolverBody&, const ManifoldRow&);
+template void solve_manifold_normal(SolverBody&, SolverBody&, const CentroidRow&);
+template void solve_rocking(SolverBody&, SolverBody&, const ManifoldRow&);
+template void solve_rocking(SolverBody&, SolverBody&, const RockingRow&);
+
+void split_sweep_rows(const std::vector<ManifoldRow>& manifolds, SweepRows& out) {
+  out.friction.resize(manifolds.size());
+  out.centroids.clear();
+  out.rocking.clear();
+  for (size_t i = 0; i < manifolds.size(); ++i) {
+    const ManifoldRow& m = manifolds[i];
+    out.friction[i] = {m.a,        m.b,       m.count,           m.manifold,         {m.tangent[0], m.tangent[1]},
+                       m.twist,    m.static_friction, m.dynamic_friction, m.twist_radius, m.rolling_limit,
+                       m.rolling};
+    if (has_centroid_row(m)) out.centroids.push_back({m.a, m.b, m.count, m.manifold, m.normal, m.share_mass, m.velocity_target});
+    if (has_rocking_rows(m)) out.rocking.push_back({m.a, m.b, m.count, m.manifold, {m.rocking[0], m.rocking[1]}});
   }
 }
 

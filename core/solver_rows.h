@@ -124,12 +124,59 @@ struct ManifoldRow {
   uint32_t index = 0, reused_from = none;
 };
 
+// The iterations' copies of a manifold row's parts, one array per sweep
+// (SweepRows), made once a solve (split_sweep_rows). A pass of the
+// iterations sweeps the manifolds three times (friction, the centroid row,
+// rocking); over whole ManifoldRows (1,152 bytes, streamed whole by the
+// prefetcher) each sweep read them all: wall64's 6,200 manifolds streamed
+// 21 MB a pass from beyond the core's cache. Each sweep now streams only
+// the part it reads, with the same arithmetic on the same values.
+struct FrictionRow {
+  uint32_t a, b;
+  size_t count;
+  Manifold* manifold;
+  Jacobian tangent[2];
+  AngularPart twist;
+  Fixed static_friction, dynamic_friction, twist_radius;
+  Fixed rolling_limit;
+  const AngularPart* rolling;  // the manifold row's two rolling rows (read only where rolling_limit > 0)
+};
+struct CentroidRow {
+  uint32_t a, b;
+  size_t count;
+  Manifold* manifold;
+  Jacobian normal;
+  Fixed share_mass, velocity_target;
+};
+struct RockingRow {
+  uint32_t a, b;
+  size_t count;
+  Manifold* manifold;
+  ManifoldRow::Rocking rocking[2];
+};
+
+// Which manifolds each sweep visits: friction every one, the centroid row
+// those of 2 points or more, rocking those with an active rocking row (the
+// others' updates change nothing). The ordered sweeps list the same.
+inline bool has_centroid_row(const ManifoldRow& m) { return m.count >= 2; }
+inline bool has_rocking_rows(const ManifoldRow& m) { return m.rocking[0].active || m.rocking[1].active; }
+
+struct SweepRows {
+  std::vector<FrictionRow> friction;   // per manifold row
+  std::vector<CentroidRow> centroids;  // per manifold row with has_centroid_row, in order
+  std::vector<RockingRow> rocking;     // per manifold row with has_rocking_rows, in order
+};
+void split_sweep_rows(const std::vector<ManifoldRow>& manifolds, SweepRows& out);
+
 // The contact point of m's i-th point row: the rows are built in the
 // manifold's point order (build_rows in solver.cpp, one-sided copies
 // keep it), so it is read from the manifold, without loading the row (a
 // PointRow is ~220 bytes; a resting face's rows are not otherwise read in
-// an iteration).
-inline ContactPoint& point_of(const ManifoldRow& m, size_t i) { return m.manifold->points[i]; }
+// an iteration). m: a ManifoldRow or one of its sweep parts.
+template <class Row>
+ContactPoint& point_of(const Row& m, size_t i) {
+  return m.manifold->points[i];
+}
 
 // Inside the solver no product or sum can leave the Q32.32 range, so they
 // skip the saturation test (mul_in_range, sum_products_in_range; the checked
@@ -299,6 +346,14 @@ struct SolverScratch {
   // The solves that build `manifolds`, numbered from 1; the one whose rows
   // this solve's were reused from (ManifoldRow::reused_from), 0 for none.
   uint64_t solves = 0, rows_reused_from = 0;
+  // The iterations' copies of the manifold rows' parts, one array per
+  // sweep: made from this many manifold rows (their 1,152 bytes each then
+  // outgrow a core's cache, and the copy costs less than the rows streamed
+  // three times a pass), and whenever the sweeps run on several workers.
+  // Below it the sweeps read the rows (a copy cost pyramid20's 400
+  // manifolds 6%). The same bits either way (replay_tests runs both).
+  SweepRows sweep_rows;
+  size_t sweep_copies_from = 2048;
   // The iterations and position passes on several workers (ordered_sweeps.h).
   OrderedSweeps sweeps;
 };
@@ -325,12 +380,18 @@ inline void warm_start_manifold(SolverBody& a, SolverBody& b, const ManifoldRow&
 }
 
 // Friction (tangents and twist) at the centroid of a manifold, within the
-// static or dynamic cone of its total normal impulse.
-void solve_friction(SolverBody& a, SolverBody& b, const ManifoldRow& m);
+// static or dynamic cone of its total normal impulse. Row: ManifoldRow or
+// FrictionRow.
+template <class Row>
+void solve_friction(SolverBody& a, SolverBody& b, const Row& m);
 // The centroid row: equal shares of a normal impulse through the centroid.
-void solve_manifold_normal(SolverBody& a, SolverBody& b, const ManifoldRow& m);
-// The rocking rows: relative rotation about the in-plane axes, no point pulling.
-void solve_rocking(SolverBody& a, SolverBody& b, const ManifoldRow& m);
+// Row: ManifoldRow or CentroidRow.
+template <class Row>
+void solve_manifold_normal(SolverBody& a, SolverBody& b, const Row& m);
+// The rocking rows: relative rotation about the in-plane axes, no point
+// pulling. Row: ManifoldRow or RockingRow.
+template <class Row>
+void solve_rocking(SolverBody& a, SolverBody& b, const Row& m);
 // One pass over a manifold: friction, the centroid row, rocking, then its
 // points (in alternating direction with the pass).
 void solve_manifold(std::vector<SolverBody>& bodies, std::vector<PointRow>& rows, const ManifoldRow& m, int pass);

@@ -90,9 +90,14 @@ void World::after_in_place_restore() {
   }
   events_.clear();
   // A world built from a state has no caches: the scratch is made anew in
-  // place (no allocation; some of it holds atomics and cannot be assigned).
+  // place (no allocation; some of it holds atomics and cannot be assigned),
+  // keeping what the caller chose of its use.
+  const bool reuse = scratch_->solver_scratch.row_cache.enabled;
+  const size_t sweep_copies_from = scratch_->solver_scratch.sweep_copies_from;
   std::destroy_at(scratch_.get());
   std::construct_at(scratch_.get());
+  if (!reuse) set_contact_reuse(false);
+  set_sweep_copies_from(sweep_copies_from);
 }
 
 World World::from_state(const Settings& settings, uint64_t step_count, std::vector<Body> bodies,
@@ -191,6 +196,8 @@ void World::set_contact_reuse(bool on) {
   scratch_->solver_scratch.row_cache.enabled = on;
   scratch_->solver_scratch.row_cache.entries.clear();
 }
+
+void World::set_sweep_copies_from(size_t manifolds) { scratch_->solver_scratch.sweep_copies_from = manifolds; }
 
 void World::count_special(const Body& body, int change) {
   const auto step = static_cast<uint32_t>(change);  // +1 or -1, modulo 2^32
