@@ -36,7 +36,7 @@ void list_items(const std::vector<PointRow>& rows, const std::vector<ManifoldRow
     if (has_rocking_rows(m)) plan.items[rocking_rows].push_back(i);
   }
   for (uint32_t i = 0; i < rows.size(); ++i) {
-    if (!rows[i].in_resting_face) plan.items[free_rows].push_back(i);
+    if (is_free_row(rows[i])) plan.items[free_rows].push_back(i);
     plan.items[all_rows].push_back(i);
   }
 }
@@ -121,9 +121,11 @@ void plan_updates(const SweepStep* steps, size_t step_count, int workers, const 
     const bool manifold_items = on_manifolds(steps[s].kind);
     const std::vector<uint8_t>& worker_of = manifold_items ? plan.manifold_worker : plan.row_worker;
     const size_t n = items.size();
-    // The centroid and rocking sweeps run on arrays of their own (SweepRows),
-    // listed as their items are: an update names its place in the list.
-    const bool by_place = steps[s].kind == SweepKind::manifold_normal || steps[s].kind == SweepKind::rocking;
+    // The centroid, rocking and free point rows' sweeps run on arrays of
+    // their own (SweepRows), listed as their items are: an update names its
+    // place in the list.
+    const bool by_place = steps[s].kind == SweepKind::manifold_normal || steps[s].kind == SweepKind::rocking ||
+                          steps[s].kind == SweepKind::point_normal;
     for (size_t i = 0; i < n; ++i) {
       const uint32_t place = static_cast<uint32_t>(steps[s].reversed ? n - 1 - i : i);
       const uint32_t item = items[place];
@@ -167,7 +169,7 @@ void solve_item(SolverBody& a, SolverBody& b, uint32_t i, const SweepRun& run) {
   if constexpr (kind == SweepKind::friction) solve_friction(a, b, run.sweep_rows->friction[i]);
   if constexpr (kind == SweepKind::manifold_normal) solve_manifold_normal(a, b, run.sweep_rows->centroids[i]);
   if constexpr (kind == SweepKind::rocking) solve_rocking(a, b, run.sweep_rows->rocking[i]);
-  if constexpr (kind == SweepKind::point_normal) solve_normal(a, b, rows[i]);
+  if constexpr (kind == SweepKind::point_normal) solve_normal(a, b, run.sweep_rows->free[i]);
   if constexpr (kind == SweepKind::point_push) solve_push(a, b, rows[i]);
 }
 

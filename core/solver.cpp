@@ -508,6 +508,15 @@ void sweep_manifolds(std::vector<SolverBody>& bodies, const std::vector<Row>& ro
   for (const Row& m : rows) solve(bodies[m.a], bodies[m.b], m);
 }
 
+// The same over their copies (SweepRows::free).
+void sweep_free_rows(std::vector<SolverBody>& bodies, const std::vector<FreeRow>& free, int pass) {
+  const size_t n = free.size();
+  for (size_t k = 0; k < n; ++k) {
+    const FreeRow& row = free[pass % 2 == 0 ? k : n - 1 - k];
+    solve_normal(bodies[row.a], bodies[row.b], row);
+  }
+}
+
 // Sweeps alternate direction every pass, so no point of a symmetric stack
 // is always solved last (a remedy against drift from the engines bitstep
 // follows: Kenwright's simple impulse engine, JigLib).
@@ -605,7 +614,7 @@ void solve_contacts(const SolveContext& context, SolvePass kind) {
                   manifold_rows.size() >= min_parallel_manifolds * static_cast<size_t>(executor->workers());
   SweepRows& sweep_rows = scratch.sweep_rows;
   const bool copies = parallel || manifold_rows.size() >= scratch.sweep_copies_from;
-  if (copies) split_sweep_rows(manifold_rows, sweep_rows);
+  if (copies) split_sweep_rows(manifold_rows, rows, sweep_rows);
   if (parallel) {
     std::vector<SweepStep>& steps = scratch.sweeps.steps;
     steps.clear();
@@ -626,8 +635,8 @@ void solve_contacts(const SolveContext& context, SolvePass kind) {
     if (warm) warm_start(solver_bodies, rows, manifold_rows);
     std::vector<uint32_t>& free_rows = scratch.free_rows;
     free_rows.clear();
-    for (uint32_t i = 0; i < rows.size(); ++i) {
-      if (!rows[i].in_resting_face) free_rows.push_back(i);
+    for (uint32_t i = 0; i < rows.size() && !copies; ++i) {
+      if (is_free_row(rows[i])) free_rows.push_back(i);
     }
     for (int pass = 0; pass < settings.velocity_iterations; ++pass) {
       if (copies) {
@@ -639,10 +648,15 @@ void solve_contacts(const SolveContext& context, SolvePass kind) {
         sweep_manifolds(solver_bodies, manifold_rows, solve_manifold_normal<ManifoldRow>);
         sweep_manifolds(solver_bodies, manifold_rows, solve_rocking<ManifoldRow>);
       }
-      sweep_free_rows(solver_bodies, rows, free_rows, pass);
+      if (copies) {
+        sweep_free_rows(solver_bodies, sweep_rows.free, pass);
+      } else {
+        sweep_free_rows(solver_bodies, rows, free_rows, pass);
+      }
       solve_joints(solver_bodies, joint_rows, joints.tree);
     }
   }
+  if (copies) write_back_impulses(manifold_rows, rows, sweep_rows);
   if (kind == SolvePass::collision) {
     restore_impulses(scratch.saved_impulses, contacts);
     write_velocities(solver_bodies, bodies);

@@ -7,7 +7,7 @@ namespace {
 template <class Row>
 Fixed total_normal_impulse(const Row& m) {
   Fixed total;
-  for (size_t i = 0; i < m.count; ++i) total += point_of(m, i).normal_impulse;
+  for (size_t i = 0; i < m.count; ++i) total += normal_impulse(m, i);
   return total;
 }
 
@@ -15,7 +15,7 @@ Fixed total_normal_impulse(const Row& m) {
 template <class Row>
 bool none_pull(const Row& m) {
   for (size_t i = 0; i < m.count; ++i) {
-    if (point_of(m, i).normal_impulse < Fixed{}) return false;
+    if (normal_impulse(m, i) < Fixed{}) return false;
   }
   return true;
 }
@@ -89,21 +89,23 @@ AngularPart make_twist(const SolverBody& a, const SolverBody& b, Vec3 n) {
 // with the cone scaled by the points' mean radius; then rolling resistance.
 template <class Row>
 void solve_friction(SolverBody& a, SolverBody& b, const Row& m) {
-  Manifold& manifold = *m.manifold;
   const Fixed normal = total_normal_impulse(m);
+  Fixed (&friction)[2] = friction_impulse(m);
+  Fixed& twist_total = twist_impulse(m);
+  Fixed (&rolling)[2] = rolling_impulse(m);
 
   // mu_s j_n: the tangents' disc radius, the product mu_s * j_n in range.
   const Fixed static_limit =
-      solve_disc(a, b, m.tangent, manifold.friction_impulse, m.static_friction, m.dynamic_friction, normal);
+      solve_disc(a, b, m.tangent, friction, m.static_friction, m.dynamic_friction, normal);
 
-  const Fixed old_twist = manifold.twist_impulse;
+  const Fixed old_twist = twist_total;
   Fixed twist = old_twist - mul_in_range(m.twist.mass, relative_spin(a, b, m.twist));
   const Fixed twist_limit = static_limit * m.twist_radius;
   if (abs(twist) > twist_limit) {
     const Fixed slide = m.dynamic_friction * normal * m.twist_radius;
     twist = twist < Fixed{} ? -slide : slide;
   }
-  manifold.twist_impulse = twist;
+  twist_total = twist;
   apply_spin(a, b, m.twist, twist - old_twist);
 
   // Rolling resistance: the angular impulse that stops the relative rotation
@@ -112,7 +114,7 @@ void solve_friction(SolverBody& a, SolverBody& b, const Row& m) {
   // it lagged the normal and friction rows it balances, and the lag drove a
   // steady creep in proportion to c.
   if (m.rolling_limit > Fixed{}) {
-    solve_disc(a, b, m.rolling, manifold.rolling_impulse, m.rolling_limit, m.rolling_limit, normal);
+    solve_disc(a, b, m.rolling, rolling, m.rolling_limit, m.rolling_limit, normal);
   }
 }
 
@@ -123,8 +125,8 @@ void solve_manifold_normal(SolverBody& a, SolverBody& b, const Row& m) {
   const Fixed vn = relative_velocity(a, b, m.normal);
   Fixed share = mul_in_range(m.share_mass, m.velocity_target - vn);
   // Each point's accumulated impulse stays >= 0.
-  for (size_t i = 0; i < m.count; ++i) share = max(share, -point_of(m, i).normal_impulse);
-  for (size_t i = 0; i < m.count; ++i) point_of(m, i).normal_impulse += share;
+  for (size_t i = 0; i < m.count; ++i) share = max(share, -normal_impulse(m, i));
+  for (size_t i = 0; i < m.count; ++i) normal_impulse(m, i) += share;
   // The solver's in-range form (an impulse times 2..4): the bits of *, and
   // an impulse gcc multiplies with one instruction a product (from *'s
   // saturated result it took three).
@@ -148,7 +150,7 @@ void solve_rocking(SolverBody& a, SolverBody& b, const Row& m) {
     bool clamped = false;
     for (size_t i = 0; i < m.count; ++i) {
       const Fixed alpha = r.alpha[i];
-      const Fixed jn = point_of(m, i).normal_impulse;
+      const Fixed jn = normal_impulse(m, i);
       next[i] = jn + mul_in_range(lambda, alpha);
       if (next[i] >= Fixed{}) continue;
       clamped = true;
@@ -156,8 +158,8 @@ void solve_rocking(SolverBody& a, SolverBody& b, const Row& m) {
       if (alpha < Fixed{}) lambda = min(lambda, jn / -alpha);
     }
     for (size_t i = 0; i < m.count; ++i) {
-      ContactPoint& p = point_of(m, i);
-      p.normal_impulse = clamped ? max(p.normal_impulse + mul_in_range(lambda, r.alpha[i]), Fixed{}) : next[i];
+      Fixed& jn = normal_impulse(m, i);
+      jn = clamped ? max(jn + mul_in_range(lambda, r.alpha[i]), Fixed{}) : next[i];
     }
     apply_spin(a, b, r.row, lambda);
   }
@@ -170,17 +172,58 @@ template void solve_manifold_normal(SolverBody&, SolverBody&, const CentroidRow&
 template void solve_rocking(SolverBody&, SolverBody&, const ManifoldRow&);
 template void solve_rocking(SolverBody&, SolverBody&, const RockingRow&);
 
-void split_sweep_rows(const std::vector<ManifoldRow>& manifolds, SweepRows& out) {
+namespace {
+
+// The point rows of manifold row i: from its first to the next one's
+// (every point of the manifold, in point order; count are those held).
+size_t rows_end(const std::vector<ManifoldRow>& manifolds, const std::vector<PointRow>& rows, size_t i) {
+  return i + 1 < manifolds.size() ? manifolds[i + 1].first : rows.size();
+}
+
+}  // namespace
+
+void split_sweep_rows(const std::vector<ManifoldRow>& manifolds, const std::vector<PointRow>& rows, SweepRows& out) {
+  out.impulses.resize(manifolds.size());
   out.friction.resize(manifolds.size());
   out.centroids.clear();
   out.rocking.clear();
+  out.free.clear();
   for (size_t i = 0; i < manifolds.size(); ++i) {
     const ManifoldRow& m = manifolds[i];
-    out.friction[i] = {m.a,        m.b,       m.count,           m.manifold,         {m.tangent[0], m.tangent[1]},
-                       m.twist,    m.static_friction, m.dynamic_friction, m.twist_radius, m.rolling_limit,
+    const Manifold& manifold = *m.manifold;
+    ManifoldImpulses& impulses = out.impulses[i];
+    impulses = {{},
+                {manifold.friction_impulse[0], manifold.friction_impulse[1]},
+                manifold.twist_impulse,
+                {manifold.rolling_impulse[0], manifold.rolling_impulse[1]}};
+    const size_t end = rows_end(manifolds, rows, i);
+    for (size_t r = m.first; r < end; ++r) {
+      const PointRow& row = rows[r];
+      Fixed& jn = impulses.normal[r - m.first];
+      jn = row.point->normal_impulse;
+      if (is_free_row(row)) out.free.push_back({row.a, row.b, row.normal, row.velocity_target, &jn});
+    }
+    out.friction[i] = {m.a,     m.b,     m.count,           &impulses,          {m.tangent[0], m.tangent[1]},
+                       m.twist, m.static_friction, m.dynamic_friction, m.twist_radius, m.rolling_limit,
                        m.rolling};
-    if (has_centroid_row(m)) out.centroids.push_back({m.a, m.b, m.count, m.manifold, m.normal, m.share_mass, m.velocity_target});
-    if (has_rocking_rows(m)) out.rocking.push_back({m.a, m.b, m.count, m.manifold, {m.rocking[0], m.rocking[1]}});
+    if (has_centroid_row(m)) out.centroids.push_back({m.a, m.b, m.count, &impulses, m.normal, m.share_mass, m.velocity_target});
+    if (has_rocking_rows(m)) out.rocking.push_back({m.a, m.b, m.count, &impulses, {m.rocking[0], m.rocking[1]}});
+  }
+}
+
+void write_back_impulses(const std::vector<ManifoldRow>& manifolds, const std::vector<PointRow>& rows,
+                         const SweepRows& copies) {
+  for (size_t i = 0; i < manifolds.size(); ++i) {
+    const ManifoldRow& m = manifolds[i];
+    Manifold& manifold = *m.manifold;
+    const ManifoldImpulses& impulses = copies.impulses[i];
+    const size_t end = rows_end(manifolds, rows, i);
+    for (size_t r = m.first; r < end; ++r) rows[r].point->normal_impulse = impulses.normal[r - m.first];
+    manifold.friction_impulse[0] = impulses.friction[0];
+    manifold.friction_impulse[1] = impulses.friction[1];
+    manifold.twist_impulse = impulses.twist;
+    manifold.rolling_impulse[0] = impulses.rolling[0];
+    manifold.rolling_impulse[1] = impulses.rolling[1];
   }
 }
 

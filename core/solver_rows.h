@@ -124,17 +124,33 @@ struct ManifoldRow {
   uint32_t index = 0, reused_from = none;
 };
 
+// The contact point of m's i-th point row: the rows are built in the
+// manifold's point order (build_rows in solver.cpp, one-sided copies
+// keep it), so it is read from the manifold, without loading the row (a
+// PointRow is ~220 bytes; a resting face's rows are not otherwise read in
+// an iteration).
+inline ContactPoint& point_of(const ManifoldRow& m, size_t i) { return m.manifold->points[i]; }
+
 // The iterations' copies of a manifold row's parts, one array per sweep
 // (SweepRows), made once a solve (split_sweep_rows). A pass of the
 // iterations sweeps the manifolds three times (friction, the centroid row,
-// rocking); over whole ManifoldRows (1,152 bytes, streamed whole by the
-// prefetcher) each sweep read them all: wall64's 6,200 manifolds streamed
-// 21 MB a pass from beyond the core's cache. Each sweep now streams only
-// the part it reads, with the same arithmetic on the same values.
+// rocking) and the free point rows once; over whole ManifoldRows (1,152
+// bytes, streamed whole by the prefetcher) and the contacts' manifolds
+// (their impulses 56 bytes apart) each sweep read everything: wall64's
+// 6,200 manifolds streamed ~25 MB a pass from beyond the core's cache.
+// Each sweep now streams only the part it reads, and the accumulated
+// impulses lie together (ManifoldImpulses), read from the manifolds once
+// and written back once a solve. The same arithmetic on the same values.
+struct ManifoldImpulses {
+  Fixed normal[max_manifold_points];  // per point (Manifold::points[i].normal_impulse)
+  Fixed friction[2];
+  Fixed twist;
+  Fixed rolling[2];
+};
 struct FrictionRow {
   uint32_t a, b;
   size_t count;
-  Manifold* manifold;
+  ManifoldImpulses* impulses;
   Jacobian tangent[2];
   AngularPart twist;
   Fixed static_friction, dynamic_friction, twist_radius;
@@ -144,38 +160,66 @@ struct FrictionRow {
 struct CentroidRow {
   uint32_t a, b;
   size_t count;
-  Manifold* manifold;
+  ManifoldImpulses* impulses;
   Jacobian normal;
   Fixed share_mass, velocity_target;
 };
 struct RockingRow {
   uint32_t a, b;
   size_t count;
-  Manifold* manifold;
+  ManifoldImpulses* impulses;
   ManifoldRow::Rocking rocking[2];
 };
+// A point row outside a resting face (the iterations' point rows).
+struct FreeRow {
+  uint32_t a, b;
+  Jacobian normal;
+  Fixed velocity_target;
+  Fixed* impulse;  // its point's in ManifoldImpulses::normal
+};
 
-// Which manifolds each sweep visits: friction every one, the centroid row
-// those of 2 points or more, rocking those with an active rocking row (the
-// others' updates change nothing). The ordered sweeps list the same.
+// Which manifolds and rows each sweep visits: friction every manifold, the
+// centroid row those of 2 points or more, rocking those with an active
+// rocking row (the others' updates change nothing), the point rows those
+// outside a resting face. The ordered sweeps list the same.
 inline bool has_centroid_row(const ManifoldRow& m) { return m.count >= 2; }
 inline bool has_rocking_rows(const ManifoldRow& m) { return m.rocking[0].active || m.rocking[1].active; }
+inline bool is_free_row(const PointRow& row) { return !row.in_resting_face; }
 
 struct SweepRows {
-  std::vector<FrictionRow> friction;   // per manifold row
-  std::vector<CentroidRow> centroids;  // per manifold row with has_centroid_row, in order
-  std::vector<RockingRow> rocking;     // per manifold row with has_rocking_rows, in order
+  std::vector<ManifoldImpulses> impulses;  // per manifold row
+  std::vector<FrictionRow> friction;       // per manifold row
+  std::vector<CentroidRow> centroids;      // per manifold row with has_centroid_row, in order
+  std::vector<RockingRow> rocking;         // per manifold row with has_rocking_rows, in order
+  std::vector<FreeRow> free;               // per point row with is_free_row, in order
 };
-void split_sweep_rows(const std::vector<ManifoldRow>& manifolds, SweepRows& out);
+// Makes the copies, reading the manifolds' accumulated impulses.
+void split_sweep_rows(const std::vector<ManifoldRow>& manifolds, const std::vector<PointRow>& rows, SweepRows& out);
+// Writes the copies' accumulated impulses back to the manifolds.
+void write_back_impulses(const std::vector<ManifoldRow>& manifolds, const std::vector<PointRow>& rows,
+                         const SweepRows& copies);
 
-// The contact point of m's i-th point row: the rows are built in the
-// manifold's point order (build_rows in solver.cpp, one-sided copies
-// keep it), so it is read from the manifold, without loading the row (a
-// PointRow is ~220 bytes; a resting face's rows are not otherwise read in
-// an iteration). m: a ManifoldRow or one of its sweep parts.
-template <class Row>
-ContactPoint& point_of(const Row& m, size_t i) {
-  return m.manifold->points[i];
+// A manifold's accumulated impulses, where the iterations keep them: in the
+// contact's manifold for a ManifoldRow, in ManifoldImpulses for a copy.
+inline Fixed& normal_impulse(const ManifoldRow& m, size_t i) { return m.manifold->points[i].normal_impulse; }
+inline Fixed (&friction_impulse(const ManifoldRow& m))[2] { return m.manifold->friction_impulse; }
+inline Fixed& twist_impulse(const ManifoldRow& m) { return m.manifold->twist_impulse; }
+inline Fixed (&rolling_impulse(const ManifoldRow& m))[2] { return m.manifold->rolling_impulse; }
+template <class Copy>
+Fixed& normal_impulse(const Copy& m, size_t i) {
+  return m.impulses->normal[i];
+}
+template <class Copy>
+Fixed (&friction_impulse(const Copy& m))[2] {
+  return m.impulses->friction;
+}
+template <class Copy>
+Fixed& twist_impulse(const Copy& m) {
+  return m.impulses->twist;
+}
+template <class Copy>
+Fixed (&rolling_impulse(const Copy& m))[2] {
+  return m.impulses->rolling;
 }
 
 // Inside the solver no product or sum can leave the Q32.32 range, so they
@@ -257,6 +301,9 @@ inline void solve_point(BodyRates& a, BodyRates& b, const Jacobian& j, Fixed& ac
 }
 inline void solve_normal(SolverBody& a, SolverBody& b, const PointRow& row) {
   solve_point(a.velocity, b.velocity, row.normal, row.point->normal_impulse, row.velocity_target);
+}
+inline void solve_normal(SolverBody& a, SolverBody& b, const FreeRow& row) {
+  solve_point(a.velocity, b.velocity, row.normal, *row.impulse, row.velocity_target);
 }
 inline void solve_push(SolverBody& a, SolverBody& b, const PointRow& row) {
   solve_point(a.push, b.push, row.normal, row.point->split_impulse, row.push_target, row.impact);
