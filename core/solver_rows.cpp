@@ -93,6 +93,23 @@ void solve_friction(SolverBody& a, SolverBody& b, const Row& m) {
   Fixed (&friction)[2] = friction_impulse(m);
   Fixed& twist_total = twist_impulse(m);
   Fixed (&rolling)[2] = rolling_impulse(m);
+  if (normal == Fixed{}) {
+    // No normal impulse (a speculative contact, bricks side by side): every
+    // cone below has radius 0, so each row's new impulse is 0 whatever the
+    // relative rates (kept at 0, or scaled onto the zero disc): the same
+    // bits without their products, square root and divisions.
+    const Fixed old[5] = {friction[0], friction[1], twist_total, rolling[0], rolling[1]};
+    friction[0] = friction[1] = twist_total = Fixed{};
+    apply_impulse(a, b, m.tangent[0], -old[0]);
+    apply_impulse(a, b, m.tangent[1], -old[1]);
+    apply_spin(a, b, m.twist, -old[2]);
+    if (m.rolling_limit > Fixed{}) {
+      rolling[0] = rolling[1] = Fixed{};
+      apply_spin(a, b, m.rolling[0], -old[3]);
+      apply_spin(a, b, m.rolling[1], -old[4]);
+    }
+    return;
+  }
 
   // mu_s j_n: the tangents' disc radius, the product mu_s * j_n in range.
   const Fixed static_limit =
