@@ -264,7 +264,7 @@ bool release_pulling_rows(std::vector<SolverBody>& bodies, std::vector<JointRow>
     row.released = released = true;  // not engaged again this step
     set_tree_axes(row);
   }
-  if (released) factor_joint_tree(bodies, rows, tree);
+  if (released) refactor_joint_tree(bodies, rows, tree);
   return released;
 }
 
@@ -351,7 +351,7 @@ void solve_pass(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, Jo
     promoted = true;
   }
   if (!tree.exact) return;
-  if (promoted) factor_joint_tree(bodies, rows, tree);
+  if (promoted) refactor_joint_tree(bodies, rows, tree);
   solve_tree(bodies, rows, tree, rate_of, targets_of, impulses_of);
 }
 

@@ -196,11 +196,12 @@ void list_couplings(const std::vector<SolverBody>& bodies, const std::vector<Joi
         const JointRow& rj = rows[tree.body_rows[y]];
         uint32_t pi = tree.position_of[tree.body_rows[x]], pj = tree.position_of[tree.body_rows[y]];
         Block block = coupling(bodies[body], ri, rj, body);  // K_ij
-        if (pj < pi) {
+        const bool swapped = pj < pi;
+        if (swapped) {
           std::swap(pi, pj);
           block = transposed(block, ri.tree_size, rj.tree_size);
         }
-        tree.unsorted.push_back({pj, block, {}});
+        tree.unsorted.push_back({pj, block, {}, body, tree.body_rows[x], tree.body_rows[y], swapped});
         tree.owner.push_back(pi);
       }
     }
@@ -293,19 +294,37 @@ Block inverse_spd(const Block& k, int n) {
   return inverse;
 }
 
-void factor_joint_tree(const std::vector<SolverBody>& bodies, const std::vector<JointRow>& rows, JointTree& tree) {
-  tree.exact = false;
-  tree.row_of.clear();
-  if (rows.empty() || !list_body_rows(bodies, rows, tree)) return;
-  measure_depths(bodies, rows, tree);
-  order_rows(bodies, rows, tree);
-  if (tree.row_of.empty()) return;
-  list_couplings(bodies, rows, tree);
+namespace {
+
+void list_holds(const std::vector<JointRow>& rows, std::vector<uint8_t>& holds) {
+  holds.resize(rows.size());
+  for (size_t r = 0; r < rows.size(); ++r) {
+    holds[r] = static_cast<uint8_t>((rows[r].swing_in_tree ? 1 : 0) | (rows[r].limit_in_tree ? 2 : 0));
+  }
+}
+
+// Each position's tree: the lowest position it is coupled to, directly or
+// through others.
+void label_components(JointTree& tree) {
   const size_t n = tree.row_of.size();
-  tree.size.resize(n);
-  tree.pivot.resize(n);
-  tree.pivot_inverse.resize(n);
+  std::vector<uint32_t>& parent = tree.parent;
+  parent.resize(n);
+  for (uint32_t p = 0; p < n; ++p) parent[p] = p;
+  for (uint32_t k = 0; k < n; ++k) {
+    for (uint32_t c = tree.couplings_begin[k]; c < tree.couplings_begin[k + 1]; ++c) unite(parent, k, tree.couplings[c].other);
+  }
+  tree.component.resize(n);
+  for (uint32_t p = 0; p < n; ++p) tree.component[p] = find_root(parent, p);
+}
+
+// The numbers of the factorisation at the positions marked in `dirty` (all
+// of some trees), their couplings' K blocks formed as `recouple` says:
+// each pivot K_ii, then K = L D L^T in position order, leaves first.
+void factor_positions(const std::vector<SolverBody>& bodies, const std::vector<JointRow>& rows, JointTree& tree,
+                      const std::vector<uint8_t>& dirty, bool recouple) {
+  const size_t n = tree.row_of.size();
   for (size_t p = 0; p < n; ++p) {
+    if (!dirty[p]) continue;
     const JointRow& row = rows[tree.row_of[p]];
     tree.size[p] = row.tree_size;
     // K_ii: the point block's K as prepare_joint_rows formed it, and the
@@ -325,10 +344,19 @@ void factor_joint_tree(const std::vector<SolverBody>& bodies, const std::vector<
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < 3; ++j) pivot.at[i][j] = point.at[i][j];
     }
+    if (!recouple) continue;
+    for (uint32_t c = tree.couplings_begin[p]; c < tree.couplings_begin[p + 1]; ++c) {
+      JointTree::Coupling& k = tree.couplings[c];
+      const JointRow& first = rows[k.first];
+      const JointRow& second = rows[k.second];
+      k.block = coupling(bodies[k.body], first, second, k.body);
+      if (k.swapped) k.block = transposed(k.block, first.tree_size, second.tree_size);
+    }
   }
   // K = L D L^T, leaves first: eliminating k subtracts K_ik D_k^-1 K_kj
-  // from every pair of its later neighbours i, j.
+  // from every pair of its later neighbours i, j (all in k's tree).
   for (uint32_t k = 0; k < n; ++k) {
+    if (!dirty[k]) continue;
     const int nk = tree.size[k];
     tree.pivot_inverse[k] = inverse_spd(tree.pivot[k], nk);
     const uint32_t begin = tree.couplings_begin[k], end = tree.couplings_begin[k + 1];
@@ -347,19 +375,63 @@ void factor_joint_tree(const std::vector<SolverBody>& bodies, const std::vector<
         }
         const bool i_first = ci.other < cj.other;
         Block* between = i_first ? block_between(tree, ci.other, cj.other) : block_between(tree, cj.other, ci.other);
-        if (between == nullptr) return;  // fill-in: the order is not a tree's
+        if (between == nullptr) {  // fill-in: the order is not a tree's
+          tree.exact = false;
+          return;
+        }
         subtract(*between, i_first ? update : transposed(update, ni, nj), i_first ? ni : nj, i_first ? nj : ni);
       }
     }
   }
   for (uint32_t k = 0; k < n; ++k) {
+    if (!dirty[k]) continue;
     for (uint32_t c = tree.couplings_begin[k]; c < tree.couplings_begin[k + 1]; ++c) {
       JointTree::Coupling& coupling = tree.couplings[c];
       coupling.block_transposed = transposed(coupling.block, tree.size[k], tree.size[coupling.other]);
     }
   }
-  tree.rhs.resize(n);
+}
+
+}  // namespace
+
+void factor_joint_tree(const std::vector<SolverBody>& bodies, const std::vector<JointRow>& rows, JointTree& tree) {
+  tree.exact = false;
+  tree.row_of.clear();
+  list_holds(rows, tree.holds);
+  if (rows.empty() || !list_body_rows(bodies, rows, tree)) return;
+  measure_depths(bodies, rows, tree);
+  order_rows(bodies, rows, tree);
+  if (tree.row_of.empty()) return;
+  list_couplings(bodies, rows, tree);
+  const size_t n = tree.row_of.size();
+  tree.size.resize(n);
+  tree.pivot.resize(n);
+  tree.pivot_inverse.resize(n);
+  tree.dirty.assign(n, 1);
   tree.exact = true;
+  factor_positions(bodies, rows, tree, tree.dirty, false);
+  if (!tree.exact) return;
+  label_components(tree);
+  tree.rhs.resize(n);
+}
+
+void refactor_joint_tree(const std::vector<SolverBody>& bodies, const std::vector<JointRow>& rows, JointTree& tree) {
+  if (!tree.exact) {
+    factor_joint_tree(bodies, rows, tree);
+    return;
+  }
+  const size_t n = tree.row_of.size();
+  // The trees holding a row whose swing or limit joined or left.
+  std::vector<uint8_t>& dirty = tree.dirty;
+  dirty.assign(n, 0);
+  for (size_t p = 0; p < n; ++p) {
+    const uint32_t r = tree.row_of[p];
+    const uint8_t holds = static_cast<uint8_t>((rows[r].swing_in_tree ? 1 : 0) | (rows[r].limit_in_tree ? 2 : 0));
+    if (holds != tree.holds[r]) dirty[tree.component[p]] = 1;
+  }
+  for (size_t p = 0; p < n; ++p) dirty[p] = dirty[tree.component[p]];
+  list_holds(rows, tree.holds);
+  factor_positions(bodies, rows, tree, dirty, true);
 }
 
 void solve_joint_tree(JointTree& tree, std::vector<Column>& b) {

@@ -58,6 +58,10 @@ struct JointTree {
     uint32_t other;  // position in the order
     Block block;             // K_{k,i}
     Block block_transposed;  // K_{i,k}, for the forward pass
+    // How K_{k,i} was formed, to form it again (refactor_joint_tree):
+    // coupling(body, rows[first], rows[second]), transposed when swapped.
+    uint32_t body, first, second;
+    bool swapped;
   };
   std::vector<uint32_t> row_of;            // position -> joint row
   std::vector<uint8_t> size;               // position -> its rows
@@ -65,12 +69,18 @@ struct JointTree {
   std::vector<uint32_t> couplings_begin;   // position -> its couplings; one past the last at the end
   std::vector<Coupling> couplings;
   bool exact = false;                      // false: loops, or no joints with a point block
+  // Per position, the lowest position of its tree (joints coupled through
+  // movable bodies); per joint row, its swing and limit rows in the tree
+  // (bit 1, bit 2) when last factorised.
+  std::vector<uint32_t> component;
+  std::vector<uint8_t> holds;
   // Workspace, kept from step to step.
   std::vector<Block> pivot;
   std::vector<Column> rhs;
   std::vector<uint32_t> parent, depth, position_of, body_rows, body_rows_begin, queue;
   std::vector<Coupling> unsorted;
   std::vector<uint32_t> owner;  // per unsorted coupling: the position it belongs to
+  std::vector<uint8_t> dirty;   // per position, while refactoring
 };
 
 // The inverse of a symmetric positive definite 3x3 block (a joint's K) by
@@ -89,6 +99,15 @@ Block inverse_spd(const Block& k, int n);
 // Orders and factorises the joints of `rows` (the bodies' inverse masses
 // and inertias, and the rows' axes, as prepare_joint_rows left them).
 void factor_joint_tree(const std::vector<SolverBody>& bodies, const std::vector<JointRow>& rows, JointTree& tree);
+
+// The same within a solve after swing or limit rows joined or left the
+// tree (nothing else a factorisation is made from changes in a solve: the
+// bodies' inverse masses and inertias, the rows' axes, which rows have a
+// point block). Only the trees holding such a row are factorised again: in
+// a block LDL^T a tree's pivots and factors depend on its own joints alone,
+// so the others' are the bits they were (the playground's three ragdolls
+// and chain: ~5 refactorisations a step, each one ragdoll's).
+void refactor_joint_tree(const std::vector<SolverBody>& bodies, const std::vector<JointRow>& rows, JointTree& tree);
 
 // lambda = K^-1 b, b per position in `b`; the result overwrites it.
 void solve_joint_tree(JointTree& tree, std::vector<Column>& b);
