@@ -107,7 +107,8 @@ bool share_out(int workers, const std::vector<uint8_t>& movable, const std::vect
 // Numbers every update's places, walking the sweeps in one-thread order,
 // and lists each worker's updates per sweep.
 void plan_updates(const SweepStep* steps, size_t step_count, int workers, const std::vector<uint8_t>& movable,
-                  const std::vector<PointRow>& rows, const std::vector<ManifoldRow>& manifolds, OrderedSweeps& plan) {
+                  const std::vector<PointRow>& rows, const std::vector<ManifoldRow>& manifolds, bool copies,
+                  OrderedSweeps& plan) {
   plan.next_place.assign(movable.size(), 0);
   const size_t w_count = static_cast<size_t>(workers);
   const auto place_of = [&](uint32_t body) {
@@ -124,8 +125,8 @@ void plan_updates(const SweepStep* steps, size_t step_count, int workers, const 
     // The centroid, rocking and free point rows' sweeps run on arrays of
     // their own (SweepRows), listed as their items are: an update names its
     // place in the list.
-    const bool by_place = steps[s].kind == SweepKind::manifold_normal || steps[s].kind == SweepKind::rocking ||
-                          steps[s].kind == SweepKind::point_normal;
+    const bool by_place = copies && (steps[s].kind == SweepKind::manifold_normal ||
+                                     steps[s].kind == SweepKind::rocking || steps[s].kind == SweepKind::point_normal);
     for (size_t i = 0; i < n; ++i) {
       const uint32_t place = static_cast<uint32_t>(steps[s].reversed ? n - 1 - i : i);
       const uint32_t item = items[place];
@@ -164,12 +165,26 @@ void wait_for(const std::atomic<uint32_t>& progress, uint32_t place) {
 template <SweepKind kind>
 void solve_item(SolverBody& a, SolverBody& b, uint32_t i, const SweepRun& run) {
   std::vector<PointRow>& rows = *run.rows;
+  const SweepRows* copies = run.sweep_rows;
+  const std::vector<ManifoldRow>& manifolds = *run.manifolds;
   if constexpr (kind == SweepKind::warm_point) warm_start_point(a, b, rows[i]);
-  if constexpr (kind == SweepKind::warm_manifold) warm_start_manifold(a, b, (*run.manifolds)[i]);
-  if constexpr (kind == SweepKind::friction) solve_friction(a, b, run.sweep_rows->friction[i]);
-  if constexpr (kind == SweepKind::manifold_normal) solve_manifold_normal(a, b, run.sweep_rows->centroids[i]);
-  if constexpr (kind == SweepKind::rocking) solve_rocking(a, b, run.sweep_rows->rocking[i]);
-  if constexpr (kind == SweepKind::point_normal) solve_normal(a, b, run.sweep_rows->free[i]);
+  if constexpr (kind == SweepKind::warm_manifold) warm_start_manifold(a, b, manifolds[i]);
+  if constexpr (kind == SweepKind::friction) {
+    if (copies) solve_friction(a, b, copies->friction[i]);
+    else solve_friction(a, b, manifolds[i]);
+  }
+  if constexpr (kind == SweepKind::manifold_normal) {
+    if (copies) solve_manifold_normal(a, b, copies->centroids[i]);
+    else solve_manifold_normal(a, b, manifolds[i]);
+  }
+  if constexpr (kind == SweepKind::rocking) {
+    if (copies) solve_rocking(a, b, copies->rocking[i]);
+    else solve_rocking(a, b, manifolds[i]);
+  }
+  if constexpr (kind == SweepKind::point_normal) {
+    if (copies) solve_normal(a, b, copies->free[i]);
+    else solve_normal(a, b, rows[i]);
+  }
   if constexpr (kind == SweepKind::point_push) solve_push(a, b, rows[i]);
 }
 
@@ -221,10 +236,11 @@ void run_worker(void* context, int worker) {
 // bodies move, and each manifold's and row's two bodies and whether the
 // row lies in a resting face.
 void plan_inputs(int workers, const std::vector<SweepStep>& steps, const std::vector<uint8_t>& movable,
-                 const std::vector<PointRow>& rows, const std::vector<ManifoldRow>& manifolds,
+                 const std::vector<PointRow>& rows, const std::vector<ManifoldRow>& manifolds, bool copies,
                  std::vector<uint32_t>& key) {
   key.clear();
   key.push_back(static_cast<uint32_t>(workers));
+  key.push_back(copies ? 1u : 0u);
   key.push_back(static_cast<uint32_t>(steps.size()));
   for (const SweepStep& s : steps) key.push_back(static_cast<uint32_t>(s.kind) * 2 + (s.reversed ? 1 : 0));
   key.push_back(static_cast<uint32_t>(movable.size()));
@@ -243,17 +259,18 @@ void plan_inputs(int workers, const std::vector<SweepStep>& steps, const std::ve
 
 bool run_ordered_sweeps(Executor& executor, const std::vector<SweepStep>& steps, const std::vector<uint8_t>& movable,
                         std::vector<SolverBody>& bodies, std::vector<PointRow>& rows,
-                        const std::vector<ManifoldRow>& manifolds, const SweepRows& sweep_rows, OrderedSweeps& plan) {
+                        const std::vector<ManifoldRow>& manifolds, const SweepRows* sweep_rows, OrderedSweeps& plan) {
   const int workers = std::min(executor.workers(), max_workers);
   // The plan is a function of its inputs alone: made again only when one
   // of them changed (a standing wall's every step is the same plan: 0.9 ms
   // a step of wall64 on one thread while the workers waited).
-  plan_inputs(workers, steps, movable, rows, manifolds, plan.key);
+  const bool copies = sweep_rows != nullptr;
+  plan_inputs(workers, steps, movable, rows, manifolds, copies, plan.key);
   if (plan.key != plan.last_key) {
     std::swap(plan.key, plan.last_key);
     list_items(rows, manifolds, plan);
     plan.plan_shared = share_out(workers, movable, rows, manifolds, plan);
-    if (plan.plan_shared) plan_updates(steps.data(), steps.size(), workers, movable, rows, manifolds, plan);
+    if (plan.plan_shared) plan_updates(steps.data(), steps.size(), workers, movable, rows, manifolds, copies, plan);
   }
   if (!plan.plan_shared) return false;
   if (plan.progress_size < bodies.size()) {
@@ -261,7 +278,7 @@ bool run_ordered_sweeps(Executor& executor, const std::vector<SweepStep>& steps,
     plan.progress_size = bodies.size();
   }
   for (size_t i = 0; i < bodies.size(); ++i) plan.progress[i].store(0, std::memory_order_relaxed);
-  SweepRun run{steps.data(), steps.size(), workers, &bodies, &rows, &manifolds, &sweep_rows, &plan};
+  SweepRun run{steps.data(), steps.size(), workers, &bodies, &rows, &manifolds, sweep_rows, &plan};
   executor.run(run_worker, &run);
   ++plan.shared_runs;
   return true;

@@ -97,6 +97,6 @@ struct OrderedSweeps {
 bool run_ordered_sweeps(Executor& executor, const std::vector<SweepStep>& steps, const std::vector<uint8_t>& movable,
                         std::vector<SolverBody>& bodies,
                         std::vector<PointRow>& rows, const std::vector<ManifoldRow>& manifolds,
-                        const SweepRows& sweep_rows, OrderedSweeps& plan);
+                        const SweepRows* sweep_rows, OrderedSweeps& plan);
 
 }  // namespace bitstep

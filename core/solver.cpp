@@ -613,8 +613,8 @@ void solve_contacts(const SolveContext& context, SolvePass kind) {
   bool parallel = executor && executor->workers() > 1 && joint_rows.empty() &&
                   manifold_rows.size() >= min_parallel_manifolds * static_cast<size_t>(executor->workers());
   SweepRows& sweep_rows = scratch.sweep_rows;
-  const bool copies = parallel || manifold_rows.size() >= scratch.sweep_copies_from;
-  if (copies) split_sweep_rows(manifold_rows, rows, sweep_rows);
+  const bool copies = manifold_rows.size() >= scratch.sweep_copies_from;
+  if (copies) split_sweep_rows(manifold_rows, rows, sweep_rows, executor);
   if (parallel) {
     std::vector<SweepStep>& steps = scratch.sweeps.steps;
     steps.clear();
@@ -628,7 +628,8 @@ void solve_contacts(const SolveContext& context, SolvePass kind) {
     std::vector<uint8_t>& movable = scratch.sweeps.movable;
     movable.resize(bodies.size());
     for (size_t i = 0; i < bodies.size(); ++i) movable[i] = is_awake_dynamic(bodies[i]) ? 1 : 0;
-    parallel = run_ordered_sweeps(*executor, steps, movable, solver_bodies, rows, manifold_rows, sweep_rows, scratch.sweeps);
+    parallel = run_ordered_sweeps(*executor, steps, movable, solver_bodies, rows, manifold_rows,
+                                  copies ? &sweep_rows : nullptr, scratch.sweeps);
   }
   if (!parallel) {
     if (warm) warm_start_joints(solver_bodies, joint_rows);
@@ -656,7 +657,7 @@ void solve_contacts(const SolveContext& context, SolvePass kind) {
       solve_joints(solver_bodies, joint_rows, joints.tree);
     }
   }
-  if (copies) write_back_impulses(manifold_rows, rows, sweep_rows);
+  if (copies) write_back_impulses(manifold_rows, rows, sweep_rows, executor);
   if (kind == SolvePass::collision) {
     restore_impulses(scratch.saved_impulses, contacts);
     write_velocities(solver_bodies, bodies);
@@ -674,8 +675,8 @@ void solve_contacts(const SolveContext& context, SolvePass kind) {
     steps.clear();
     for (int pass = 0; pass < settings.position_iterations; ++pass) steps.push_back({SweepKind::point_push, pass % 2 == 1});
     if (!parallel ||
-        !run_ordered_sweeps(*executor, steps, scratch.sweeps.movable, solver_bodies, rows, manifold_rows, sweep_rows,
-                            scratch.sweeps)) {
+        !run_ordered_sweeps(*executor, steps, scratch.sweeps.movable, solver_bodies, rows, manifold_rows,
+                            copies ? &sweep_rows : nullptr, scratch.sweeps)) {
       for (int pass = 0; pass < settings.position_iterations; ++pass) {
         // The joints last: contacts pushed after them pressed ragdoll
         // limbs past their limits (an elbow 20 degrees for a second in a

@@ -199,49 +199,121 @@ size_t rows_end(const std::vector<ManifoldRow>& manifolds, const std::vector<Poi
 
 }  // namespace
 
-void split_sweep_rows(const std::vector<ManifoldRow>& manifolds, const std::vector<PointRow>& rows, SweepRows& out) {
-  out.impulses.resize(manifolds.size());
-  out.friction.resize(manifolds.size());
-  out.centroids.clear();
-  out.rocking.clear();
-  out.free.clear();
-  for (size_t i = 0; i < manifolds.size(); ++i) {
-    const ManifoldRow& m = manifolds[i];
+namespace {
+
+struct CopyRun {
+  const std::vector<ManifoldRow>& manifolds;
+  const std::vector<PointRow>& rows;
+  SweepRows* out;            // the copies being made
+  const SweepRows* copies;   // the copies written back
+  size_t workers;
+  // Manifolds [begin, end) of worker w's share.
+  size_t begin(size_t w) const { return manifolds.size() * w / workers; }
+  size_t end(size_t w) const { return manifolds.size() * (w + 1) / workers; }
+};
+
+// What each list takes from one worker's share.
+void count_copies(void* context, int worker) {
+  CopyRun& run = *static_cast<CopyRun*>(context);
+  const size_t w = static_cast<size_t>(worker);
+  SweepRows::Starts counts{};
+  for (size_t i = run.begin(w); i < run.end(w); ++i) {
+    const ManifoldRow& m = run.manifolds[i];
+    if (has_centroid_row(m)) ++counts.centroids;
+    if (has_rocking_rows(m)) ++counts.rocking;
+    const size_t end = rows_end(run.manifolds, run.rows, i);
+    for (size_t r = m.first; r < end; ++r) {
+      if (is_free_row(run.rows[r])) ++counts.free;
+    }
+  }
+  run.out->starts[w] = counts;
+}
+
+void fill_copies(void* context, int worker) {
+  CopyRun& run = *static_cast<CopyRun*>(context);
+  const size_t w = static_cast<size_t>(worker);
+  SweepRows& out = *run.out;
+  const std::vector<PointRow>& rows = run.rows;
+  SweepRows::Starts at = out.starts[w];
+  for (size_t i = run.begin(w); i < run.end(w); ++i) {
+    const ManifoldRow& m = run.manifolds[i];
     const Manifold& manifold = *m.manifold;
     ManifoldImpulses& impulses = out.impulses[i];
     impulses = {{},
                 {manifold.friction_impulse[0], manifold.friction_impulse[1]},
                 manifold.twist_impulse,
                 {manifold.rolling_impulse[0], manifold.rolling_impulse[1]}};
-    const size_t end = rows_end(manifolds, rows, i);
+    const size_t end = rows_end(run.manifolds, rows, i);
     for (size_t r = m.first; r < end; ++r) {
       const PointRow& row = rows[r];
       Fixed& jn = impulses.normal[r - m.first];
       jn = row.point->normal_impulse;
-      if (is_free_row(row)) out.free.push_back({row.a, row.b, row.normal, row.velocity_target, &jn});
+      if (is_free_row(row)) out.free[at.free++] = {row.a, row.b, row.normal, row.velocity_target, &jn};
     }
     out.friction[i] = {m.a,     m.b,     m.count,           &impulses,          {m.tangent[0], m.tangent[1]},
                        m.twist, m.static_friction, m.dynamic_friction, m.twist_radius, m.rolling_limit,
                        m.rolling};
-    if (has_centroid_row(m)) out.centroids.push_back({m.a, m.b, m.count, &impulses, m.normal, m.share_mass, m.velocity_target});
-    if (has_rocking_rows(m)) out.rocking.push_back({m.a, m.b, m.count, &impulses, {m.rocking[0], m.rocking[1]}});
+    if (has_centroid_row(m)) {
+      out.centroids[at.centroids++] = {m.a, m.b, m.count, &impulses, m.normal, m.share_mass, m.velocity_target};
+    }
+    if (has_rocking_rows(m)) out.rocking[at.rocking++] = {m.a, m.b, m.count, &impulses, {m.rocking[0], m.rocking[1]}};
   }
 }
 
-void write_back_impulses(const std::vector<ManifoldRow>& manifolds, const std::vector<PointRow>& rows,
-                         const SweepRows& copies) {
-  for (size_t i = 0; i < manifolds.size(); ++i) {
-    const ManifoldRow& m = manifolds[i];
+void write_back(void* context, int worker) {
+  const CopyRun& run = *static_cast<CopyRun*>(context);
+  const size_t w = static_cast<size_t>(worker);
+  for (size_t i = run.begin(w); i < run.end(w); ++i) {
+    const ManifoldRow& m = run.manifolds[i];
     Manifold& manifold = *m.manifold;
-    const ManifoldImpulses& impulses = copies.impulses[i];
-    const size_t end = rows_end(manifolds, rows, i);
-    for (size_t r = m.first; r < end; ++r) rows[r].point->normal_impulse = impulses.normal[r - m.first];
+    const ManifoldImpulses& impulses = run.copies->impulses[i];
+    const size_t end = rows_end(run.manifolds, run.rows, i);
+    for (size_t r = m.first; r < end; ++r) run.rows[r].point->normal_impulse = impulses.normal[r - m.first];
     manifold.friction_impulse[0] = impulses.friction[0];
     manifold.friction_impulse[1] = impulses.friction[1];
     manifold.twist_impulse = impulses.twist;
     manifold.rolling_impulse[0] = impulses.rolling[0];
     manifold.rolling_impulse[1] = impulses.rolling[1];
   }
+}
+
+void run_on(Executor* executor, Executor::Task task, CopyRun& run) {
+  if (run.workers > 1) {
+    executor->run(task, &run);
+  } else {
+    task(&run, 0);
+  }
+}
+
+}  // namespace
+
+void split_sweep_rows(const std::vector<ManifoldRow>& manifolds, const std::vector<PointRow>& rows, SweepRows& out,
+                      Executor* executor) {
+  const size_t workers = executor ? static_cast<size_t>(executor->workers()) : 1;
+  CopyRun run{manifolds, rows, &out, &out, workers};
+  out.starts.resize(workers);
+  run_on(executor, count_copies, run);
+  SweepRows::Starts total{};
+  for (SweepRows::Starts& s : out.starts) {
+    const SweepRows::Starts counts = s;
+    s = total;
+    total.centroids += counts.centroids;
+    total.rocking += counts.rocking;
+    total.free += counts.free;
+  }
+  out.impulses.resize(manifolds.size());
+  out.friction.resize(manifolds.size());
+  out.centroids.resize(total.centroids);
+  out.rocking.resize(total.rocking);
+  out.free.resize(total.free);
+  run_on(executor, fill_copies, run);
+}
+
+void write_back_impulses(const std::vector<ManifoldRow>& manifolds, const std::vector<PointRow>& rows,
+                         const SweepRows& copies, Executor* executor) {
+  const size_t workers = executor ? static_cast<size_t>(executor->workers()) : 1;
+  CopyRun run{manifolds, rows, nullptr, &copies, workers};
+  run_on(executor, write_back, run);
 }
 
 // One pass over a manifold: friction, the centroid row, rocking, then its

@@ -7,6 +7,7 @@
 
 #include "core/body.h"
 #include "core/contact.h"
+#include "core/executor.h"
 #include "core/glue_face.h"
 #include "core/manifold.h"
 #include "core/ordered_sweeps.h"
@@ -192,12 +193,20 @@ struct SweepRows {
   std::vector<CentroidRow> centroids;      // per manifold row with has_centroid_row, in order
   std::vector<RockingRow> rocking;         // per manifold row with has_rocking_rows, in order
   std::vector<FreeRow> free;               // per point row with is_free_row, in order
+  // Per worker: where its share of each list begins (split_sweep_rows).
+  struct Starts {
+    size_t centroids, rocking, free;
+  };
+  std::vector<Starts> starts;
 };
-// Makes the copies, reading the manifolds' accumulated impulses.
-void split_sweep_rows(const std::vector<ManifoldRow>& manifolds, const std::vector<PointRow>& rows, SweepRows& out);
+// Makes the copies, reading the manifolds' accumulated impulses; each of
+// the executor's workers (null: the caller's thread) a contiguous share of
+// the manifolds, at the places the shares before it leave.
+void split_sweep_rows(const std::vector<ManifoldRow>& manifolds, const std::vector<PointRow>& rows, SweepRows& out,
+                      Executor* executor);
 // Writes the copies' accumulated impulses back to the manifolds.
 void write_back_impulses(const std::vector<ManifoldRow>& manifolds, const std::vector<PointRow>& rows,
-                         const SweepRows& copies);
+                         const SweepRows& copies, Executor* executor);
 
 // A manifold's accumulated impulses, where the iterations keep them: in the
 // contact's manifold for a ManifoldRow, in ManifoldImpulses for a copy.
