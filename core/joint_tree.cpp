@@ -296,11 +296,14 @@ Block inverse_spd(const Block& k, int n) {
 
 namespace {
 
+// A row's swing (bit 1) and limit (bit 2) in the tree.
+uint8_t holds_of(const JointRow& row) {
+  return static_cast<uint8_t>((row.swing_in_tree ? 1 : 0) | (row.limit_in_tree ? 2 : 0));
+}
+
 void list_holds(const std::vector<JointRow>& rows, std::vector<uint8_t>& holds) {
   holds.resize(rows.size());
-  for (size_t r = 0; r < rows.size(); ++r) {
-    holds[r] = static_cast<uint8_t>((rows[r].swing_in_tree ? 1 : 0) | (rows[r].limit_in_tree ? 2 : 0));
-  }
+  for (size_t r = 0; r < rows.size(); ++r) holds[r] = holds_of(rows[r]);
 }
 
 // Each position's tree: the lowest position it is coupled to, directly or
@@ -426,8 +429,7 @@ void refactor_joint_tree(const std::vector<SolverBody>& bodies, const std::vecto
   dirty.assign(n, 0);
   for (size_t p = 0; p < n; ++p) {
     const uint32_t r = tree.row_of[p];
-    const uint8_t holds = static_cast<uint8_t>((rows[r].swing_in_tree ? 1 : 0) | (rows[r].limit_in_tree ? 2 : 0));
-    if (holds != tree.holds[r]) dirty[tree.component[p]] = 1;
+    if (holds_of(rows[r]) != tree.holds[r]) dirty[tree.component[p]] = 1;
   }
   for (size_t p = 0; p < n; ++p) dirty[p] = dirty[tree.component[p]];
   list_holds(rows, tree.holds);

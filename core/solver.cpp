@@ -639,24 +639,23 @@ void solve_contacts(const SolveContext& context, SolvePass kind) {
   if (!parallel) {
     if (warm) warm_start_joints(solver_bodies, joint_rows);
     if (warm) warm_start(solver_bodies, rows, manifold_rows);
-    std::vector<uint32_t>& free_rows = scratch.free_rows;
+    std::vector<uint32_t>& free_rows = scratch.free_rows;  // the copies list their own
     free_rows.clear();
-    for (uint32_t i = 0; i < rows.size() && !copies; ++i) {
-      if (is_free_row(rows[i])) free_rows.push_back(i);
+    if (!copies) {
+      for (uint32_t i = 0; i < rows.size(); ++i) {
+        if (is_free_row(rows[i])) free_rows.push_back(i);
+      }
     }
     for (int pass = 0; pass < settings.velocity_iterations; ++pass) {
       if (copies) {
         sweep_manifolds(solver_bodies, sweep_rows.friction, solve_friction<FrictionRow>);
         sweep_manifolds(solver_bodies, sweep_rows.centroids, solve_manifold_normal<CentroidRow>);
         sweep_manifolds(solver_bodies, sweep_rows.rocking, solve_rocking<RockingRow>);
+        sweep_free_rows(solver_bodies, sweep_rows.free, pass);
       } else {
         sweep_manifolds(solver_bodies, manifold_rows, solve_friction<ManifoldRow>);
         sweep_manifolds(solver_bodies, manifold_rows, solve_manifold_normal<ManifoldRow>);
         sweep_manifolds(solver_bodies, manifold_rows, solve_rocking<ManifoldRow>);
-      }
-      if (copies) {
-        sweep_free_rows(solver_bodies, sweep_rows.free, pass);
-      } else {
         sweep_free_rows(solver_bodies, rows, free_rows, pass);
       }
       solve_joints(solver_bodies, joint_rows, joints.tree);

@@ -197,10 +197,6 @@ size_t rows_end(const std::vector<ManifoldRow>& manifolds, const std::vector<Poi
   return i + 1 < manifolds.size() ? manifolds[i + 1].first : rows.size();
 }
 
-}  // namespace
-
-namespace {
-
 struct CopyRun {
   const std::vector<ManifoldRow>& manifolds;
   const std::vector<PointRow>& rows;

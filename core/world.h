@@ -140,8 +140,8 @@ class World {
   // bit-identical (row_cache.h). On by default; the results are the same
   // bits either way (tests compare the two). Not state.
   void set_contact_reuse(bool on);
-  // From how many manifolds one thread's iterations sweep copies of the
-  // rows' parts (solver_rows.h, SweepRows; default 2,048). Speed only: the
+  // From how many manifolds the iterations sweep copies of the rows'
+  // parts (solver_rows.h, SweepRows; default 2,048). Speed only: the
   // same bits for any value (tests set 0). Not state.
   void set_sweep_copies_from(size_t manifolds);
   // Spreads the step's solver sweeps over the executor's workers (null, the
