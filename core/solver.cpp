@@ -116,6 +116,7 @@ void gather_bodies(const std::vector<Body>& bodies, std::vector<SolverBody>& out
     if (!body.alive || body.asleep) continue;  // a sleeping body is immovable: zero inverse mass
     out[i] = {{body.linear_velocity, body.angular_velocity}, {}, body.inverse_mass, body.inverse_inertia_world};
   }
+  for (SolverBody& body : out) body.still = immovable(body) && body.velocity == BodyRates{};
 }
 
 // A worker's last pair friction and tangent basis in the row setup, each a

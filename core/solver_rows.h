@@ -32,6 +32,12 @@ struct SolverBody {
   BodyRates push;  // split-impulse pseudo-velocity
   Fixed inverse_mass;
   Mat33 inverse_inertia;  // world frame
+  // Immovable and at rest for the whole solve (static, asleep, a kinematic
+  // body standing still): zero inverse mass and inertia, so its parts of
+  // every row are zero, and zero rates that no impulse changes. The rows
+  // leave out its products, each exactly 0 (the same bits): a pile's
+  // contacts with the ground do half the work.
+  bool still = false;
 };
 
 // One row of a constraint along a unit direction d (a constraint part, after
@@ -239,9 +245,19 @@ Fixed (&rolling_impulse(const Copy& m))[2] {
 // below the envelope's speeds; the range is 2^31 (~2.1e9).
 
 // J (a, b) for either rate of the two bodies: nine exact products, rounded
-// once.
-inline Fixed relative_rate(const BodyRates& a, const BodyRates& b, const Jacobian& j) {
+// once; six when one body is still (its angular rate's three are 0, its
+// linear rate adds 0 to the difference).
+inline Fixed relative_rate(const BodyRates& a, const BodyRates& b, const Jacobian& j, bool a_still = false,
+                           bool b_still = false) {
   const Vec3 dv = b.linear - a.linear;
+  if (a_still || b_still) {
+    const BodyRates& mover = a_still ? b : a;
+    const Vec3 w = a_still ? mover.angular : -mover.angular;
+    const Vec3& arm = a_still ? j.arm_b : j.arm_a;
+    const Fixed rates[6] = {dv.x, dv.y, dv.z, w.x, w.y, w.z};
+    const Fixed rows[6] = {j.direction.x, j.direction.y, j.direction.z, arm.x, arm.y, arm.z};
+    return sum_products_in_range(rates, rows);
+  }
   const Fixed rates[9] = {dv.x, dv.y, dv.z, b.angular.x, b.angular.y, b.angular.z,
                           -a.angular.x, -a.angular.y, -a.angular.z};
   const Fixed rows[9] = {j.direction.x, j.direction.y, j.direction.z, j.arm_b.x, j.arm_b.y, j.arm_b.z,
@@ -256,16 +272,23 @@ inline Vec3 scaled(Vec3 v, Fixed lambda) {
 
 // Applies lambda along J to one rate of the two bodies. A zero impulse
 // changes nothing (every product rounds to 0, and v - 0 = v): it is skipped,
-// which at rest is most of the tangent, twist and rocking rows.
+// which at rest is most of the tangent, twist and rocking rows; so is a
+// still body's side (its parts are zero).
 // Two bodies of equal mass (a wall's bricks) have d / m_a = d / m_b, so
 // their linear changes are the same three products: taken once.
-inline void apply_rate(BodyRates& a, BodyRates& b, const Jacobian& j, Fixed lambda) {
+inline void apply_rate(BodyRates& a, BodyRates& b, const Jacobian& j, Fixed lambda, bool a_still = false,
+                       bool b_still = false) {
   if (lambda == Fixed{}) return;
-  const Vec3 linear_a = scaled(j.linear_a, lambda);
-  a.linear -= linear_a;
-  a.angular -= scaled(j.turn_a, lambda);
-  b.linear += j.linear_b == j.linear_a ? linear_a : scaled(j.linear_b, lambda);
-  b.angular += scaled(j.turn_b, lambda);
+  Vec3 linear_a;
+  if (!a_still) {
+    linear_a = scaled(j.linear_a, lambda);
+    a.linear -= linear_a;
+    a.angular -= scaled(j.turn_a, lambda);
+  }
+  if (!b_still) {
+    b.linear += !a_still && j.linear_b == j.linear_a ? linear_a : scaled(j.linear_b, lambda);
+    b.angular += scaled(j.turn_b, lambda);
+  }
 }
 
 // The same for an angular part: (w_b - w_a) . u as three exact products
@@ -280,15 +303,15 @@ inline Fixed relative_spin(const SolverBody& a, const SolverBody& b, const Angul
 }
 inline void apply_spin(SolverBody& a, SolverBody& b, const AngularPart& j, Fixed lambda) {
   if (lambda == Fixed{}) return;  // no change, as in apply_rate
-  a.velocity.angular -= scaled(j.turn_a, lambda);
-  b.velocity.angular += scaled(j.turn_b, lambda);
+  if (!a.still) a.velocity.angular -= scaled(j.turn_a, lambda);
+  if (!b.still) b.velocity.angular += scaled(j.turn_b, lambda);
 }
 
 inline Fixed relative_velocity(const SolverBody& a, const SolverBody& b, const Jacobian& j) {
-  return relative_rate(a.velocity, b.velocity, j);
+  return relative_rate(a.velocity, b.velocity, j, a.still, b.still);
 }
 inline void apply_impulse(SolverBody& a, SolverBody& b, const Jacobian& j, Fixed lambda) {
-  apply_rate(a.velocity, b.velocity, j, lambda);
+  apply_rate(a.velocity, b.velocity, j, lambda, a.still, b.still);
 }
 // J v and an impulse for either part (solve_disc takes both).
 inline Fixed relative_velocity(const SolverBody& a, const SolverBody& b, const AngularPart& j) {
@@ -300,22 +323,24 @@ inline void apply_impulse(SolverBody& a, SolverBody& b, const AngularPart& j, Fi
 
 // One point row on either rate: the accumulated impulse (normal or split)
 // moves toward the target rate and stays >= 0 unless the row is an equality.
+// (The still flags as in relative_rate and apply_rate.)
 inline void solve_point(BodyRates& a, BodyRates& b, const Jacobian& j, Fixed& accumulated, Fixed target,
-                        bool equality = false) {
-  Fixed total = accumulated + mul_in_range(j.mass, target - relative_rate(a, b, j));
+                        bool equality = false, bool a_still = false, bool b_still = false) {
+  Fixed total = accumulated + mul_in_range(j.mass, target - relative_rate(a, b, j, a_still, b_still));
   if (!equality) total = max(total, Fixed{});
   const Fixed delta = total - accumulated;
   accumulated = total;
-  apply_rate(a, b, j, delta);
+  apply_rate(a, b, j, delta, a_still, b_still);
 }
 inline void solve_normal(SolverBody& a, SolverBody& b, const PointRow& row) {
-  solve_point(a.velocity, b.velocity, row.normal, row.point->normal_impulse, row.velocity_target);
+  solve_point(a.velocity, b.velocity, row.normal, row.point->normal_impulse, row.velocity_target, false, a.still,
+              b.still);
 }
 inline void solve_normal(SolverBody& a, SolverBody& b, const FreeRow& row) {
-  solve_point(a.velocity, b.velocity, row.normal, *row.impulse, row.velocity_target);
+  solve_point(a.velocity, b.velocity, row.normal, *row.impulse, row.velocity_target, false, a.still, b.still);
 }
 inline void solve_push(SolverBody& a, SolverBody& b, const PointRow& row) {
-  solve_point(a.push, b.push, row.normal, row.point->split_impulse, row.push_target, row.impact);
+  solve_point(a.push, b.push, row.normal, row.point->split_impulse, row.push_target, row.impact, a.still, b.still);
 }
 
 // A manifold in the shock step's order: by the support level of its
