@@ -28,6 +28,47 @@ bool can_collide(const BroadphaseProxy& p, const BroadphaseProxy& q) { return p.
 
 BodyPair ordered(uint32_t a, uint32_t b) { return a < b ? BodyPair{a, b} : BodyPair{b, a}; }
 
+// Sorts the entries by (x, y, z, proxy). Where each coordinate's range
+// from its lowest cell and the proxy number fit side by side in 64 bits
+// (any scene of a few kilometres), the sort runs over those packed keys,
+// whose order is the entries' order: the same result, without comparing
+// four fields a time (thrown's 600 entries took 3% of its step).
+void sort_entries(std::vector<CellEntry>& entries, std::vector<uint64_t>& keys, size_t proxy_count) {
+  if (entries.empty()) return;
+  int64_t low[3] = {entries[0].x, entries[0].y, entries[0].z}, high[3] = {low[0], low[1], low[2]};
+  for (const CellEntry& e : entries) {
+    const int64_t c[3] = {e.x, e.y, e.z};
+    for (int k = 0; k < 3; ++k) {
+      low[k] = std::min(low[k], c[k]);
+      high[k] = std::max(high[k], c[k]);
+    }
+  }
+  // Cells are raw coordinates shifted right at least once: |c| < 2^62, so
+  // a range fits in 63 bits.
+  int bits[3];
+  for (int k = 0; k < 3; ++k) bits[k] = static_cast<int>(std::bit_width(static_cast<uint64_t>(high[k] - low[k])));
+  const int proxy_bits = static_cast<int>(std::bit_width(static_cast<uint64_t>(proxy_count)));
+  if (bits[0] + bits[1] + bits[2] + proxy_bits > 64) {
+    std::sort(entries.begin(), entries.end());
+    return;
+  }
+  const int shift_z = proxy_bits, shift_y = shift_z + bits[2], shift_x = shift_y + bits[1];
+  keys.clear();
+  for (const CellEntry& e : entries) {
+    keys.push_back(static_cast<uint64_t>(e.x - low[0]) << shift_x | static_cast<uint64_t>(e.y - low[1]) << shift_y |
+                   static_cast<uint64_t>(e.z - low[2]) << shift_z | e.proxy);
+  }
+  std::sort(keys.begin(), keys.end());
+  const auto field = [](uint64_t key, int shift, int width) {
+    return static_cast<int64_t>(width == 0 ? 0 : (key >> shift) & (~uint64_t{0} >> (64 - width)));
+  };
+  for (size_t i = 0; i < keys.size(); ++i) {
+    const uint64_t key = keys[i];
+    entries[i] = {low[0] + field(key, shift_x, bits[0]), low[1] + field(key, shift_y, bits[1]),
+                  low[2] + field(key, shift_z, bits[2]), static_cast<uint32_t>(field(key, 0, proxy_bits))};
+  }
+}
+
 }  // namespace
 
 void find_pairs(const std::vector<BroadphaseProxy>& proxies, std::vector<BodyPair>& pairs,
@@ -84,7 +125,7 @@ void find_pairs(const std::vector<BroadphaseProxy>& proxies, std::vector<BodyPai
       }
     }
   }
-  std::sort(entries.begin(), entries.end());
+  sort_entries(entries, scratch.keys, proxies.size());
 
   for (size_t run = 0; run < entries.size();) {
     size_t end = run + 1;

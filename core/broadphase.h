@@ -32,6 +32,7 @@ struct BroadphaseScratch {
   };
   std::vector<uint32_t> movers, large;
   std::vector<CellEntry> entries;
+  std::vector<uint64_t> keys;  // the entries packed for sorting
   // The proxies of the last call, while `reuse` is on: a call with the same
   // proxies, bit for bit (a standing wall's), keeps the pairs that call left.
   bool reuse = true;

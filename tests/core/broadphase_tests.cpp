@@ -71,3 +71,25 @@ TEST_CASE("find_pairs gives every overlapping pair with a mover, by the grid and
     }
   }
 }
+
+TEST_CASE("find_pairs is exact whether the grid's cells pack into one sort key or not", "[broadphase]") {
+  // Near the origin and at negative cells the keys pack (the cells' ranges
+  // and the proxy numbers fit 64 bits); with a cluster a million metres
+  // away the ranges need 3 x 20 bits besides the proxy number's, and the
+  // entries are sorted as they are.
+  for (const Vec3 far : {Vec3{-30.0_fx, -30.0_fx, -30.0_fx}, Vec3{1000000.0_fx, -1000000.0_fx, 1000000.0_fx}}) {
+    std::vector<BroadphaseProxy> proxies = scatter(1500, 1, 7);
+    for (BroadphaseProxy p : scatter(1500, 2, 8)) {
+      if (p.bounds.max.x - p.bounds.min.x > 8.0_fx) continue;  // the large proxy once
+      p.body += 1501;
+      p.bounds = {p.bounds.min + far, p.bounds.max + far};
+      proxies.push_back(p);
+    }
+    std::vector<BodyPair> pairs;
+    BroadphaseScratch scratch;
+    find_pairs(proxies, pairs, scratch);
+    const std::vector<BodyPair> expected = all_pairs(proxies);
+    CHECK(pairs == expected);
+    CHECK(std::count_if(expected.begin(), expected.end(), [](BodyPair p) { return p.a > 1500; }) > 100);
+  }
+}
