@@ -249,8 +249,8 @@ Fixed (&rolling_impulse(const Copy& m))[2] {
 // linear rate adds 0 to the difference). Inlined always, as apply_rate:
 // with the still cases gcc called both out of line, and the calls cost
 // wall64 3% a step.
-[[gnu::always_inline]] inline Fixed relative_rate(const BodyRates& a, const BodyRates& b, const Jacobian& j, bool a_still = false,
-                           bool b_still = false) {
+[[gnu::always_inline]] inline Fixed relative_rate(const BodyRates& a, const BodyRates& b, const Jacobian& j,
+                                                  bool a_still = false, bool b_still = false) {
   const Vec3 dv = b.linear - a.linear;
   if (a_still || b_still) {
     const BodyRates& mover = a_still ? b : a;
@@ -278,8 +278,8 @@ inline Vec3 scaled(Vec3 v, Fixed lambda) {
 // still body's side (its parts are zero).
 // Two bodies of equal mass (a wall's bricks) have d / m_a = d / m_b, so
 // their linear changes are the same three products: taken once.
-[[gnu::always_inline]] inline void apply_rate(BodyRates& a, BodyRates& b, const Jacobian& j, Fixed lambda, bool a_still = false,
-                       bool b_still = false) {
+[[gnu::always_inline]] inline void apply_rate(BodyRates& a, BodyRates& b, const Jacobian& j, Fixed lambda,
+                                              bool a_still = false, bool b_still = false) {
   if (lambda == Fixed{}) return;
   Vec3 linear_a;
   if (!a_still) {
