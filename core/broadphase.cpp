@@ -53,15 +53,20 @@ void sort_entries(std::vector<CellEntry>& entries, std::vector<uint64_t>& keys, 
     return;
   }
   const int shift_z = proxy_bits, shift_y = shift_z + bits[2], shift_x = shift_y + bits[1];
-  keys.clear();
-  for (const CellEntry& e : entries) {
-    keys.push_back(static_cast<uint64_t>(e.x - low[0]) << shift_x | static_cast<uint64_t>(e.y - low[1]) << shift_y |
-                   static_cast<uint64_t>(e.z - low[2]) << shift_z | e.proxy);
-  }
-  std::sort(keys.begin(), keys.end());
+  // A field of width 0 holds nothing: it is neither shifted in nor out (its
+  // shift may be 64).
+  const auto place = [](int64_t offset, int shift, int width) {
+    return width == 0 ? uint64_t{0} : static_cast<uint64_t>(offset) << shift;
+  };
   const auto field = [](uint64_t key, int shift, int width) {
     return static_cast<int64_t>(width == 0 ? 0 : (key >> shift) & (~uint64_t{0} >> (64 - width)));
   };
+  keys.clear();
+  for (const CellEntry& e : entries) {
+    keys.push_back(place(e.x - low[0], shift_x, bits[0]) | place(e.y - low[1], shift_y, bits[1]) |
+                   place(e.z - low[2], shift_z, bits[2]) | e.proxy);
+  }
+  std::sort(keys.begin(), keys.end());
   for (size_t i = 0; i < keys.size(); ++i) {
     const uint64_t key = keys[i];
     entries[i] = {low[0] + field(key, shift_x, bits[0]), low[1] + field(key, shift_y, bits[1]),

@@ -93,3 +93,21 @@ TEST_CASE("find_pairs is exact whether the grid's cells pack into one sort key o
     CHECK(std::count_if(expected.begin(), expected.end(), [](BodyPair p) { return p.a > 1500; }) > 100);
   }
 }
+
+TEST_CASE("find_pairs packs a key whose fields fill all 64 bits", "[broadphase]") {
+  // Three 0.1 m boxes (cells of 0.125 m) in one x cell, 2e8 m apart in y
+  // and z: the y and z ranges take 31 bits each and the proxy numbers 2,
+  // so the empty x field sits at bit 64 (it must not be shifted there).
+  // Two boxes overlap.
+  const auto box = [](uint32_t body, Fixed y, Fixed z) {
+    return BroadphaseProxy{body, {{0.0_fx, y, z}, {0.1_fx, y + 0.1_fx, z + 0.1_fx}}, true};
+  };
+  const std::vector<BroadphaseProxy> proxies = {box(0, -100000000.0_fx, -100000000.0_fx),
+                                                box(1, 100000000.0_fx, 100000000.0_fx),
+                                                box(2, -99999999.95_fx, -99999999.95_fx)};
+  std::vector<BodyPair> pairs;
+  BroadphaseScratch scratch;
+  find_pairs(proxies, pairs, scratch);
+  CHECK(pairs == all_pairs(proxies));
+  CHECK(pairs == std::vector<BodyPair>{{0, 2}});
+}
