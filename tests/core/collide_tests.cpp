@@ -474,6 +474,56 @@ TEST_CASE("capsules on a box: lying gives two points, standing one", "[collide]"
   }
 }
 
+// A forearm resting across a stair's edge, tilted by a hair one way or the
+// other. Tilted outward, the segment's closest point to the box lies beyond
+// the edge, in the edge's region, which gave one point at the edge; tilted
+// inward the face clipped it to two (the inner end and the edge). A resting
+// ragdoll's forearm flipped between the two every few steps, lost the
+// inner point's impulse each time and swung. Within ~1.15 degrees of a face
+// normal the edge's point is joined by the segment's ends over that face:
+// the inner end is a point either way, under the same feature id. Tilted
+// further, it rests on the edge alone.
+TEST_CASE("a capsule lying across a box's edge: its inner end a point whichever way it tilts", "[collide]") {
+  const Placed stair = place(box_shape(0.25_fx, 0.25_fx, 2.0_fx), Vec3::zero());
+  const Fixed degree = 0.017453292519943295_fx;
+  const Fixed r = 0.04_fx, h = 0.1_fx;
+  // The segment crosses the edge x = 0.25, y = 0.25 at its middle, along x,
+  // its surface 0.01 mm into the stair there; a positive tilt lowers its
+  // inner end.
+  const auto across_edge = [&](Fixed tilt_degrees) {
+    const Quat pose = about(z_axis, 1.57079632679489661923_fx + tilt_degrees * degree);  // +y turned onto -x, tilted
+    return place(capsule_shape(h, r), v3(0.25_fx, 0.25_fx + r - 0.00001_fx, {}), pose);
+  };
+  FeatureId inner_feature = 0;
+  for (const Fixed tilt : {-1.0_fx, -0.01_fx, 0.01_fx, 1.0_fx}) {
+    const Placed forearm = across_edge(tilt);
+    const Manifold m = run(stair, forearm);
+    INFO("tilted " << tilt << " degrees: " << describe(m));
+    REQUIRE(m.point_count == 2);
+    CHECK(near(m.normal, y_axis, 0.02_fx));  // from the stair to the forearm, within the tilt
+    const size_t in = m.points[0].position.x < m.points[1].position.x ? 0 : 1;
+    CHECK(near(m.points[in].position.x, 0.25_fx - h, 0.001_fx));  // the segment's end over the face
+    CHECK(near(m.points[1 - in].position.x, 0.25_fx, 0.0001_fx));  // the edge
+    // The edge's depth exact either way: over the face 0.01 mm, beyond it
+    // along the edge's normal r - (r - 0.01 mm) cos(tilt).
+    const Fixed angle = tilt * degree;
+    const Fixed edge_depth =
+        tilt > Fixed{} ? 0.00001_fx : r - (r - 0.00001_fx) * (Fixed::one() - angle * angle * 0.5_fx);
+    CHECK(near(m.points[1 - in].depth, edge_depth, 0.000001_fx));
+    CHECK(abs(m.points[in].depth) < 0.002_fx);
+    if (tilt == -1.0_fx) inner_feature = m.points[in].feature;
+    CHECK(m.points[in].feature == inner_feature);
+    require_swap_consistent(stair, forearm, rotation_tolerance);
+  }
+  SECTION("tilted 3 degrees outward: the edge alone, its normal tilted with the forearm") {
+    const Manifold m = run(stair, across_edge(-3.0_fx));
+    INFO(describe(m));
+    REQUIRE(m.point_count == 1);
+    CHECK(abs(m.normal.x) > 0.05_fx);  // sin 3 degrees = 0.052
+    CHECK(near(m.points[0].position.x, 0.25_fx, 0.001_fx));
+  }
+}
+
 TEST_CASE("capsule-capsule crossing and parallel, capsule-sphere, capsule-plane", "[collide]") {
   const Quat along_x = about(z_axis, 1.57079632679489661923_fx), along_z = about(x_axis, 1.57079632679489661923_fx);
   const Placed a = place(capsule_shape(1_fx, 0.25_fx), Vec3::zero(), along_x);
