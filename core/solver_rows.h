@@ -345,6 +345,21 @@ inline void solve_push(SolverBody& a, SolverBody& b, const PointRow& row) {
   solve_point(a.push, b.push, row.normal, row.point->split_impulse, row.push_target, row.impact, a.still, b.still);
 }
 
+// A contact row of a jointed body pushed one way in the last position
+// pass (solver.cpp, one_way_pushes): the body below stands still for the
+// one above, which takes the whole push (its mass alone in `mass`).
+struct OneWayPush {
+  uint32_t row;       // in the solve's point rows
+  bool a_below;       // a holds b up (else b holds a up)
+  Fixed mass;         // 1 / (1 / m + (r x n) . I^-1 (r x n)) of the body above
+};
+inline void solve_push_one_way(SolverBody& a, SolverBody& b, const PointRow& row, const OneWayPush& one_way) {
+  Jacobian j = row.normal;
+  j.mass = one_way.mass;
+  solve_point(a.push, b.push, j, row.point->split_impulse, row.push_target, row.impact, one_way.a_below || a.still,
+              !one_way.a_below || b.still);
+}
+
 // A manifold in the shock step's order: by the support level of its
 // higher body, then by its cluster, then by its index.
 struct ShockEntry {
@@ -439,6 +454,10 @@ struct SolverScratch {
   size_t sweep_copies_from = 2048;
   // The iterations and position passes on several workers (ordered_sweeps.h).
   OrderedSweeps sweeps;
+  // The last position pass's one-way rows, by row (one_way_pushes), and
+  // which bodies a joint holds.
+  std::vector<OneWayPush> one_way;
+  std::vector<uint8_t> jointed;
 };
 
 // The contacts' accumulated impulses, in contact order, kept aside and put
