@@ -540,18 +540,34 @@ void sweep(std::vector<SolverBody>& bodies, const std::vector<PointRow>& rows, i
 // velocities, leaves jointed bodies alone (shock.h). Here, as in its
 // passes (after Guendelman, Bridson and Fedkiw, whose shock propagation is
 // their last pass), a contact between two movable bodies, at least one of
-// them jointed, whose normal lies within 60 degrees of up has the lower
-// body stand still for the upper one, which is pushed out alone: 2.4 mm
-// (17.8 at worst). In every pass it was 2.0 mm, but 20 of the 96 heaps were
-// still awake at 10 s (11 so). Rows of bodies no joint holds are pushed
-// as before.
+// them jointed and not both of one joint tree, whose normal lies within 60
+// degrees of up has the lower body stand still for the upper one, which is
+// pushed out alone: 2.7 mm (34 at worst, a forearm between a box and a
+// thigh). In every pass it was 2.0 mm, but 20 of the 96 heaps were still
+// awake at 10 s (14 so). Rows of bodies no joint holds are pushed as
+// before.
 void one_way_pushes(const Settings& settings, const std::vector<SolverBody>& bodies, const std::vector<PointRow>& rows,
-                    const std::vector<JointRow>& joint_rows, std::vector<uint8_t>& jointed,
+                    const std::vector<JointRow>& joint_rows, std::vector<uint32_t>& tree,
                     std::vector<OneWayPush>& out) {
   out.clear();
   if (joint_rows.empty() || settings.gravity == Vec3{}) return;
-  jointed.assign(bodies.size(), 0);
-  for (const JointRow& row : joint_rows) jointed[row.a] = jointed[row.b] = 1;
+  // Each jointed movable body's tree: the lowest slot its joints reach
+  // through movable bodies (a union-find; an immovable body joins no two
+  // trees), none for the others.
+  constexpr uint32_t none = UINT32_MAX;
+  tree.assign(bodies.size(), none);
+  const auto root = [&](uint32_t i) {
+    while (tree[i] != i) i = tree[i] = tree[tree[i]];
+    return i;
+  };
+  for (const JointRow& row : joint_rows) {
+    for (const uint32_t i : {row.a, row.b}) {
+      if (tree[i] == none && !immovable(bodies[i])) tree[i] = i;
+    }
+    if (tree[row.a] == none || tree[row.b] == none) continue;
+    const uint32_t ra = root(row.a), rb = root(row.b);
+    tree[std::max(ra, rb)] = std::min(ra, rb);
+  }
   const SupportTest holds_up(settings.gravity);
   // 1 / (d . d / m + (r x d) . I^-1 (r x d)) for one side of row j.
   const auto one_side_mass = [](const Vec3& direction, const Vec3& linear, const Vec3& arm, const Vec3& turn) {
@@ -560,8 +576,13 @@ void one_way_pushes(const Settings& settings, const std::vector<SolverBody>& bod
   };
   for (uint32_t r = 0; r < rows.size(); ++r) {
     const PointRow& row = rows[r];
-    if (!jointed[row.a] && !jointed[row.b]) continue;
     if (immovable(bodies[row.a]) || immovable(bodies[row.b])) continue;  // one way already
+    // Two bodies of one tree (a ragdoll's forearm under its own pelvis):
+    // its joints' exact push undid the one-way push each step, and the
+    // forearm stayed 14 mm inside.
+    const uint32_t ta = tree[row.a] == none ? none : root(row.a);
+    const uint32_t tb = tree[row.b] == none ? none : root(row.b);
+    if (ta == tb) continue;  // neither jointed, or one tree
     const Jacobian& j = row.normal;
     if (holds_up(j.direction)) {
       out.push_back({r, true, one_side_mass(j.direction, j.linear_b, j.arm_b, j.turn_b)});
@@ -741,7 +762,7 @@ void solve_contacts(const SolveContext& context, SolvePass kind) {
     if (!parallel ||
         !run_ordered_sweeps(*executor, steps, scratch.sweeps.movable, solver_bodies, rows, manifold_rows,
                             copies ? &sweep_rows : nullptr, scratch.sweeps)) {
-      one_way_pushes(settings, solver_bodies, rows, joint_rows, scratch.jointed, scratch.one_way);
+      one_way_pushes(settings, solver_bodies, rows, joint_rows, scratch.joint_trees, scratch.one_way);
       for (int pass = 0; pass < settings.position_iterations; ++pass) {
         // The joints last: contacts pushed after them pressed ragdoll
         // limbs past their limits (an elbow 20 degrees for a second in a

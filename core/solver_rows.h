@@ -455,9 +455,9 @@ struct SolverScratch {
   // The iterations and position passes on several workers (ordered_sweeps.h).
   OrderedSweeps sweeps;
   // The last position pass's one-way rows, by row (one_way_pushes), and
-  // which bodies a joint holds.
+  // each jointed body's joint tree.
   std::vector<OneWayPush> one_way;
-  std::vector<uint8_t> jointed;
+  std::vector<uint32_t> joint_trees;
 };
 
 // The contacts' accumulated impulses, in contact order, kept aside and put
