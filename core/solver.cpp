@@ -4,6 +4,7 @@
 #include <array>
 #include <cstddef>
 
+#include "core/islands.h"
 #include "core/shock.h"
 #include "core/solver_rows.h"
 
@@ -547,26 +548,20 @@ void sweep(std::vector<SolverBody>& bodies, const std::vector<PointRow>& rows, i
 // awake at 10 s (14 so). Rows of bodies no joint holds are pushed as
 // before.
 void one_way_pushes(const Settings& settings, const std::vector<SolverBody>& bodies, const std::vector<PointRow>& rows,
-                    const std::vector<JointRow>& joint_rows, std::vector<uint32_t>& tree,
-                    std::vector<OneWayPush>& out) {
+                    const std::vector<JointRow>& joint_rows, std::vector<uint8_t>& jointed,
+                    std::vector<uint32_t>& tree, std::vector<OneWayPush>& out) {
   out.clear();
   if (joint_rows.empty() || settings.gravity == Vec3{}) return;
-  // Each jointed movable body's tree: the lowest slot its joints reach
-  // through movable bodies (a union-find; an immovable body joins no two
-  // trees), none for the others.
-  constexpr uint32_t none = UINT32_MAX;
-  tree.assign(bodies.size(), none);
-  const auto root = [&](uint32_t i) {
-    while (tree[i] != i) i = tree[i] = tree[tree[i]];
-    return i;
-  };
+  // Which movable bodies a joint holds, and their trees: joined through
+  // movable bodies (an immovable body joins no two trees).
+  jointed.assign(bodies.size(), 0);
+  tree.resize(bodies.size());
+  for (uint32_t i = 0; i < tree.size(); ++i) tree[i] = i;
   for (const JointRow& row : joint_rows) {
-    for (const uint32_t i : {row.a, row.b}) {
-      if (tree[i] == none && !immovable(bodies[i])) tree[i] = i;
-    }
-    if (tree[row.a] == none || tree[row.b] == none) continue;
-    const uint32_t ra = root(row.a), rb = root(row.b);
-    tree[std::max(ra, rb)] = std::min(ra, rb);
+    const bool a = !immovable(bodies[row.a]), b = !immovable(bodies[row.b]);
+    jointed[row.a] |= a ? 1 : 0;
+    jointed[row.b] |= b ? 1 : 0;
+    if (a && b) unite(tree, row.a, row.b);
   }
   const SupportTest holds_up(settings.gravity);
   // 1 / (d . d / m + (r x d) . I^-1 (r x d)) for one side of row j.
@@ -577,12 +572,11 @@ void one_way_pushes(const Settings& settings, const std::vector<SolverBody>& bod
   for (uint32_t r = 0; r < rows.size(); ++r) {
     const PointRow& row = rows[r];
     if (immovable(bodies[row.a]) || immovable(bodies[row.b])) continue;  // one way already
+    if (!jointed[row.a] && !jointed[row.b]) continue;
     // Two bodies of one tree (a ragdoll's forearm under its own pelvis):
     // its joints' exact push undid the one-way push each step, and the
     // forearm stayed 14 mm inside.
-    const uint32_t ta = tree[row.a] == none ? none : root(row.a);
-    const uint32_t tb = tree[row.b] == none ? none : root(row.b);
-    if (ta == tb) continue;  // neither jointed, or one tree
+    if (jointed[row.a] && jointed[row.b] && find_root(tree, row.a) == find_root(tree, row.b)) continue;
     const Jacobian& j = row.normal;
     if (holds_up(j.direction)) {
       out.push_back({r, true, one_side_mass(j.direction, j.linear_b, j.arm_b, j.turn_b)});
@@ -762,7 +756,7 @@ void solve_contacts(const SolveContext& context, SolvePass kind) {
     if (!parallel ||
         !run_ordered_sweeps(*executor, steps, scratch.sweeps.movable, solver_bodies, rows, manifold_rows,
                             copies ? &sweep_rows : nullptr, scratch.sweeps)) {
-      one_way_pushes(settings, solver_bodies, rows, joint_rows, scratch.joint_trees, scratch.one_way);
+      one_way_pushes(settings, solver_bodies, rows, joint_rows, scratch.jointed, scratch.joint_trees, scratch.one_way);
       for (int pass = 0; pass < settings.position_iterations; ++pass) {
         // The joints last: contacts pushed after them pressed ragdoll
         // limbs past their limits (an elbow 20 degrees for a second in a

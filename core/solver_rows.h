@@ -454,9 +454,10 @@ struct SolverScratch {
   size_t sweep_copies_from = 2048;
   // The iterations and position passes on several workers (ordered_sweeps.h).
   OrderedSweeps sweeps;
-  // The last position pass's one-way rows, by row (one_way_pushes), and
-  // each jointed body's joint tree.
+  // The last position pass's one-way rows, by row (one_way_pushes), which
+  // bodies a joint holds, and their trees (a union-find's parents).
   std::vector<OneWayPush> one_way;
+  std::vector<uint8_t> jointed;
   std::vector<uint32_t> joint_trees;
 };
 
