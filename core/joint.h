@@ -31,6 +31,9 @@ struct JointId {
   friend bool operator==(JointId, JointId) = default;
 };
 
+// The most solver passes a joint may ask for (JointDef::velocity_iterations).
+inline constexpr uint16_t max_joint_iterations = 1000;
+
 // A joint as a game or a scene asks for it, in the world frame at the
 // moment of creation (the scene reader turns body-frame anchors into world
 // ones at the bodies' starting poses).
@@ -52,6 +55,13 @@ struct JointDef {
   // relative to a (a hinge: about its axis; point and cone: about any
   // axis), 0..1e6. 0: none. Ropes have none.
   Fixed friction_torque;
+  // Solver passes the joint's island asks for (0: the world's
+  // Settings::velocity_iterations, position_iterations), 0..1000, as
+  // Jolt's constraints may: an island (bodies joined by contacts and
+  // joints) runs the most that the world or any of its joints asks, the
+  // passes beyond the world's over its rows alone (core/island_passes.h).
+  uint16_t velocity_iterations = 0;
+  uint16_t position_iterations = 0;
 };
 
 // A joint as the world keeps it (state: hashed, saved, dumped). Anchors
@@ -71,6 +81,7 @@ struct Joint {
   Fixed swing_angle;  // cone
   Fixed break_impulse;
   Fixed friction_torque;
+  uint16_t velocity_iterations = 0, position_iterations = 0;  // 0: the world's
   // Accumulated impulses: the point rows (N s, world axes), the rope's,
   // the hinge's two angular rows (N m s; a cone's swing row in the first)
   // and its limit's (a cone's twist limit).

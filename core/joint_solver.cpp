@@ -239,12 +239,13 @@ void set_tree_axes(JointRow& row);
 // Returns whether a row left.
 constexpr Fixed pull_tolerance = Fixed::from_raw(1 << 12);  // N m s: rounding, left to solve_tree's clamp
 
-template <class ImpulsesOf>
+template <class ImpulsesOf, class TakesPart>
 bool release_pulling_rows(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree,
-                          ImpulsesOf impulses_of) {
+                          ImpulsesOf impulses_of, TakesPart takes_part) {
   bool released = false;
   for (size_t p = 0; p < tree.row_of.size(); ++p) {
     JointRow& row = rows[tree.row_of[p]];
+    if (!takes_part(row)) continue;
     const NodeLayout layout = layout_of(row);
     if (layout.swing < 0 && layout.limit < 0) continue;
     const Impulses impulse = impulses_of(row);
@@ -270,13 +271,20 @@ bool release_pulling_rows(std::vector<SolverBody>& bodies, std::vector<JointRow>
 
 // Every joint's tree rows at once on one rate of the bodies: lambda = K^-1
 // (target - J v), solved again while an engaged row pulls
-// (release_pulling_rows), then each joint's impulses applied.
-template <class Rate, class TargetsOf, class ImpulsesOf>
+// (release_pulling_rows), then each joint's impulses applied. A joint
+// that takes no part in this pass (an island's extra pass: solve_joints)
+// gets b = 0: its tree's lambda is exactly 0 (no tree couples to another),
+// and its bodies keep their bits.
+template <class Rate, class TargetsOf, class ImpulsesOf, class TakesPart>
 void solve_tree(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree, Rate rate_of,
-                TargetsOf targets_of, ImpulsesOf impulses_of) {
+                TargetsOf targets_of, ImpulsesOf impulses_of, TakesPart takes_part) {
   for (;;) {
     for (size_t p = 0; p < tree.row_of.size(); ++p) {
       const JointRow& row = rows[tree.row_of[p]];
+      if (!takes_part(row)) {
+        tree.rhs[p] = Column{};
+        continue;
+      }
       const BodyRates& a = rate_of(bodies[row.a]);
       const BodyRates& b = rate_of(bodies[row.b]);
       const Targets target = targets_of(row);
@@ -293,10 +301,11 @@ void solve_tree(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, Jo
       if (layout.limit >= 0) rhs.at[layout.limit] = target.limit - spin(a, b, row.limit);
     }
     solve_joint_tree(tree, tree.rhs);
-    if (!release_pulling_rows(bodies, rows, tree, impulses_of)) break;
+    if (!release_pulling_rows(bodies, rows, tree, impulses_of, takes_part)) break;
   }
   for (size_t p = 0; p < tree.row_of.size(); ++p) {
     JointRow& row = rows[tree.row_of[p]];
+    if (!takes_part(row)) continue;
     SolverBody& sa = bodies[row.a];
     SolverBody& sb = bodies[row.b];
     BodyRates& a = rate_of(sa);
@@ -330,11 +339,12 @@ void solve_tree(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, Jo
 // One pass over the joints on one rate: the rows the tree leaves out one
 // by one, then the tree (or, where the joints close a loop, every row one
 // by one).
-template <class Rate, class TargetsOf, class ImpulsesOf>
+template <class Rate, class TargetsOf, class ImpulsesOf, class TakesPart>
 void solve_pass(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree, Rate rate_of,
-                TargetsOf targets_of, ImpulsesOf impulses_of) {
+                TargetsOf targets_of, ImpulsesOf impulses_of, TakesPart takes_part) {
   bool promoted = false;
   for (JointRow& row : rows) {
+    if (!takes_part(row)) continue;
     SolverBody& a = bodies[row.a];
     SolverBody& b = bodies[row.b];
     const Impulses impulse = impulses_of(row);
@@ -352,7 +362,7 @@ void solve_pass(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, Jo
   }
   if (!tree.exact) return;
   if (promoted) refactor_joint_tree(bodies, rows, tree);
-  solve_tree(bodies, rows, tree, rate_of, targets_of, impulses_of);
+  solve_tree(bodies, rows, tree, rate_of, targets_of, impulses_of, takes_part);
 }
 
 BodyRates& velocity_of(SolverBody& body) { return body.velocity; }
@@ -571,18 +581,24 @@ void warm_start_joints(std::vector<SolverBody>& bodies, const std::vector<JointR
   }
 }
 
-void solve_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree) {
+void solve_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree, int extra_pass) {
+  const auto takes_part = [extra_pass](const JointRow& row) {
+    return extra_pass < 0 || row.extra_velocity_passes > extra_pass;
+  };
   for (JointRow& row : rows) {
-    if (!row.friction) continue;
+    if (!row.friction || !takes_part(row)) continue;
     SolverBody& a = bodies[row.a];
     SolverBody& b = bodies[row.b];
     solve_friction(a, b, a.velocity, b.velocity, row);
   }
-  solve_pass(bodies, rows, tree, velocity_of, velocity_targets, velocity_impulses);
+  solve_pass(bodies, rows, tree, velocity_of, velocity_targets, velocity_impulses, takes_part);
 }
 
-void push_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree) {
-  solve_pass(bodies, rows, tree, push_of, push_targets, push_impulses);
+void push_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree, int extra_pass) {
+  const auto takes_part = [extra_pass](const JointRow& row) {
+    return extra_pass < 0 || row.extra_position_passes > extra_pass;
+  };
+  solve_pass(bodies, rows, tree, push_of, push_targets, push_impulses, takes_part);
 }
 
 bool joints_to_push(const std::vector<JointRow>& rows) {

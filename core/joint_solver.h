@@ -76,6 +76,8 @@ struct JointRow {
   AngularPart friction_hinge;
   Mat33 friction_mass;
   Vec3 friction_impulse;  // a hinge's in x
+  // The passes its island runs beyond the world's (island_passes.h).
+  uint16_t extra_velocity_passes = 0, extra_position_passes = 0;
   // Split impulses, this solve's only.
   Vec3 point_push_impulse;
   Fixed rope_push_impulse, hinge_push_impulse[2], limit_push_impulse;
@@ -88,11 +90,13 @@ void prepare_joint_rows(const Settings& settings, const std::vector<Body>& bodie
 void warm_start_joints(std::vector<SolverBody>& bodies, const std::vector<JointRow>& rows);
 // One velocity iteration over the joints: ropes, limits and hinge axes
 // row by row, then every point block at once (the tree solve), or block by
-// block where the joints close a loop.
-void solve_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree);
-// One position pass over the joints (on the push rates). Whether any row
-// has something to push.
-void push_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree);
+// block where the joints close a loop. extra_pass >= 0: one of the passes
+// beyond the world's (core/island_passes.h), over the joints whose island
+// runs more than extra_pass of them; the others are left as they are.
+void solve_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree, int extra_pass = -1);
+// One position pass over the joints (on the push rates), likewise. Whether
+// any row has something to push.
+void push_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree, int extra_pass = -1);
 bool joints_to_push(const std::vector<JointRow>& rows);
 
 // The angle of b's reference vector about the hinge axis, from a's (rad,

@@ -737,6 +737,12 @@ void solve_contacts(const SolveContext& context, SolvePass kind) {
     }
   }
   if (copies) write_back_impulses(manifold_rows, rows, sweep_rows, row_executor);
+  // Islands whose joints ask for more passes than the world's run them
+  // here, over their own rows (island_passes.h; with joints the sweeps
+  // above ran on this thread).
+  IslandPasses& island_passes = scratch.island_passes;
+  plan_island_passes(settings, solver_bodies, rows, manifold_rows, joint_rows, island_passes);
+  run_extra_velocity_passes(solver_bodies, rows, manifold_rows, joint_rows, joints.tree, island_passes);
   if (kind == SolvePass::collision) {
     restore_impulses(scratch.saved_impulses, contacts);
     write_velocities(solver_bodies, bodies);
@@ -757,6 +763,7 @@ void solve_contacts(const SolveContext& context, SolvePass kind) {
         !run_ordered_sweeps(*executor, steps, scratch.sweeps.movable, solver_bodies, rows, manifold_rows,
                             copies ? &sweep_rows : nullptr, scratch.sweeps)) {
       one_way_pushes(settings, solver_bodies, rows, joint_rows, scratch.jointed, scratch.joint_trees, scratch.one_way);
+      run_extra_position_passes(solver_bodies, rows, joint_rows, joints.tree, island_passes);
       for (int pass = 0; pass < settings.position_iterations; ++pass) {
         // The joints last: contacts pushed after them pressed ragdoll
         // limbs past their limits (an elbow 20 degrees for a second in a

@@ -9,6 +9,7 @@
 #include "core/contact.h"
 #include "core/executor.h"
 #include "core/glue_face.h"
+#include "core/island_passes.h"
 #include "core/manifold.h"
 #include "core/ordered_sweeps.h"
 #include "core/row_cache.h"
@@ -459,6 +460,8 @@ struct SolverScratch {
   std::vector<OneWayPush> one_way;
   std::vector<uint8_t> jointed;
   std::vector<uint32_t> joint_trees;
+  // The passes beyond the world's for islands whose joints ask for more.
+  IslandPasses island_passes;
 };
 
 // The contacts' accumulated impulses, in contact order, kept aside and put

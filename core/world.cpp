@@ -274,6 +274,8 @@ JointResult World::create_joint(const JointDef& def) {
     result.error = "friction_torque: outside 0..1000000 N m";
   } else if (def.type == JointType::max_distance && def.friction_torque != Fixed{}) {
     result.error = "friction_torque: a rope has no friction";
+  } else if (def.velocity_iterations > max_joint_iterations || def.position_iterations > max_joint_iterations) {
+    result.error = "iterations: outside 0..1000";
   } else {
     const Vec3 anchor_b = def.type == JointType::max_distance ? def.anchor_b : def.anchor_a;
     result.error = reach_error("anchor_a", def.body_a, def.anchor_a);
@@ -311,6 +313,8 @@ JointResult World::create_joint(const JointDef& def) {
   if (def.type == JointType::cone) joint.swing_angle = def.swing_angle;
   joint.break_impulse = def.break_impulse;
   joint.friction_torque = def.friction_torque;
+  joint.velocity_iterations = def.velocity_iterations;
+  joint.position_iterations = def.position_iterations;
   uint32_t index;
   if (!free_joint_slots_.empty()) {
     index = free_joint_slots_.back();

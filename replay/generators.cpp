@@ -501,6 +501,8 @@ GeneratedStructure generate_ragdoll(const RagdollParams& params) {
       def.upper_angle = radians(spec.upper);
       if (spec.type == JointType::cone) def.swing_angle = radians(spec.swing);
       def.friction_torque = params.joint_friction * scale4;
+      def.velocity_iterations = params.velocity_iterations;
+      def.position_iterations = params.position_iterations;
       out.joints.push_back(std::move(joint));
     }
   }

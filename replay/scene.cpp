@@ -37,6 +37,16 @@ void check_count(const Node& array, size_t limit, const char* what) {
   }
 }
 
+// A joint's solver passes (JointDef::velocity_iterations,
+// position_iterations), 0..1000: absent, as they are.
+void read_iterations(ObjectReader& reader, uint16_t& velocity, uint16_t& position) {
+  for (const auto& [key, field] : {std::pair{"velocity_iterations", &velocity}, std::pair{"position_iterations", &position}}) {
+    int value = *field;
+    read_optional(reader, key, value, 0, max_joint_iterations);
+    *field = static_cast<uint16_t>(value);
+  }
+}
+
 MaterialTable read_materials(const Node& node) {
   if (node.kind != Kind::object) fail(node, std::string("expected an object of named materials, got ") + json::describe(node.kind));
   check_count(node, limits::max_materials, "materials");
@@ -344,6 +354,7 @@ GeneratedStructure read_ragdoll(ObjectReader& reader, const MaterialTable& mater
   if (const Node* friction = reader.find("joint_friction")) {
     p.joint_friction = read_fixed_within(*friction, Fixed{}, Fixed::from_int(1000), "N m");
   }
+  read_iterations(reader, p.velocity_iterations, p.position_iterations);
   read_optional(reader, "count", p.count, 1, 1000);
   read_place(reader, "position", p.position);
   read_optional_within(reader, "spacing", p.spacing, -max_distance, max_distance, "m");
@@ -722,6 +733,7 @@ JointSpec read_joint_spec(const json::Node& node, const BodyResolver& resolve_bo
     }
   }
   read_optional(reader, "break_impulse", def.break_impulse, Bound::non_negative);
+  read_iterations(reader, def.velocity_iterations, def.position_iterations);
   reader.finish();
   return spec;
 }

@@ -16,7 +16,7 @@
 
 namespace bitstep {
 
-inline constexpr uint32_t snapshot_version = 2;  // 2: rolling resistance (material, contact impulses)
+inline constexpr uint32_t snapshot_version = 3;  // 2: rolling resistance (material, contact impulses); 3: joints' solver passes
 
 std::vector<uint8_t> snapshot(const World& world);
 

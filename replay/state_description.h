@@ -323,6 +323,8 @@ void describe_joint(V& v, J& joint, const Bodies& bodies) {
   v.fixed("swing_angle", joint.swing_angle);
   v.fixed("break_impulse", joint.break_impulse);
   v.fixed("friction_torque", joint.friction_torque);
+  v.integer("velocity_iterations", joint.velocity_iterations, 2, 0, max_joint_iterations);
+  v.integer("position_iterations", joint.position_iterations, 2, 0, max_joint_iterations);
   // The impulses accumulated last step, which warm-start the next.
   v.vec("point_impulse", joint.point_impulse);
   v.fixed("distance_impulse", joint.distance_impulse);
