@@ -432,6 +432,7 @@ void World::step() {
     step_standard();
   }
   bitstep::integrate_positions(settings_, bodies_, scratch_->push, scratch_->solver_scratch.start_velocities, contacts_, joints_, scratch_->touching);
+  project_joints(settings_, bodies_, joints_, scratch_->joint_projection);
   if (settings_.sleep_method != SleepMethod::off) sleep_islands(settings_, bodies_, scratch_->sleep_scratch);
   // Joints whose impulse this step went past their break_impulse: gone
   // before the next step (their bodies wake, as any removal's).

@@ -14,6 +14,7 @@
 #include "core/contact.h"
 #include "core/contact_update.h"
 #include "core/integrate.h"
+#include "core/joint_projection.h"
 #include "core/joint_solver.h"
 #include "core/joint_tree.h"
 #include "core/pose.h"
@@ -50,6 +51,7 @@ struct WorldScratch {
   SolverScratch solver_scratch;
   std::vector<JointRow> joint_rows;
   JointTree joint_tree;
+  JointProjection joint_projection;  // after the integration (joint_projection.h)
   std::vector<uint8_t> touching;
   SleepScratch sleep_scratch;
   // guendelman: each body's motion before the prediction moved it.
