@@ -235,21 +235,31 @@ TEST_CASE("cutting the joint that holds a chain lets it fall at exactly g", "[jo
   }
 }
 
-TEST_CASE("a rope is slack until taut, then holds ten times the load within 1% of its length", "[joint][rope]") {
-  TestWorld t;
+namespace {
+
+// A ball of radius 0.1 m at height y, on a rope of `rope` m from a static
+// anchor at a height of 10 m. Returns the ball.
+BodyId ball_on_rope(TestWorld& t, Fixed y, Fixed rope, Fixed mass = Fixed::one()) {
   const BodyId anchor = add_anchor(t, {Fixed{}, 10.0_fx, Fixed{}});
-  // A 1 kg ball 1 m below the anchor on a 2 m rope: it falls freely for
-  // 1 m, then the rope catches it.
-  const BodyId ball = add_ball(t, {Fixed{}, 9.0_fx, Fixed{}}, 0.1_fx, 1.0_fx);
+  const BodyId ball = add_ball(t, {Fixed{}, y, Fixed{}}, 0.1_fx, mass);
   JointDef def;
   def.type = JointType::max_distance;
   def.body_a = anchor;
   def.body_b = ball;
   def.anchor_a = {Fixed{}, 10.0_fx, Fixed{}};
-  def.anchor_b = {Fixed{}, 9.0_fx, Fixed{}};
-  def.length = 2.0_fx;
-  const JointResult made = t.world.create_joint(def);
-  REQUIRE(made.ok());
+  def.anchor_b = {Fixed{}, y, Fixed{}};
+  def.length = rope;
+  REQUIRE(t.world.create_joint(def).ok());
+  return ball;
+}
+
+}  // namespace
+
+TEST_CASE("a rope is slack until taut, then holds ten times the load within 1% of its length", "[joint][rope]") {
+  TestWorld t;
+  // A 1 kg ball 1 m below the anchor on a 2 m rope: it falls freely for
+  // 1 m, then the rope catches it.
+  const BodyId ball = ball_on_rope(t, 9.0_fx, 2.0_fx);
   // Slack: exactly free fall (the integrator's constrained rule).
   const double dt = to_double(t.world.settings().dt);
   for (int i = 1; i <= 20; ++i) {
@@ -267,12 +277,7 @@ TEST_CASE("a rope is slack until taut, then holds ten times the load within 1% o
   CHECK(longest > 1.99);  // it did catch
   // Ten times the load: a 10 kg ball on the same rope, hanging.
   TestWorld heavy;
-  const BodyId top = add_anchor(heavy, {Fixed{}, 10.0_fx, Fixed{}});
-  const BodyId weight = add_ball(heavy, {Fixed{}, 8.0_fx, Fixed{}}, 0.1_fx, 10.0_fx);
-  def.body_a = top;
-  def.body_b = weight;
-  def.anchor_b = {Fixed{}, 8.0_fx, Fixed{}};
-  REQUIRE(heavy.world.create_joint(def).ok());
+  const BodyId weight = ball_on_rope(heavy, 8.0_fx, 2.0_fx, 10.0_fx);
   heavy.simulate_steps(300);
   const double hanging = 10.0 - to_double(heavy.body(weight).pose.position.y);
   INFO("hanging " << hanging << " m");
@@ -391,16 +396,7 @@ TEST_CASE("a joint's error is projected out in one step, without adding momentum
     Settings settings;
     settings.baumgarte = baumgarte;
     TestWorld t(settings);
-    const BodyId anchor = add_anchor(t, {Fixed{}, 10.0_fx, Fixed{}});
-    const BodyId ball = add_ball(t, {Fixed{}, 8.5_fx, Fixed{}}, 0.1_fx, 1.0_fx);
-    JointDef def;
-    def.type = JointType::max_distance;
-    def.body_a = anchor;
-    def.body_b = ball;
-    def.anchor_a = {Fixed{}, 10.0_fx, Fixed{}};
-    def.anchor_b = {Fixed{}, 8.5_fx, Fixed{}};
-    def.length = 1.0_fx;
-    REQUIRE(t.world.create_joint(def).ok());
+    const BodyId ball = ball_on_rope(t, 8.5_fx, 1.0_fx);
     t.world.step();
     const double distance = 10.0 - to_double(t.body(ball).pose.position.y);
     const double speed = to_double(length(t.body(ball).linear_velocity));
