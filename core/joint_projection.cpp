@@ -16,16 +16,22 @@ namespace {
 // 2.6).
 constexpr Fixed projection_max_speed = 100.0_fx;
 
-}  // namespace
+// A pass that turned a body by more than this (rad) left an error of about
+// its square (the rows are linear at the poses they start from), so a
+// second pass follows. Over 96 ragdoll heaps with one pass, 5 joint-steps
+// ended 2.2-3.8 degrees past a limit (impacts at 5-20 rad/s); with the
+// second, none past 1.4 degrees. It runs in the steps of a ragdoll's fall,
+// about never once settled.
+constexpr Fixed second_pass_turn = 0.02_fx;
+constexpr int max_passes = 2;
 
-void project_joints(const Settings& settings, std::vector<Body>& bodies, const std::vector<Joint>& joints,
-                    JointProjection& scratch) {
-  if (settings.baumgarte) return;
-  const bool any = std::any_of(joints.begin(), joints.end(), [&](const Joint& j) {
-    return j.alive && (is_awake_dynamic(bodies[j.body_a]) || is_awake_dynamic(bodies[j.body_b]));
-  });
-  if (!any) return;
-  // The bodies a joint holds, with their inverse inertia at the integrated
+// One projection: the joints' position rows at the current poses, solved
+// exactly for pseudo-velocities that close them in one step, applied to
+// the poses. Returns the largest turn (rad) of a body, or -1 when no row
+// had anything to push.
+Fixed project_once(const Settings& settings, std::vector<Body>& bodies, const std::vector<Joint>& joints,
+                   JointProjection& scratch) {
+  // The bodies a joint holds, with their inverse inertia at the current
   // orientation; every other body stands still.
   std::vector<SolverBody>& solver_bodies = scratch.bodies;
   solver_bodies.assign(bodies.size(), SolverBody{});
@@ -46,15 +52,33 @@ void project_joints(const Settings& settings, std::vector<Body>& bodies, const s
   closing.max_push_out_speed = projection_max_speed;
   scratch.joints = joints;
   prepare_joint_rows(closing, bodies, scratch.joints, solver_bodies, scratch.rows, scratch.tree);
-  if (!joints_to_push(scratch.rows)) return;
+  if (!joints_to_push(scratch.rows)) return -Fixed::one();
   push_joints(solver_bodies, scratch.rows, scratch.tree);
   const Fixed dt = settings.dt;
+  Fixed largest_rate;
   for (size_t i = 0; i < bodies.size(); ++i) {
     if (solver_bodies[i].still) continue;
     Body& body = bodies[i];
     const BodyRates& push = solver_bodies[i].push;
+    const Vec3 rate = abs(push.angular);
+    largest_rate = max(largest_rate, max(rate.x, max(rate.y, rate.z)));
     body.pose.position = mul_add(push.linear, dt, body.pose.position);
     if (push.angular != Vec3{}) body.pose.orientation = integrate(body.pose.orientation, push.angular, dt);
+  }
+  return largest_rate * dt;
+}
+
+}  // namespace
+
+void project_joints(const Settings& settings, std::vector<Body>& bodies, const std::vector<Joint>& joints,
+                    JointProjection& scratch) {
+  if (settings.baumgarte) return;
+  const bool any = std::any_of(joints.begin(), joints.end(), [&](const Joint& j) {
+    return j.alive && (is_awake_dynamic(bodies[j.body_a]) || is_awake_dynamic(bodies[j.body_b]));
+  });
+  if (!any) return;
+  for (int pass = 0; pass < max_passes; ++pass) {
+    if (project_once(settings, bodies, joints, scratch) <= second_pass_turn) return;
   }
 }
 

@@ -820,20 +820,22 @@ TEST_CASE("ragdolls.json: ragdolls onto a pile and down a staircase", "[scene][j
 // weighted 0.9 to the past), joint friction 1 N m) and 15 copies with each
 // ragdoll generator moved by up to 3 cm along each axis (a seeded draw).
 // One heap says little: moved by a few centimetres, the same scene slept
-// anywhere between 3.3 s and 6.6 s; a ragdoll sliding off the heap late
+// anywhere between 3.4 s and 5.7 s; a ragdoll sliding off the heap late
 // keeps it awake. Measured on these 16 (60 Hz; the ragdolls' joints ask 40
 // velocity and 24 position passes for their islands, core/island_passes.h,
 // the generator's 30 and 12 raised by the scene; the joints' errors
-// projected out after each step's integration, core/joint_projection.h),
-// against the issue's bar (every heap at rest and asleep within 5 s, no
-// limb more than 2 degrees past a limit, no overlap deeper than the slop
-// (0) + 2 mm):
+// projected out after each step's integration, twice after a large turn,
+// core/joint_projection.h), against the issue's bar (every heap at rest
+// and asleep within 5 s, no limb more than 2 degrees past a limit, no
+// overlap deeper than the slop (0) + 2 mm):
 //   still (no body's v.v + w.w above the sleep epsilon, 0.05) after step
-//   223, the median; asleep after step 268, the median, 13 of 16 within
-//   300 steps (the others at 309, 320 and 396: a ragdoll slid off the heap
-//   until step 384); deepest overlap at 10 s: median 0.20 mm, 1.88 mm at most; limbs:
-//   the heaps' worst past a limit at any step 1.89 degrees at most, no
-//   joint-step past 2 degrees; at rest 0.000004 degrees.
+//   223, the median; asleep after step 261, the median, 13 of 16 within
+//   300 steps (the others at 309, 312 and 342), all within 5.7 s; deepest
+//   overlap at 10 s: median 0.23 mm, 1.64 mm at most; limbs: the heaps'
+//   worst past a limit at any step 1.50 degrees at most, no joint-step
+//   past 2 degrees.
+// Projected once in every step: asleep after step 268 (median), overlap
+// 0.20 mm (median), 1.88 at most; limbs 1.89 degrees at most.
 // With the scene's average weighted 0.96 (Kenwright's) and 30 and 12
 // passes: asleep after step 308 (median), 8 of 16 within 300 steps;
 // overlap median 0.54 mm, 6.9 mm at most; limbs 2.13 degrees at most, one
@@ -851,6 +853,12 @@ TEST_CASE("ragdolls.json: ragdolls onto a pile and down a staircase", "[scene][j
 // awake at 10 s; from still to asleep 65 -> 47 steps (median), 87 -> 51 at
 // most; deepest overlap median 0.54 -> 0.23 mm, 6.3 -> 2.55 mm at most, 4
 // -> 3 heaps over 2 mm; the heaps' worst limb 2.6 -> 3.8 degrees at most.
+// The second projection after a large turn: asleep after step 260 -> 271
+// (median), 69 -> 62 within 300 steps, 0 -> 1 awake at 10 s (noise of
+// the heaps' chaos: settings that differ less moved these as much);
+// overlap median 0.23 -> 0.18 mm, 2.55 -> 6.19 mm at most, 3 -> 2 heaps
+// over 2 mm; the heaps' worst limb median 0.5 -> 0.2, 3.8 -> 1.4 degrees
+// at most, 5 -> 0 joint-steps past 2.
 TEST_CASE("ragdoll heaps: sixteen dropped heaps come to rest with shallow overlaps and limbs within limits",
           "[joint][ragdoll][slow]") {
   std::string text, reason;
@@ -942,7 +950,7 @@ TEST_CASE("ragdoll heaps: sixteen dropped heaps come to rest with shallow overla
   CHECK(past_two_degrees * 100000 < joint_steps);  // under 0.001%
   std::sort(worst_of_heap.begin(), worst_of_heap.end());
   CHECK(worst_of_heap[8] < 1.0);             // degrees past a limit at any step, the median heap's worst
-  CHECK(worst_of_heap.back() < 3.0);
+  CHECK(worst_of_heap.back() < 2.0);         // the bar
 }
 
 // The playground's three ragdolls, dropped on their backs one onto another,
