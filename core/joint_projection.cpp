@@ -20,8 +20,9 @@ constexpr Fixed projection_max_speed = 100.0_fx;
 // its square (the rows are linear at the poses they start from), so a
 // second pass follows. Over 96 ragdoll heaps with one pass, 5 joint-steps
 // ended 2.2-3.8 degrees past a limit (impacts at 5-20 rad/s); with the
-// second, none past 1.4 degrees. It runs in the steps of a ragdoll's fall,
-// about never once settled.
+// second, none past 1.4 degrees. In 600 steps it ran in 32 of the 261
+// that ragdolls.json projects (22 in its first second), 41 of chains.json's
+// 600, 21 of bridge.json's and 52 of the playground's.
 constexpr Fixed second_pass_turn = 0.02_fx;
 constexpr int max_passes = 2;
 
