@@ -3,6 +3,7 @@
 #include "core/envelope.h"
 #include "core/query.h"
 #include "core/settings.h"
+#include "core/tyre_rows.h"
 
 namespace bitstep {
 
@@ -86,14 +87,18 @@ Aabb car_region(const std::vector<Car>& cars, const std::vector<Body>& bodies) {
 }
 
 void drive_cars(const WorldQuery& query, Fixed dt, std::vector<Body>& bodies, std::vector<Car>& cars,
-                std::vector<uint32_t>& to_wake) {
-  for (Car& car : cars) {
+                std::vector<TyreContact>& tyres, std::vector<uint32_t>& to_wake) {
+  tyres.clear();
+  for (uint32_t c = 0; c < cars.size(); ++c) {
+    Car& car = cars[c];
     if (!car.alive) continue;
     const CarDef& def = car.def;
     Body& chassis = bodies[def.chassis.index];
     car.wheels.assign(def.wheels.size(), WheelState{});
     if (chassis.asleep) {
-      if (car.controls == CarControls{}) continue;  // parked: it sleeps
+      // Parked: brake and steering move nothing at rest, so only the
+      // throttle wakes it (a car with its handbrake on sleeps).
+      if (car.controls.throttle == Fixed{}) continue;
       to_wake.push_back(def.chassis.index);
     }
     const Vec3 up = up_in(chassis), down = -up;
@@ -102,72 +107,58 @@ void drive_cars(const WorldQuery& query, Fixed dt, std::vector<Body>& bodies, st
     // the left of a car facing +z).
     const Fixed angle = clamp(car.controls.steer, -Fixed::one(), Fixed::one()) * def.max_steer;
     const Vec3 steered = ahead * cos(angle) + cross(up, ahead) * sin(angle);
-    int grounded = 0;
-    for (size_t w = 0; w < def.wheels.size(); ++w) {
+    const Fixed throttle = clamp(car.controls.throttle, -Fixed::one(), Fixed::one());
+    const Fixed brake = clamp(car.controls.brake, Fixed{}, Fixed::one());
+    for (uint32_t w = 0; w < def.wheels.size(); ++w) {
       WheelState& state = car.wheels[w];
-      state = touch(query, def, chassis, def.wheels[w], def.wheels[w].steered ? steered : ahead);
+      const Vec3 heading = def.wheels[w].steered ? steered : ahead;
+      state = touch(query, def, chassis, def.wheels[w], heading);
+      const TyreImpulse last = car.tyre_impulses[w];
+      car.tyre_impulses[w] = {};  // a wheel off the ground keeps none
       if (!state.on_ground) continue;
-      ++grounded;
       // The spring and the damper, closing = the wheel point moving down
-      // into the ground; a suspension pushes, never pulls.
-      const Body& ground = bodies[state.ground];
+      // into the ground; a suspension pushes, never pulls. The ground
+      // pushes back along its normal (as Bullet's raycast vehicle does):
+      // along the chassis's tilted up, a car squatting as it accelerates
+      // lost part of its drive to the spring's slant.
+      Body& ground = bodies[state.ground];
       const Vec3 relative = point_velocity(chassis, state.point) - point_velocity(ground, state.point);
       const Fixed closing = dot(relative, down);
       state.suspension_force = max(def.stiffness * state.compression + def.damping * closing, Fixed{});
-    }
-    if (grounded == 0) continue;
-    for (size_t w = 0; w < def.wheels.size(); ++w) {
-      WheelState& state = car.wheels[w];
-      if (!state.on_ground) continue;
-      Body& ground = bodies[state.ground];
       const Vec3 n = state.normal;
-      const Vec3 heading = def.wheels[w].steered ? steered : ahead;
-      const Vec3 forward = normalize_or(heading - n * dot(heading, n), ahead);
-      const Vec3 side = cross(n, forward);
-      const Vec3 relative = point_velocity(chassis, state.point) - point_velocity(ground, state.point);
-      const Fixed along = dot(relative, forward), across = dot(relative, side);
-      // Each grounded wheel stops its point sliding sideways within a step,
-      // and brakes it at most to rest, with the chassis's mass as that point
-      // feels it along the direction (1 / (1/m + (r x d) . I^-1 (r x d)):
-      // the force acts below the centre of mass and rolls the chassis too),
-      // shared among the grounded wheels. With the whole mass instead, a
-      // parked car rocked from side to side for ever.
-      const Vec3 arm = state.point - chassis.pose.position;
-      auto felt_mass = [&](Vec3 d) {
-        const Vec3 turn = cross(arm, d);
-        return Fixed::one() /
-               ((chassis.inverse_mass + dot(turn, chassis.inverse_inertia_world * turn)) * Fixed::from_int(grounded));
-      };
-      const Fixed share_along = felt_mass(forward), share_across = felt_mass(side);
-      Fixed longitudinal = def.wheels[w].driven
-                               ? clamp(car.controls.throttle, -Fixed::one(), Fixed::one()) * def.drive_force
-                               : Fixed{};
-      const Fixed braking =
-          min(clamp(car.controls.brake, Fixed{}, Fixed::one()) * def.brake_force, abs(along) * share_along / dt);
-      longitudinal += along > Fixed{} ? -braking : braking;
-      Fixed lateral = -across * share_across / dt;
-      // The friction circle: within mu_s N the tyre grips; past it, it
-      // slides at mu_d N (the pair's coefficients as contacts mix them).
-      const Fixed load = state.suspension_force;
-      const Fixed mu_static = sqrt(def.grip * ground.material.static_friction);
-      const Fixed mu_dynamic = sqrt(def.grip * ground.material.dynamic_friction);
-      const Fixed demand = length(Vec3{longitudinal, lateral, Fixed{}});
-      if (demand > mu_static * load) {
-        const Fixed scale = mu_dynamic * load / demand;
-        longitudinal *= scale;
-        lateral *= scale;
-      }
-      state.tyre_force = forward * longitudinal + side * lateral;
-      // The ground pushes back along its normal (as Bullet's raycast vehicle
-      // does): along the chassis's tilted up, a car squatting 0.65 degrees
-      // as it accelerates lost 2.8% of its drive to the spring's slant.
-      const Vec3 force = n * state.suspension_force + state.tyre_force;
-      add_force(chassis, force, state.point, dt);
+      add_force(chassis, n * state.suspension_force, state.point, dt);
       if (ground.type == BodyType::dynamic) {
-        add_force(ground, -force, state.point, dt);
+        add_force(ground, -(n * state.suspension_force), state.point, dt);
         if (ground.asleep) to_wake.push_back(state.ground);
       }
+      // The tyre: rows of the solve (core/tyre_rows.h) within the friction
+      // circle of the suspension's impulse, the pair's coefficients mixed
+      // as contacts mix them.
+      TyreContact tyre;
+      tyre.car = c;
+      tyre.wheel = w;
+      tyre.chassis = def.chassis.index;
+      tyre.ground = state.ground;
+      tyre.point = state.point;
+      tyre.forward = normalize_or(heading - n * dot(heading, n), ahead);
+      tyre.side = cross(n, tyre.forward);
+      tyre.load = state.suspension_force * dt;
+      tyre.drive = def.wheels[w].driven ? throttle * def.drive_force * dt : Fixed{};
+      tyre.brake = brake * def.brake_force * dt;
+      tyre.static_friction = sqrt(def.grip * ground.material.static_friction);
+      tyre.dynamic_friction = sqrt(def.grip * ground.material.dynamic_friction);
+      tyre.forward_impulse = last.forward;
+      tyre.side_impulse = last.side;
+      tyres.push_back(tyre);
     }
+  }
+}
+
+void record_tyre_forces(const std::vector<TyreContact>& tyres, Fixed dt, std::vector<Car>& cars) {
+  for (const TyreContact& tyre : tyres) {
+    Car& car = cars[tyre.car];
+    car.tyre_impulses[tyre.wheel] = {tyre.forward_impulse, tyre.side_impulse};
+    car.wheels[tyre.wheel].tyre_force = (tyre.forward * tyre.forward_impulse + tyre.side * tyre.side_impulse) / dt;
   }
 }
 

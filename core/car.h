@@ -4,10 +4,12 @@
 // wheel to both the chassis, the wheel, and the object that it touches."
 // Each step, before the forces are integrated, every wheel casts its rays
 // (core/query.h) down the chassis's -y from its attachment, and where it
-// touches: a spring and damper along the suspension, and tyre forces in the
-// ground's plane (drive, brake, and the side force that stops sliding
-// sideways) within the friction circle of the suspension's load. Each
-// force goes to the chassis and, opposite, to the body under the wheel.
+// touches: a spring and damper along the suspension (a force), and the
+// tyre in the ground's plane (drive, brake, and the side grip that stops
+// sliding sideways) as friction rows of the contact solve, within the
+// friction circle of the suspension's load (core/tyre_rows.h). Each force
+// and impulse goes to the chassis and, opposite, to the body under the
+// wheel.
 #pragma once
 
 #include <cstdint>
@@ -48,21 +50,30 @@ struct CarControls {
   friend bool operator==(const CarControls&, const CarControls&) = default;
 };
 
-// What a wheel found at the start of the last step (not state: found again
-// every step).
+// What a wheel found at the start of the last step, and the force its tyre
+// gave (not state: found again every step).
 struct WheelState {
   bool on_ground = false;
   Fixed compression;        // m, of the suspension (0 at rest_length)
   Fixed suspension_force;   // N
   Vec3 point, normal;       // where the wheel touches, and the ground's normal
-  Vec3 tyre_force;          // N, in the ground's plane, on the chassis
+  Vec3 tyre_force;          // N, in the ground's plane, on the chassis: the solve's tyre impulse / dt
   uint32_t ground = UINT32_MAX;  // the touched body's slot
+};
+
+// A tyre's impulses accumulated in the last step's solve, which start the
+// next one's (warm starting, as contacts'): N s on the chassis, along the
+// wheel's heading and across it; zero for a wheel off the ground.
+struct TyreImpulse {
+  Fixed forward, side;
+  friend bool operator==(const TyreImpulse&, const TyreImpulse&) = default;
 };
 
 struct Car {
   bool alive = false;
   CarDef def;
   CarControls controls;
+  std::vector<TyreImpulse> tyre_impulses;  // per wheel (state: hashed, saved)
   std::vector<WheelState> wheels;
 };
 
@@ -75,18 +86,23 @@ struct CarId {
 std::string car_def_error(const CarDef& def, const std::vector<Body>& bodies);
 
 class WorldQuery;
+struct TyreContact;
 
 // Where the live cars' wheel rays can reach: every chassis's bounds grown
 // by its farthest attachment plus the suspension and the wheel (a
 // WorldQuery over this region answers their rays exactly).
 Aabb car_region(const std::vector<Car>& cars, const std::vector<Body>& bodies);
 
-// Every live car's wheel forces, added to the chassis's and the touched
-// bodies' pending forces (World::step calls it first, so they are
-// integrated with gravity). `query` is a snapshot of the world at the
-// step's start. Sleeping bodies a car pushes, and a sleeping chassis whose
-// driver touches the controls, are listed in `to_wake`.
+// Every live car's suspension forces, added to the chassis's and the
+// touched bodies' pending forces (World::step calls it first, so they are
+// integrated with gravity), and its grounded wheels' tyres, for the solve
+// (core/tyre_rows.h). `query` is a snapshot of the world at the step's
+// start. Sleeping bodies a car pushes, and a sleeping chassis whose driver
+// opens the throttle, are listed in `to_wake`.
 void drive_cars(const WorldQuery& query, Fixed dt, std::vector<Body>& bodies, std::vector<Car>& cars,
-                std::vector<uint32_t>& to_wake);
+                std::vector<TyreContact>& tyres, std::vector<uint32_t>& to_wake);
+// The tyres' impulses the solve settled on, kept to warm-start the next
+// step, and their forces, into the cars' wheel states.
+void record_tyre_forces(const std::vector<TyreContact>& tyres, Fixed dt, std::vector<Car>& cars);
 
 }  // namespace bitstep

@@ -666,6 +666,9 @@ void solve_contacts(const SolveContext& context, SolvePass kind) {
   std::vector<JointRow>& joint_rows = joints.rows;
   joint_rows.clear();
   if (kind != SolvePass::collision) prepare_joint_rows(settings, bodies, joints.joints, solver_bodies, joint_rows, joints.tree);
+  std::vector<TyreRow>& tyre_rows = context.tyres.rows;
+  tyre_rows.clear();
+  if (kind != SolvePass::collision) prepare_tyre_rows(bodies, solver_bodies, context.tyres.contacts, tyre_rows);
   Executor* row_executor = joint_rows.empty() ? executor : nullptr;
   prepare_rows(settings, bodies, solver_bodies, scratch.start_velocities, contacts, kind, row_count, rows,
                manifold_rows, cached ? &cache : nullptr, in_place ? rows : scratch.last_rows,
@@ -690,7 +693,7 @@ void solve_contacts(const SolveContext& context, SolvePass kind) {
   // The warm start and the iterations: the same sweeps, in the same order
   // for every body, on the executor's workers (ordered_sweeps.h) where there
   // is enough to share.
-  bool parallel = executor && executor->workers() > 1 && joint_rows.empty() &&
+  bool parallel = executor && executor->workers() > 1 && joint_rows.empty() && tyre_rows.empty() &&
                   manifold_rows.size() >= min_parallel_manifolds * static_cast<size_t>(executor->workers());
   SweepRows& sweep_rows = scratch.sweep_rows;
   const bool copies = manifold_rows.size() >= scratch.sweep_copies_from;
@@ -714,6 +717,7 @@ void solve_contacts(const SolveContext& context, SolvePass kind) {
   if (!parallel) {
     if (warm) warm_start_joints(solver_bodies, joint_rows);
     if (warm) warm_start(solver_bodies, rows, manifold_rows);
+    warm_start_tyres(solver_bodies, tyre_rows, warm);
     std::vector<uint32_t>& free_rows = scratch.free_rows;  // the copies list their own
     free_rows.clear();
     if (!copies) {
@@ -734,7 +738,9 @@ void solve_contacts(const SolveContext& context, SolvePass kind) {
         sweep_free_rows(solver_bodies, rows, free_rows, pass);
       }
       solve_joints(solver_bodies, joint_rows, joints.tree);
+      solve_tyres(solver_bodies, tyre_rows);
     }
+    store_tyre_impulses(tyre_rows, context.tyres.contacts);
   }
   if (copies) write_back_impulses(manifold_rows, rows, sweep_rows, row_executor);
   // Islands whose joints ask for more passes than the world's run them

@@ -13,6 +13,7 @@
 #include "core/executor.h"
 #include "core/joint_solver.h"
 #include "core/solver_rows.h"
+#include "core/tyre_rows.h"
 
 namespace bitstep {
 
@@ -38,6 +39,13 @@ struct JointSet {
   JointTree& tree;
 };
 
+// The cars' grounded tyres to solve with the contacts (core/tyre_rows.h),
+// and their rows' workspace.
+struct TyreSet {
+  std::vector<TyreContact>& contacts;
+  std::vector<TyreRow>& rows;
+};
+
 // What one solve works on: the world's state it changes (bodies,
 // contacts), its joints, the workspace it keeps from step to step, and who
 // runs its sweeps. `executor` (null: the caller's thread alone) spreads the
@@ -48,15 +56,16 @@ struct SolveContext {
   std::vector<Body>& bodies;
   std::vector<Contact>& contacts;
   JointSet joints;
+  TyreSet tyres;
   PushVelocities& push;
   SolverScratch& scratch;
   Executor* executor = nullptr;
 };
 
-// One solve of the contacts and joints. Joints take part in the standard
-// and contact passes (not in the guendelman collision pass, whose
-// restitution acts on contacts alone); with joints the sweeps stay on the
-// caller's thread.
+// One solve of the contacts, joints and tyres. Joints and tyres take part
+// in the standard and contact passes (not in the guendelman collision
+// pass, whose restitution acts on contacts alone); with either the sweeps
+// stay on the caller's thread.
 void solve_contacts(const SolveContext& context, SolvePass pass = SolvePass::standard);
 
 }  // namespace bitstep

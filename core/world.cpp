@@ -73,8 +73,8 @@ World& World::operator=(World&&) noexcept = default;
 World::~World() = default;
 
 SolveContext World::solve_context() {
-  return {settings_, bodies_, contacts_, {joints_, scratch_->joint_rows, scratch_->joint_tree}, scratch_->push,
-          scratch_->solver_scratch, executor_};
+  return {settings_, bodies_, contacts_, {joints_, scratch_->joint_rows, scratch_->joint_tree},
+          {scratch_->tyres, scratch_->tyre_rows}, scratch_->push, scratch_->solver_scratch, executor_};
 }
 
 uint64_t World::shared_sweep_runs() const { return scratch_->solver_scratch.sweeps.shared_runs; }
@@ -374,6 +374,7 @@ CarId World::create_car(const CarDef& def, std::string& error) {
   Car car;
   car.alive = true;
   car.def = def;
+  car.tyre_impulses.assign(def.wheels.size(), TyreImpulse{});
   cars_.push_back(std::move(car));
   return {static_cast<uint32_t>(cars_.size() - 1)};
 }
@@ -417,10 +418,14 @@ void World::step() {
     scratch_->sensor_keys_before.clear();
     for (const SensorOverlap& o : sensor_overlaps_) scratch_->sensor_keys_before.push_back(o.key);
   }
-  // Cars first: their wheel forces join the pending forces (core/car.h).
-  if (std::any_of(cars_.begin(), cars_.end(), [](const Car& car) { return car.alive; })) {
+  // Cars first: their suspension forces join the pending forces, their
+  // tyres the solve (core/car.h).
+  scratch_->tyres.clear();
+  const bool driving = std::any_of(cars_.begin(), cars_.end(), [](const Car& car) { return car.alive; });
+  if (driving) {
     scratch_->woken_by_cars.clear();
-    drive_cars(WorldQuery(*this, car_region(cars_, bodies_)), settings_.dt, bodies_, cars_, scratch_->woken_by_cars);
+    drive_cars(WorldQuery(*this, car_region(cars_, bodies_)), settings_.dt, bodies_, cars_, scratch_->tyres,
+               scratch_->woken_by_cars);
     for (const uint32_t slot : scratch_->woken_by_cars) wake_if_asleep(slot);
   }
   std::vector<BodyRates>& start = scratch_->solver_scratch.start_velocities;
@@ -431,6 +436,7 @@ void World::step() {
   } else {
     step_standard();
   }
+  if (driving) record_tyre_forces(scratch_->tyres, settings_.dt, cars_);
   bitstep::integrate_positions(settings_, bodies_, scratch_->push, scratch_->solver_scratch.start_velocities, contacts_, joints_, scratch_->touching);
   project_joints(settings_, bodies_, joints_, scratch_->joint_projection);
   if (settings_.sleep_method != SleepMethod::off) sleep_islands(settings_, bodies_, scratch_->sleep_scratch);

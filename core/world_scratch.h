@@ -21,6 +21,7 @@
 #include "core/sensor.h"
 #include "core/sleep.h"
 #include "core/solver.h"
+#include "core/tyre_rows.h"
 
 namespace bitstep {
 
@@ -33,6 +34,8 @@ struct WorldScratch {
   std::vector<SensorOverlap> previous_overlaps;  // workspace of update_sensor_overlaps
   std::vector<ContactKey> keys_before, sensor_keys_before, keys_after;  // the events' workspace
   std::vector<uint32_t> woken_by_cars;
+  std::vector<TyreContact> tyres;     // the cars' grounded wheels this step (drive_cars)
+  std::vector<TyreRow> tyre_rows;
   std::vector<Fixed> turn_speed;           // per slot: |w| times the body's reach (m/s), this step
   // Per slot, what find_contacts takes from a body's shapes, which never
   // change while it lives (a slot's next occupant has a new generation):

@@ -29,7 +29,7 @@
 
 namespace bitstep {
 
-inline constexpr uint32_t rollback_state_version = 1;
+inline constexpr uint32_t rollback_state_version = 2;  // 2: cars' tyre impulses
 
 class RollbackStates final : private state_bytes::BodyStatics {
  public:

@@ -16,7 +16,7 @@
 
 namespace bitstep {
 
-inline constexpr uint32_t snapshot_version = 3;  // 2: rolling resistance (material, contact impulses); 3: joints' solver passes
+inline constexpr uint32_t snapshot_version = 4;  // 2: rolling resistance (material, contact impulses); 3: joints' solver passes; 4: cars' tyre impulses
 
 std::vector<uint8_t> snapshot(const World& world);
 

@@ -295,6 +295,12 @@ void describe_car(V& v, C& car, const Bodies& bodies) {
     v.fixed("brake", car.controls.brake);
     v.fixed("steer", car.controls.steer);
   });
+  v.list("tyre_impulses", car.tyre_impulses, 2 * 8, 8, nullptr, [&](auto& tyre) {
+    v.fixed("forward", tyre.forward);
+    v.fixed("side", tyre.side);
+  });
+  v.require([&] { return car.tyre_impulses.size() == def.wheels.size(); },
+            [] { return std::string("a car's tyre impulses do not match its wheels"); });
 }
 
 template <class V, class J, class Bodies>
@@ -435,8 +441,9 @@ void describe_state(V& v, const StateParts<Reading>& state) {
                 [] { return std::string("sensor overlaps out of order"); });
     });
   });
-  // Cars last, in a world that has had one (core/car.h): the definitions
-  // and the controls (what the wheels found is found again each step).
+  // Cars last, in a world that has had one (core/car.h): the definitions,
+  // the controls and the tyres' impulses (what the wheels found is found
+  // again each step).
   constexpr size_t car_bytes = 1;  // a dead car: alive
   v.trailing(!state.cars.empty(), false, [&] {
     cars_read = true;
