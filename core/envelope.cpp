@@ -226,6 +226,8 @@ Vec3 clamp_speed(Vec3 velocity, Fixed limit) { return clamp_length(Scaled{veloci
 const char* setting_outside_envelope(const Settings& s) {
   const auto within = [](Fixed value, Fixed lo, Fixed hi) { return value >= lo && value <= hi; };
   if (!within(s.dt, envelope::min_dt, envelope::max_dt)) return "dt";
+  if (s.substeps < 1 || s.substeps > envelope::max_substeps) return "substeps";
+  if (s.dt / Fixed::from_int(s.substeps) < envelope::min_dt) return "substeps";
   for (Fixed g : {s.gravity.x, s.gravity.y, s.gravity.z}) {
     if (!within(g, -envelope::max_gravity, envelope::max_gravity)) return "gravity";
   }

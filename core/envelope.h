@@ -30,7 +30,7 @@ EnvelopeError check_shape(const Shape& shape, int index);
 
 // The first setting outside the world envelope (its scene key), or null:
 // readers refuse a scene or snapshot that asks for one. dt 0.0001..0.1 s,
-// gravity within +-1000 m/s^2 per axis, velocity clamps positive and no
+// substeps 1..16 with dt / substeps at least 0.0001 s, gravity within +-1000 m/s^2 per axis, velocity clamps positive and no
 // higher than the envelope's speeds (above them the solver's products are
 // not bounded), push-out speed and restitution threshold within those
 // speeds, slop and speculative distance within the largest size.

@@ -31,6 +31,9 @@ inline constexpr Fixed max_angular_speed = 100.0_fx; // rad/s
 inline constexpr Fixed min_dt = 0.0001_fx;           // s
 inline constexpr Fixed max_dt = 0.1_fx;              // s
 inline constexpr Fixed max_gravity = 1000.0_fx;      // m/s^2, per axis
+// Substeps per step: dt / substeps must stay at least min_dt, the shortest
+// step the products above were bounded for.
+inline constexpr int max_substeps = 16;
 }  // namespace envelope
 
 // How bodies fall asleep (core/sleep.h). Off: no sleep bookkeeping at all.
@@ -53,6 +56,15 @@ struct Settings {
   Vec3 gravity{Fixed{}, -9.81_fx, Fixed{}};          // m/s^2
   int velocity_iterations = 10;                      // sequential-impulse passes per step
   int position_iterations = 4;                       // split-impulse (pseudo-velocity) passes per step
+  // count, 1..max_substeps: the step runs its whole physics n times at
+  // dt / n (forces, cars, collision, solve, positions, joint projection), as
+  // Jolt's collision steps do; inputs, hashes, snapshots, events, sleep,
+  // joint breaking and the step counter stay at dt. Each pass's rows are
+  // linear at its start: a chain under tension T has a transverse stiffness
+  // T / l per link, and the step is stable only while T dt^2 / (m l) stays
+  // small, so light links holding a heavy load need a shorter dt. 1: the
+  // step as it always was, bit for bit.
+  int substeps = 1;
   Fixed penetration_slop = Fixed{};                  // m, overlap left alone (no push-out below it); 0: resting
                                                      // shapes sit at their true geometry (a 5 mm slop left
                                                      // uneven overlaps that tilted a capsule pile into rolling)

@@ -60,6 +60,17 @@ Fixed kinetic_energy(const Body& body) {
   return capped_sum(linear, rotational);
 }
 
+// a + b within +-2^29 (N s): a joint's impulses summed over the substeps
+// stay comparable with its break_impulse, and their length inside the
+// range, however large a torn joint's grow (no joint of the envelope
+// comes near: 1e5 kg meeting 1,000 m/s is 1e8 N s).
+constexpr int64_t summed_impulse_bound = int64_t{1} << 61;  // raw
+int64_t within_sum_bound(int64_t raw) { return std::clamp(raw, -summed_impulse_bound, summed_impulse_bound); }
+Fixed bounded_sum(Fixed a, Fixed b) {
+  return Fixed::from_raw(within_sum_bound(within_sum_bound(a.raw()) + within_sum_bound(b.raw())));
+}
+Vec3 bounded_sum(Vec3 a, Vec3 b) { return {bounded_sum(a.x, b.x), bounded_sum(a.y, b.y), bounded_sum(a.z, b.z)}; }
+
 }  // namespace
 
 uint64_t WorldInstance::next() {
@@ -72,8 +83,8 @@ World::World(World&&) noexcept = default;
 World& World::operator=(World&&) noexcept = default;
 World::~World() = default;
 
-SolveContext World::solve_context() {
-  return {settings_, bodies_, contacts_, {joints_, scratch_->joint_rows, scratch_->joint_tree},
+SolveContext World::solve_context(const Settings& s) {
+  return {s, bodies_, contacts_, {joints_, scratch_->joint_rows, scratch_->joint_tree},
           {scratch_->tyres, scratch_->tyre_rows}, scratch_->push, scratch_->solver_scratch, executor_};
 }
 
@@ -411,41 +422,104 @@ void World::wake_islands_of(const std::vector<uint32_t>& slots) {
   bitstep::wake_islands_of(settings_, bodies_, contacts_, joints_, slots);
 }
 
+// One step of dt: the physics in substeps of dt / n, then what counts
+// steps of dt (sleep, joint breaking, the step counter, the events).
 void World::step() {
-  // The events compare what touches and overlaps before and after the step.
-  if (events_on_) {
-    touching_keys(contacts_, scratch_->keys_before);
-    scratch_->sensor_keys_before.clear();
-    for (const SensorOverlap& o : sensor_overlaps_) scratch_->sensor_keys_before.push_back(o.key);
+  if (events_on_) touching_before_step();
+  if (settings_.substeps == 1) {
+    substep(settings_);
+  } else {
+    run_substeps();
   }
-  // Cars first: their suspension forces join the pending forces, their
-  // tyres the solve (core/car.h).
+  // Sleep counts steps of dt (its times are rounded to steps, its motion
+  // average weights each step by sleep_bias): once per step with the
+  // step's settings, on the islands of the last substep.
+  if (settings_.sleep_method != SleepMethod::off) sleep_islands(settings_, bodies_, scratch_->sleep_scratch);
+  break_joints();
+  ++step_count_;
+  report_events();
+}
+
+// The whole physics over `s.dt`. Cars run in every substep: their
+// suspension forces are forces over the substep's dt, from the poses it
+// starts at, and join the pending forces (core/car.h) before they are
+// integrated; their tyres join the substep's solve.
+void World::substep(const Settings& s) {
   scratch_->tyres.clear();
   const bool driving = std::any_of(cars_.begin(), cars_.end(), [](const Car& car) { return car.alive; });
   if (driving) {
     scratch_->woken_by_cars.clear();
-    drive_cars(WorldQuery(*this, car_region(cars_, bodies_)), settings_.dt, bodies_, cars_, scratch_->tyres,
+    drive_cars(WorldQuery(*this, car_region(cars_, bodies_)), s.dt, bodies_, cars_, scratch_->tyres,
                scratch_->woken_by_cars);
     for (const uint32_t slot : scratch_->woken_by_cars) wake_if_asleep(slot);
   }
   std::vector<BodyRates>& start = scratch_->solver_scratch.start_velocities;
   start.resize(bodies_.size());
   for (size_t i = 0; i < bodies_.size(); ++i) start[i] = {bodies_[i].linear_velocity, bodies_[i].angular_velocity};
-  if (settings_.pipeline == Pipeline::guendelman) {
-    step_guendelman();
+  if (s.pipeline == Pipeline::guendelman) {
+    step_guendelman(s);
   } else {
-    step_standard();
+    step_standard(s);
   }
-  if (driving) record_tyre_forces(scratch_->tyres, settings_.dt, cars_);
-  bitstep::integrate_positions(settings_, bodies_, scratch_->push, scratch_->solver_scratch.start_velocities, contacts_, joints_, scratch_->touching);
-  project_joints(settings_, bodies_, joints_, scratch_->joint_projection);
-  if (settings_.sleep_method != SleepMethod::off) sleep_islands(settings_, bodies_, scratch_->sleep_scratch);
-  // Joints whose impulse this step went past their break_impulse: gone
-  // before the next step (their bodies wake, as any removal's).
+  if (driving) record_tyre_forces(scratch_->tyres, s.dt, cars_);
+  bitstep::integrate_positions(s, bodies_, scratch_->push, scratch_->solver_scratch.start_velocities, contacts_, joints_, scratch_->touching);
+  project_joints(s, bodies_, joints_, scratch_->joint_projection);
+}
+
+// settings_.substeps substeps of dt / n (rounded once: n of them differ
+// from dt by less than n / 2 ulp). The forces the inputs left pending act
+// in every substep, so a force gives the same impulse over the step as at
+// one substep; impulses and set velocities changed the velocities at once,
+// before the step, and are not repeated. A breakable joint's impulse over
+// the step (the sum of its substeps') is kept for break_joints.
+void World::run_substeps() {
+  Settings sub = settings_;
+  sub.dt = settings_.dt / Fixed::from_int(settings_.substeps);
+  WorldScratch::Substeps& held = scratch_->substeps;
+  held.forces.resize(bodies_.size());
+  for (size_t i = 0; i < bodies_.size(); ++i) held.forces[i] = {bodies_[i].force, bodies_[i].torque};
+  held.joint_impulses.assign(joints_.size(), {});
+  for (int k = 0; k < settings_.substeps; ++k) {
+    if (k > 0) {
+      for (size_t i = 0; i < bodies_.size(); ++i) {
+        bodies_[i].force = held.forces[i].linear;
+        bodies_[i].torque = held.forces[i].angular;
+      }
+    }
+    substep(sub);
+    for (size_t j = 0; j < joints_.size(); ++j) {
+      if (joints_[j].break_impulse == Fixed{}) continue;
+      held.joint_impulses[j].point = bounded_sum(held.joint_impulses[j].point, joints_[j].point_impulse);
+      held.joint_impulses[j].distance = bounded_sum(held.joint_impulses[j].distance, joints_[j].distance_impulse);
+    }
+  }
+}
+
+// Joints whose impulse this step went past their break_impulse (an impulse
+// per step of dt: over substeps, the sum of theirs, so a steady load or a
+// blow breaks a joint whatever the substeps): gone before the next step
+// (their bodies wake, as any removal's).
+void World::break_joints() {
   for (uint32_t j = 0; j < joints_.size(); ++j) {
-    if (joints_[j].alive && over_break_impulse(joints_[j])) remove_joint({j, joints_[j].generation});
+    if (!joints_[j].alive || joints_[j].break_impulse == Fixed{}) continue;
+    Joint over_step = joints_[j];
+    if (settings_.substeps > 1) {
+      over_step.point_impulse = scratch_->substeps.joint_impulses[j].point;
+      over_step.distance_impulse = scratch_->substeps.joint_impulses[j].distance;
+    }
+    if (over_break_impulse(over_step)) remove_joint({j, joints_[j].generation});
   }
-  ++step_count_;
+}
+
+// The events compare what touches and overlaps before and after the step
+// (not each substep: a game sees steps).
+void World::touching_before_step() {
+  touching_keys(contacts_, scratch_->keys_before);
+  scratch_->sensor_keys_before.clear();
+  for (const SensorOverlap& o : sensor_overlaps_) scratch_->sensor_keys_before.push_back(o.key);
+}
+
+void World::report_events() {
   events_.clear();
   if (!events_on_) return;
   touching_keys(contacts_, scratch_->keys_after);
@@ -455,11 +529,11 @@ void World::step() {
   append_changes(scratch_->sensor_keys_before, scratch_->keys_after, EventKind::sensor_begin, EventKind::sensor_end, events_);
 }
 
-void World::step_standard() {
-  bitstep::integrate_velocities(settings_, bodies_, &scratch_->inertia_cache);
-  find_contacts();
-  if (settings_.sleep_method != SleepMethod::off) wake_islands(settings_, bodies_, contacts_, joints_, scratch_->sleep_scratch);
-  solve_contacts();
+void World::step_standard(const Settings& s) {
+  bitstep::integrate_velocities(s, bodies_, &scratch_->inertia_cache);
+  find_contacts(s);
+  if (s.sleep_method != SleepMethod::off) wake_islands(s, bodies_, contacts_, joints_, scratch_->sleep_scratch);
+  bitstep::solve_contacts(solve_context(s), SolvePass::standard);
 }
 
 // JigLib's order (after Guendelman, Bridson and Fedkiw 2003). Contacts are
@@ -475,22 +549,22 @@ void World::step_standard() {
 // it is, kept up to its whole step's motion apart (speculative, as in the
 // standard pipeline). Moved a long way, it would be looked for on the far
 // side of a thin wall (or past it, finding nothing) and go through.
-void World::step_guendelman() {
+void World::step_guendelman(const Settings& s) {
   scratch_->before_prediction.resize(bodies_.size());
   for (size_t i = 0; i < bodies_.size(); ++i) {
     Body& body = bodies_[i];
     if (!is_awake_dynamic(body)) continue;
     WorldScratch::SavedMotion& saved = scratch_->before_prediction[i];
     saved = {body.pose, body.linear_velocity, body.angular_velocity, body.force, body.torque, body.pose};
-    integrate_velocity(settings_, body);
-    if (moves_far(body)) continue;
-    body.pose.position = mul_add(body.linear_velocity, settings_.dt, body.pose.position);
+    integrate_velocity(s, body);
+    if (moves_far(body, s.dt)) continue;
+    body.pose.position = mul_add(body.linear_velocity, s.dt, body.pose.position);
     if (body.angular_velocity != Vec3{}) {
-      body.pose.orientation = integrate(body.pose.orientation, body.angular_velocity, settings_.dt);
+      body.pose.orientation = integrate(body.pose.orientation, body.angular_velocity, s.dt);
     }
     saved.predicted = body.pose;
   }
-  find_contacts();
+  find_contacts(s);
   for (size_t i = 0; i < bodies_.size(); ++i) {
     Body& body = bodies_[i];
     if (!is_awake_dynamic(body)) continue;
@@ -503,10 +577,10 @@ void World::step_guendelman() {
     refresh_inverse_inertia(body);  // of the pose the step starts from
   }
   move_contacts_back();
-  if (settings_.sleep_method != SleepMethod::off) wake_islands(settings_, bodies_, contacts_, joints_, scratch_->sleep_scratch, false);
-  bitstep::solve_contacts(solve_context(), SolvePass::collision);
-  bitstep::integrate_velocities(settings_, bodies_);
-  bitstep::solve_contacts(solve_context(), SolvePass::contact);
+  if (s.sleep_method != SleepMethod::off) wake_islands(s, bodies_, contacts_, joints_, scratch_->sleep_scratch, false);
+  bitstep::solve_contacts(solve_context(s), SolvePass::collision);
+  bitstep::integrate_velocities(s, bodies_);
+  bitstep::solve_contacts(solve_context(s), SolvePass::contact);
 }
 
 // Whether a body's motion this step (its centre's, and its farthest point's
@@ -514,11 +588,11 @@ void World::step_guendelman() {
 // far could look for its contacts beyond the far face of the thinnest body
 // it may meet (0.02 m thick), where the nearest separating axis points the
 // wrong way.
-bool World::moves_far(const Body& body) const {
+bool World::moves_far(const Body& body, Fixed dt) const {
   const Fixed reach = envelope::min_size;
   const Vec3 v = body.linear_velocity, w = body.angular_velocity;
   const Fixed step_speed = length(v) + length(w) * body_radius(body);
-  return step_speed * settings_.dt > reach;
+  return step_speed * dt > reach;
 }
 
 // The contact points and depths were found at the predicted poses; the
@@ -566,7 +640,7 @@ void World::move_contacts_back() {
   }
 }
 
-void World::find_contacts() {
+void World::find_contacts(const Settings& s) {
   scratch_->proxies.clear();
   scratch_->turn_speed.assign(bodies_.size(), Fixed{});
   scratch_->shape_extents.resize(bodies_.size());
@@ -587,15 +661,15 @@ void World::find_contacts() {
     // 0.01 kg compound 87 m across at 100 rad/s would otherwise keep points
     // 140 m apart, whose arms overflow its rows).
     if (body.angular_velocity != Vec3{}) {
-      scratch_->turn_speed[i] = min(length(body.angular_velocity) * extent.radius, settings_.max_linear_speed);
+      scratch_->turn_speed[i] = min(length(body.angular_velocity) * extent.radius, s.max_linear_speed);
     }
     // Grown by the speculative distance and this step's motion, the turn's
     // included (contact_update.cpp).
-    const Fixed margin = settings_.speculative_distance + (length(body.linear_velocity) + scratch_->turn_speed[i]) * settings_.dt;
+    const Fixed margin = s.speculative_distance + (length(body.linear_velocity) + scratch_->turn_speed[i]) * s.dt;
     scratch_->proxies.push_back({i, extent.bounds.expanded(margin), needs_contacts(body)});
   }
   find_pairs(scratch_->proxies, scratch_->pairs, scratch_->broadphase_scratch);
-  update_contacts(bodies_, contact_pairs(), settings_, scratch_->turn_speed, contacts_, scratch_->previous_contacts,
+  update_contacts(bodies_, contact_pairs(), s, scratch_->turn_speed, contacts_, scratch_->previous_contacts,
                   scratch_->narrowphase_cache);
   if (sensor_bodies_ > 0 || !sensor_overlaps_.empty()) update_sensor_overlaps(bodies_, scratch_->pairs, sensor_overlaps_, scratch_->previous_overlaps);
 }
@@ -619,10 +693,6 @@ const std::vector<BodyPair>& World::contact_pairs() {
     scratch_->contact_pairs.push_back(pair);
   }
   return scratch_->contact_pairs;
-}
-
-void World::solve_contacts() {
-  bitstep::solve_contacts(solve_context(), SolvePass::standard);
 }
 
 StepStats World::stats() const {

@@ -169,12 +169,18 @@ class World {
   uint64_t built_manifold_rows() const;
 
  private:
-  void step_standard();
-  void step_guendelman();
-  void find_contacts();
+  // The step's parts (world.cpp). Those of a substep take its settings,
+  // whose dt is the substep's; the rest run once per step.
+  void substep(const Settings& s);
+  void run_substeps();
+  void break_joints();
+  void touching_before_step();
+  void report_events();
+  void step_standard(const Settings& s);
+  void step_guendelman(const Settings& s);
+  void find_contacts(const Settings& s);
   const std::vector<BodyPair>& contact_pairs();
-  void solve_contacts();
-  SolveContext solve_context();  // this world's, for core/solver.h
+  SolveContext solve_context(const Settings& s);  // this world's, for core/solver.h
   void wake_islands_of(const std::vector<uint32_t>& slots);
   void wake_if_asleep(uint32_t slot);
   // Drops the narrowphase results of a slot whose body is removed.
@@ -203,7 +209,7 @@ class World {
   // (core/world_scratch.h): never state, rebuilt or checked every step.
   std::unique_ptr<WorldScratch> scratch_;
   Executor* executor_ = nullptr;
-  bool moves_far(const Body& body) const;
+  bool moves_far(const Body& body, Fixed dt) const;
   void move_contacts_back();
 };
 

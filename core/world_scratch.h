@@ -64,6 +64,18 @@ struct WorldScratch {
     Pose predicted;  // where contacts were found: the prediction, or the pose itself for a fast body
   };
   std::vector<SavedMotion> before_prediction;
+  // Over a step of several substeps: the forces the inputs left pending
+  // (each substep integrates them again), and each joint's impulse summed
+  // over the substeps (what break_impulse is compared with).
+  struct Substeps {
+    struct JointImpulse {
+      Vec3 point;
+      Fixed distance;
+    };
+    std::vector<BodyRates> forces;  // per slot: force (linear), torque (angular)
+    std::vector<JointImpulse> joint_impulses;
+  };
+  Substeps substeps;
 };
 
 }  // namespace bitstep

@@ -590,6 +590,7 @@ void read_settings_onto(const Node& node, Settings& s) {
   read_optional_within(reader, "gravity", s.gravity, -envelope::max_gravity, envelope::max_gravity, "m/s^2");
   read_optional(reader, "velocity_iterations", s.velocity_iterations, 1, 1000);
   read_optional(reader, "position_iterations", s.position_iterations, 0, 1000);
+  read_optional(reader, "substeps", s.substeps, 1, envelope::max_substeps);
   read_optional_within(reader, "penetration_slop", s.penetration_slop, Fixed{}, envelope::max_size, "m");
   read_optional(reader, "split_impulse_factor", s.split_impulse_factor, Bound::unit_interval);
   read_optional_within(reader, "max_push_out_speed", s.max_push_out_speed, Fixed{}, envelope::max_linear_speed, "m/s");
@@ -621,6 +622,13 @@ void read_settings_onto(const Node& node, Settings& s) {
   read_optional_within(reader, "sleep_time", s.sleep_time, 0.0_fx, 1000.0_fx, "s");
   read_optional_within(reader, "sleep_linear_tolerance", s.sleep_linear_tolerance, 0.0_fx, 1000.0_fx, "m");
   read_optional_within(reader, "sleep_angular_tolerance", s.sleep_angular_tolerance, 0.0_fx, 4.0_fx, "rad");
+  // Each substep's dt stays inside the envelope too; dt and substeps may
+  // each come from this object or from the settings it overrides.
+  if (s.dt / Fixed::from_int(s.substeps) < envelope::min_dt) {
+    const Node* at = reader.find("substeps");
+    if (at == nullptr) at = reader.find("dt");
+    fail(at != nullptr ? *at : node, "dt / substeps below 0.0001 s (the shortest step of the world envelope)");
+  }
   reader.finish();
 }
 

@@ -72,7 +72,7 @@ bool same_settings(const Settings& a, const Settings& b) {
          a.baumgarte == b.baumgarte && a.baumgarte_factor == b.baumgarte_factor &&
          a.restitution_threshold == b.restitution_threshold && a.speculative_distance == b.speculative_distance &&
          a.max_linear_speed == b.max_linear_speed && a.max_angular_speed == b.max_angular_speed &&
-         a.warm_starting == b.warm_starting;
+         a.warm_starting == b.warm_starting && a.substeps == b.substeps;
 }
 
 bool same_scene(const Scene& a, const Scene& b) {
@@ -276,12 +276,28 @@ TEST_CASE("scene errors name the file, the JSON path and the reason", "[scene]")
           "f.json: $.settings.restitution_threshold: outside 0..500 m/s");
     CHECK(settings_error(R"("speculative_distance": 1e5)") == "f.json: $.settings.speculative_distance: outside 0..50 m");
     CHECK(settings_error(R"("penetration_slop": 51)") == "f.json: $.settings.penetration_slop: outside 0..50 m");
+    CHECK(settings_error(R"("substeps": 0)") == "f.json: $.settings.substeps: outside 1..16");
+    CHECK(settings_error(R"("substeps": 17)") == "f.json: $.settings.substeps: outside 1..16");
+    // Each substep's dt stays inside the envelope, whichever key comes first.
+    CHECK(settings_error(R"("substeps": 2, "dt": 0.0001)") ==
+          "f.json: $.settings.substeps: dt / substeps below 0.0001 s (the shortest step of the world envelope)");
+    CHECK(settings_error(R"("dt": 0.0001, "substeps": 2)") ==
+          "f.json: $.settings.substeps: dt / substeps below 0.0001 s (the shortest step of the world envelope)");
+    CHECK(load_ok(scene_text("", R"("settings": {"substeps": 16, "dt": 0.0016}, )")).settings.substeps == 16);
     // The bounds themselves are admitted, and the core check agrees.
     Scene edge = load_ok(scene_text("", R"("settings": {"dt": 0.1, "gravity": [1000, -1000, 0], )"
                                         R"("max_linear_speed": 500, "max_angular_speed": 100}, )"));
     CHECK(setting_outside_envelope(edge.settings) == nullptr);
     edge.settings.dt = 0.2_fx;
     CHECK(std::string(setting_outside_envelope(edge.settings)) == "dt");
+    edge.settings.dt = 0.0016_fx;
+    edge.settings.substeps = 16;
+    CHECK(setting_outside_envelope(edge.settings) == nullptr);
+    edge.settings.substeps = 17;
+    CHECK(std::string(setting_outside_envelope(edge.settings)) == "substeps");
+    edge.settings.dt = 0.0015_fx;
+    edge.settings.substeps = 16;
+    CHECK(std::string(setting_outside_envelope(edge.settings)) == "substeps");
   }
   SECTION("missing key") {
     CHECK(error_of(scene_text(R"({"shapes": [{"type": "box"}]})")) ==

@@ -7,6 +7,7 @@
 
 #include "replay/replay.h"
 #include "replay/snapshot.h"
+#include "replay/state_dump.h"
 #include "replay/state_hash.h"
 #include "replay/thread_pool.h"
 #include "tests/replay/test_scenes.h"
@@ -149,6 +150,34 @@ TEST_CASE("a guendelman world with sleep restores its pipeline and sleep setting
     copy.step();
     REQUIRE(state_hash(copy) == state_hash(world));
   }
+}
+
+// More than one substep is a flag and a count byte in the settings; a world
+// of one substep has the bytes it had before substeps existed (the golden
+// replays' hashes hold them).
+TEST_CASE("a world of 4 substeps restores its substeps and continues identically", "[snapshot][substeps]") {
+  auto loaded = load_scene_file(std::string(BITSTEP_SOURCE_DIR) + "/scenes/chains.json");
+  REQUIRE(std::holds_alternative<Scene>(loaded));
+  Scene scene = std::get<Scene>(loaded);
+  World one(scene.settings);
+  std::string reason;
+  REQUIRE(build_world(scene, one, reason));
+  scene.settings.substeps = 4;
+  World world(scene.settings);
+  REQUIRE(build_world(scene, world, reason));
+  CHECK(snapshot(world).size() == snapshot(one).size() + 1);
+  CHECK(dump_state(one).find("substeps") == std::string::npos);
+  for (int s = 0; s < 20; ++s) world.step();
+  CHECK(dump_state(world).find("\"substeps\": 4") != std::string::npos);
+  World copy;
+  REQUIRE_FALSE(restore(snapshot(world), copy).has_value());
+  CHECK(copy.settings().substeps == 4);
+  for (int s = 0; s < 40; ++s) {
+    world.step();
+    copy.step();
+    REQUIRE(state_hash(copy) == state_hash(world));
+  }
+  CHECK(copy.step_count() == 60);
 }
 
 // The executor is how a world steps, not state: a restore keeps the one the
