@@ -817,48 +817,18 @@ TEST_CASE("ragdolls.json: ragdolls onto a pile and down a staircase", "[scene][j
 
 // The ragdoll pile, judged over heaps: ragdolls.json (ten ragdolls dropped
 // onto a heap of boxes and down a staircase, sleep on (motion, its average
-// weighted 0.9 to the past), joint friction 1 N m) and 15 copies with each
-// ragdoll generator moved by up to 3 cm along each axis (a seeded draw).
-// One heap says little: moved by a few centimetres, the same scene slept
-// anywhere between 3.4 s and 5.7 s; a ragdoll sliding off the heap late
-// keeps it awake. Measured on these 16 (60 Hz; the ragdolls' joints ask 40
-// velocity and 24 position passes for their islands, core/island_passes.h,
-// the generator's 30 and 12 raised by the scene; the joints' errors
-// projected out after each step's integration, twice after a large turn,
-// core/joint_projection.h), against the issue's bar (every heap at rest
-// and asleep within 5 s, no limb more than 2 degrees past a limit, no
-// overlap deeper than the slop (0) + 2 mm):
-//   still (no body's v.v + w.w above the sleep epsilon, 0.05) after step
-//   223, the median; asleep after step 261, the median, 13 of 16 within
-//   300 steps (the others at 309, 312 and 342), all within 5.7 s; deepest
-//   overlap at 10 s: median 0.23 mm, 1.64 mm at most; limbs: the heaps'
-//   worst past a limit at any step 1.50 degrees at most, no joint-step
-//   past 2 degrees.
-// Projected once in every step: asleep after step 268 (median), overlap
-// 0.20 mm (median), 1.88 at most; limbs 1.89 degrees at most.
-// With the scene's average weighted 0.96 (Kenwright's) and 30 and 12
-// passes: asleep after step 308 (median), 8 of 16 within 300 steps;
-// overlap median 0.54 mm, 6.9 mm at most; limbs 2.13 degrees at most, one
-// joint-step past 2. Without the projection: limbs 35 degrees past at most
-// (a neck as its ragdoll landed on another), 775 joint-steps past 2. At
-// the world's 10 and 4 passes as well: median step 427, 3 awake at 10 s;
-// overlap median 2.5 mm, 10.5 mm at most. Before the last position pass
-// pushed jointed bodies' contacts one way (solver.cpp, one_way_pushes):
-// overlap median 6.7 mm, 20.7 mm at most. Before a capsule across a box's
-// edge kept its inner end (collide_capsule.cpp): overlap median 4.3 mm,
-// 24 mm at most.
-// Over 96 such heaps (other draws), 0.96 and 30 and 12 -> 0.9 and 40 and
-// 24: still after step 262 -> 219 (median), 68 -> 79 heaps still within
-// 300 steps; asleep after step 312 -> 260, 45 -> 69 within 300 steps, 2 -> 0
-// awake at 10 s; from still to asleep 65 -> 47 steps (median), 87 -> 51 at
-// most; deepest overlap median 0.54 -> 0.23 mm, 6.3 -> 2.55 mm at most, 4
-// -> 3 heaps over 2 mm; the heaps' worst limb 2.6 -> 3.8 degrees at most.
-// The second projection after a large turn: asleep after step 260 -> 271
-// (median), 69 -> 62 within 300 steps, 0 -> 1 awake at 10 s (noise of
-// the heaps' chaos: settings that differ less moved these as much);
-// overlap median 0.23 -> 0.18 mm, 2.55 -> 6.19 mm at most, 3 -> 2 heaps
-// over 2 mm; the heaps' worst limb median 0.5 -> 0.2, 3.8 -> 1.4 degrees
-// at most, 5 -> 0 joint-steps past 2.
+// weighted 0.9 to the past), joint friction 1 N m, 8 substeps a step) and
+// 15 copies with each ragdoll generator moved by up to 3 cm along each
+// axis (a seeded draw): one heap says little, a ragdoll sliding off the
+// heap late keeps it awake. The bars: every heap at rest and asleep within
+// 5 s; no limb more than 2 degrees past a limit; no overlap deeper than the
+// slop (0) + 2 mm at rest, and no part more than 1 cm into anything at any
+// step while they tumble. At one substep a step (the scene asked its
+// ragdolls' islands for 40 velocity and 24 position passes then), the
+// tumble put a thigh 32 mm into a forearm and limbs passed their limits by
+// 1.5 degrees; with 8 substeps and the generator's passes they stay within
+// a few millimetres and a tenth of a degree (the figures: the commit that
+// made the change).
 TEST_CASE("ragdoll heaps: sixteen dropped heaps come to rest with shallow overlaps and limbs within limits",
           "[joint][ragdoll][slow]") {
   std::string text, reason;
@@ -868,6 +838,7 @@ TEST_CASE("ragdoll heaps: sixteen dropped heaps come to rest with shallow overla
   std::vector<int> asleep_at;      // the step after which no body is awake, 601: never
   std::vector<int> moving_until;   // the last step a body moved (v.v + w.w > 0.05, the sleep epsilon)
   std::vector<double> overlap_mm;  // the deepest contact at 10 s
+  double tumbling_mm = 0;          // the deepest contact at any step
   double worst_past = 0, resting_past = 0;  // degrees past a hinge or cone limit: in the run, at 10 s
   std::vector<double> worst_of_heap;         // each heap's worst in its run
   int joint_steps = 0, past_two_degrees = 0;
@@ -898,6 +869,7 @@ TEST_CASE("ragdoll heaps: sixteen dropped heaps come to rest with shallow overla
     for (int step = 1; step <= 600; ++step) {
       world.step();
       if (asleep == 601 && world.stats().awake_bodies == 0) asleep = step;
+      tumbling_mm = std::max(tumbling_mm, test::to_double(world.stats().max_penetration) * 1000);
       for (const Body& body : world.bodies()) {
         if (length_sq(body.linear_velocity) + length_sq(body.angular_velocity) > world.settings().sleep_epsilon) moving = step;
       }
@@ -936,20 +908,20 @@ TEST_CASE("ragdoll heaps: sixteen dropped heaps come to rest with shallow overla
            << " mm\n";
   }
   INFO(report.str() << "median still step " << moving_sorted[8] << ", median asleep step " << sleep_sorted[8] << ", median overlap " << overlap_sorted[8]
-                    << " mm; worst past a limit " << worst_past << " degrees, " << past_two_degrees << " of "
+                    << " mm, deepest while tumbling " << tumbling_mm << " mm; worst past a limit " << worst_past << " degrees, " << past_two_degrees << " of "
                     << joint_steps << " joint-steps past 2; at rest " << resting_past);
 
   CHECK(moving_sorted[8] <= 240);            // the median heap still by 4 s
   CHECK(sleep_sorted[8] <= 285);             // and asleep by 4.75 s
   CHECK(within(asleep_at, 300) >= 12);       // the bar, for three quarters of the heaps
   CHECK(within(asleep_at, 420) == 16);       // all asleep by 7 s
-  CHECK(overlap_sorted[8] < 0.5);            // median overlap, mm
-  CHECK(within(overlap_mm, 2.0) >= 15);      // the bar, for all but one heap
-  CHECK(overlap_sorted.back() < 3.0);
+  CHECK(overlap_sorted[8] < 0.2);            // median overlap at rest, mm
+  CHECK(overlap_sorted.back() < 2.0);        // the bar, for every heap
+  CHECK(tumbling_mm < 10.0);                 // the bar while they tumble
   CHECK(resting_past < 0.1);
   CHECK(past_two_degrees * 100000 < joint_steps);  // under 0.001%
   std::sort(worst_of_heap.begin(), worst_of_heap.end());
-  CHECK(worst_of_heap[8] < 1.0);             // degrees past a limit at any step, the median heap's worst
+  CHECK(worst_of_heap[8] < 0.5);             // degrees past a limit at any step, the median heap's worst
   CHECK(worst_of_heap.back() < 2.0);         // the bar
 }
 
