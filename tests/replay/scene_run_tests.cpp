@@ -134,15 +134,16 @@ TEST_CASE("tables: five stacked compound tables stand 20 s with drift under 1 cm
   CHECK(m.largest_drift < 0.01);
 }
 
-// The walls: wall128 (8,256 bricks, ~0.24 s a step) stands the 2,000
-// steps asked of it with no brick moving 1 cm (it stood ~1,770
-// before the glue to several supports at once; 3,500 measured, none moving).
-// wall64's 2,000 steps are in the bench (and in this wall's lower rows).
-TEST_CASE("wall128 stands 2,000 steps: no brick moves 1 cm", "[scene-run][slow]") {
+// The walls: wall128 (8,256 bricks, ~0.24 s a step) over its first 300
+// steps, the standing wall's settling, held far below the bench's bar.
+// The 2,000-step soak (no brick moving 1 cm) is `bitstep bench`'s wall128
+// row, with wall64's: minutes of a test run that a short run bounds too,
+// as a wall that will fall creeps from its first steps.
+TEST_CASE("wall128 stands 300 steps: no brick moves 0.1 mm", "[scene-run][slow]") {
   World world = load_world("wall128.json");
-  const SceneMotion m = run(world, 2000);
+  const SceneMotion m = run(world, 300);
   INFO("largest drift " << m.largest_drift << " m, largest move " << m.largest_move << " m, deepest " << m.deepest);
-  CHECK(m.largest_move < 0.01);
+  CHECK(m.largest_move < 1e-4);
 }
 
 // In the checked build any overflow, saturation or division by zero aborts
