@@ -25,6 +25,9 @@ namespace bitstep {
 struct JointRow {
   uint32_t a = 0, b = 0;
   Joint* joint = nullptr;
+  // The joint has a point block (point, hinge, cone: a node of the tree
+  // solve), and a hinge's two angular rows go with it.
+  bool has_point_block = false, hinge_rows_in_tree = false;
   Vec3 ra, rb;              // m: the anchors from the centres of mass, world frame
   Mat33 point_k;            // K
   Mat33 point_mass;         // K^-1
@@ -103,6 +106,8 @@ bool joints_to_push(const std::vector<JointRow>& rows);
 // -pi..pi): 0 at creation. For a cone, the twist: b's reference projected
 // onto the plane normal to a's axis first.
 Fixed hinge_angle(const Joint& joint, const Body& a, const Body& b);
+// A cone's twist (joint_cone.cpp).
+Fixed twist_angle(const Joint& joint, const Body& a, const Body& b);
 // A cone's swing: the angle between its two bodies' copies of the axis (rad, 0..pi).
 Fixed swing_angle(const Joint& joint, const Body& a, const Body& b);
 

@@ -459,6 +459,40 @@ void read_limits(const Node& node, JointDef& def) {
   def.upper_angle = mul_div(upper, pi, Fixed::from_int(180));
 }
 
+// The keys of a joint's own type, one case per type (no default: a type
+// without its case is a -Wswitch error). Only these are known: "axis" on
+// a point joint is an unknown key.
+void read_type_keys(ObjectReader& reader, JointSpec& spec) {
+  JointDef& def = spec.def;
+  switch (def.type) {
+    case JointType::point: break;
+    case JointType::max_distance:
+      def.anchor_b = read_anchor(reader, "anchor_b", "local_anchor_b", spec.anchor_b_local);
+      if (const Node* length = reader.find("length")) {
+        // Absent: the anchors' distance at creation (JointDef::length 0).
+        def.length = read_fixed(*length, Bound::positive);
+        if (def.length > max_distance) fail(*length, "longer than 1000 m");
+      }
+      return;  // a rope has no friction
+    case JointType::hinge:
+      def.axis = read_direction(reader.require("axis"));
+      if (const Node* limits = reader.find("limits")) read_limits(*limits, def);
+      break;
+    case JointType::cone: {
+      // The twist axis, the swing cone's half angle and the twist limits, in degrees.
+      def.axis = read_direction(reader.require("axis"));
+      const Node& swing = reader.require("swing");
+      def.swing_angle = mul_div(read_fixed_within(swing, Fixed{}, Fixed::from_int(180), "degrees"), pi, Fixed::from_int(180));
+      read_limits(reader.require("twist"), def);
+      break;
+    }
+  }
+  // N m, against the bodies turning relative to each other.
+  if (const Node* friction = reader.find("friction")) {
+    def.friction_torque = read_fixed_within(*friction, Fixed{}, Fixed::from_int(1000000), "N m");
+  }
+}
+
 // Reads "joints": each joint's bodies by name, local anchors placed at the
 // bodies' scene poses. Names, when given, are unique among all the scene's
 // joints (`names` holds the generated ones, read before).
@@ -707,31 +741,7 @@ JointSpec read_joint_spec(const json::Node& node, const BodyResolver& resolve_bo
   if (spec.body_b == spec.body_a) fail(body_b, "the same body as body_a");
   // Only the keys of the joint's type are known: "axis" on a point joint is an unknown key.
   def.anchor_a = read_anchor(reader, "anchor", "local_anchor_a", spec.anchor_a_local);
-  if (def.type == JointType::max_distance) {
-    def.anchor_b = read_anchor(reader, "anchor_b", "local_anchor_b", spec.anchor_b_local);
-    if (const Node* length = reader.find("length")) {
-      // Absent: the anchors' distance at creation (JointDef::length 0).
-      def.length = read_fixed(*length, Bound::positive);
-      if (def.length > max_distance) fail(*length, "longer than 1000 m");
-    }
-  }
-  if (def.type == JointType::hinge) {
-    def.axis = read_direction(reader.require("axis"));
-    if (const Node* limits = reader.find("limits")) read_limits(*limits, def);
-  }
-  if (def.type == JointType::cone) {
-    // The twist axis, the swing cone's half angle and the twist limits, in degrees.
-    def.axis = read_direction(reader.require("axis"));
-    const Node& swing = reader.require("swing");
-    def.swing_angle = mul_div(read_fixed_within(swing, Fixed{}, Fixed::from_int(180), "degrees"), pi, Fixed::from_int(180));
-    read_limits(reader.require("twist"), def);
-  }
-  if (def.type != JointType::max_distance) {
-    // N m, against the bodies turning relative to each other.
-    if (const Node* friction = reader.find("friction")) {
-      def.friction_torque = read_fixed_within(*friction, Fixed{}, Fixed::from_int(1000000), "N m");
-    }
-  }
+  read_type_keys(reader, spec);
   read_optional(reader, "break_impulse", def.break_impulse, Bound::non_negative);
   read_iterations(reader, def.velocity_iterations, def.position_iterations);
   reader.finish();
