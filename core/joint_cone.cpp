@@ -65,6 +65,8 @@ const char* ConeJoint::validate(const JointDef& def) {
   return nullptr;
 }
 
+const char* ConeJoint::motor_error(Fixed speed, Fixed max) { return no_motor_error(speed, max); }
+
 const Vec3& ConeJoint::anchor_b(const JointDef& def) { return def.anchor_a; }
 
 void ConeJoint::make_frames(const JointDef& def, const Body& a, const Body& b, Joint& joint) {

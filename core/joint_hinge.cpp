@@ -1,5 +1,6 @@
 // A hinge: a point joint whose bodies turn relative to each other about
-// one axis only, optionally within [lower_angle, upper_angle]. The point
+// one axis only, optionally within [lower_angle, upper_angle], optionally
+// driven by a motor. The point
 // block (joint_point.cpp's), two angular rows (w_b - w_a) . p_k about axes
 // p_k normal to a's hinge axis that keep b's copy of the axis on it, and
 // a limit row about the axis. In the tree solve (joint_tree.h) the joint
@@ -9,9 +10,35 @@
 
 namespace bitstep {
 
+namespace {
+
+// The motor: a row about the axis, (w_b - w_a) . axis = motor_speed,
+// paired with the point impulse as the limit is (pair_with_point), its
+// accumulated impulse within motor_max dt (N m s) either way.
+void prepare_motor(const JointSetup& setup, JointRow& row, Vec3 axis) {
+  prepare_motor_limit(setup, row);
+  if (!row.motor) return;
+  row.motor_turn = make_twist(setup.a, setup.b, axis);
+  pair_with_point(row, row.motor_turn, row.motor_anchor, row.motor_mass);
+}
+
+void solve_motor(const SolverBody& sa, const SolverBody& sb, BodyRates& a, BodyRates& b, const JointRow& row,
+                 const Targets& target, Impulses& impulse) {
+  const Fixed change = row.motor_mass * (target.motor - spin(a, b, row.motor_turn));
+  const Fixed total = max(min(impulse.motor + change, row.motor_limit), -row.motor_limit);
+  apply_paired(sa, sb, a, b, row, row.motor_turn, row.motor_anchor, total - impulse.motor, impulse.point);
+  impulse.motor = total;
+}
+
+}  // namespace
+
 const char* HingeJoint::validate(const JointDef& def) {
   if (length(def.axis) < 0.001_fx) return "axis: shorter than 0.001";
   return def.limited ? angle_limits_error(def) : nullptr;
+}
+
+const char* HingeJoint::motor_error(Fixed speed, Fixed max) {
+  return bitstep::motor_error(speed, max, envelope::max_angular_speed);
 }
 
 const Vec3& HingeJoint::anchor_b(const JointDef& def) { return def.anchor_a; }
@@ -23,6 +50,8 @@ void HingeJoint::make_frames(const JointDef& def, const Body& a, const Body& b, 
     joint.lower_angle = def.lower_angle;
     joint.upper_angle = def.upper_angle;
   }
+  joint.motor_speed = def.motor_speed;
+  joint.motor_max = def.motor_max;
 }
 
 void HingeJoint::prepare(const JointSetup& setup, JointRow& row) {
@@ -43,6 +72,7 @@ void HingeJoint::prepare(const JointSetup& setup, JointRow& row) {
   row.hinge_rows_in_tree = true;
   if (joint.limited) prepare_angle_limit(setup, row, hinge_angle(joint, setup.body_a, setup.body_b), axis_a);
   prepare_turn_friction(setup, row, &axis_a);
+  prepare_motor(setup, row, axis_a);
 }
 
 void HingeJoint::warm_start(SolverBody& sa, SolverBody& sb, const JointRow& row) {
@@ -51,13 +81,15 @@ void HingeJoint::warm_start(SolverBody& sa, SolverBody& sb, const JointRow& row)
   apply_turn(sa.velocity, sb.velocity, row.hinge[0], joint.hinge_impulse[0]);
   apply_turn(sa.velocity, sb.velocity, row.hinge[1], joint.hinge_impulse[1]);
   if (row.limit_side != 0) apply_turn(sa.velocity, sb.velocity, row.limit, joint.limit_impulse);
+  if (row.motor) apply_turn(sa.velocity, sb.velocity, row.motor_turn, joint.motor_impulse);
 }
 
-// The two angular rows, the limit, then the point block, so that the
+// The motor (velocity only), the two angular rows, the limit, then the point block, so that the
 // anchors' coincidence has the last word; with the tree solve, the limit
 // alone where it is not engaged.
 void HingeJoint::solve_rows(const SolverBody& sa, const SolverBody& sb, BodyRates& a, BodyRates& b, JointRow& row,
                             const Targets& target, Impulses impulse, bool in_tree) {
+  if (target.motor_on) solve_motor(sa, sb, a, b, row, target, impulse);
   for (int k = 0; k < 2 && !in_tree; ++k) {
     const Fixed lambda = row.hinge_mass[k] * (target.hinge[k] - spin(a, b, row.hinge[k]));
     impulse.hinge[k] += lambda;

@@ -42,36 +42,71 @@ void prepare_point_rows(const JointSetup& setup, JointRow& row, Vec3 gap) {
   row.point_target -= (curve_b - curve_a) * (setup.settings.dt / 2.0_fx);
 }
 
-void prepare_angle_limit(const JointSetup& setup, JointRow& row, Fixed angle, Vec3 axis) {
+Fixed prepare_limit_side(const JointSetup& setup, JointRow& row, Fixed value, Fixed rate, Fixed lower_bound,
+                         Fixed upper_bound) {
   Joint& joint = setup.joint;
-  row.limit = make_twist(setup.a, setup.b, axis);
-  pair_with_point(row, row.limit, row.limit_anchor, row.limit_mass);
-  // The limit nearer to where the angle is heading (its rate at the
+  // The limit nearer to where the value is heading (its rate at the
   // velocities the step starts the solve with: a fast turn toward the far
   // limit went past it while the near one was watched), as a speculative
-  // row: the angle may approach it by what is left this step; past it, it
+  // row: the value may approach it by what is left this step; past it, it
   // stops, and the excess is pushed back.
-  const Fixed rate = spin(body_rates(setup.body_a), body_rates(setup.body_b), row.limit);
-  const Fixed heading = angle + rate * setup.settings.dt;
-  const bool lower = heading - joint.lower_angle < joint.upper_angle - heading;
+  const Fixed heading = value + rate * setup.settings.dt;
+  const bool lower = heading - lower_bound < upper_bound - heading;
   row.limit_side = lower ? 1 : -1;
-  const Fixed bound = lower ? joint.lower_angle : joint.upper_angle;
-  const Fixed past = lower ? bound - angle : angle - bound;  // > 0: beyond the limit
+  const Fixed bound = lower ? lower_bound : upper_bound;
+  const Fixed past = lower ? bound - value : value - bound;  // > 0: beyond the limit
   if (past <= Fixed{}) {
-    row.limit_target = (bound - angle) * setup.inverse_dt;
+    row.limit_target = (bound - value) * setup.inverse_dt;
   } else if (setup.settings.baumgarte) {
-    row.limit_target = recovery(bound - angle, setup.factor, setup.inverse_dt, setup.max_speed);
+    row.limit_target = recovery(bound - value, setup.factor, setup.inverse_dt, setup.max_speed);
   } else {
-    row.limit_push_target = recovery(bound - angle, setup.factor, setup.inverse_dt, setup.max_speed);
+    row.limit_push_target = recovery(bound - value, setup.factor, setup.inverse_dt, setup.max_speed);
   }
   // Last step's impulse held the other limit: it does not carry over.
   if ((lower && joint.limit_impulse < Fixed{}) || (!lower && joint.limit_impulse > Fixed{})) {
     joint.limit_impulse = Fixed{};
   }
+  return past;
+}
+
+void prepare_angle_limit(const JointSetup& setup, JointRow& row, Fixed angle, Vec3 axis) {
+  const Joint& joint = setup.joint;
+  row.limit = make_twist(setup.a, setup.b, axis);
+  pair_with_point(row, row.limit, row.limit_anchor, row.limit_mass);
+  const Fixed rate = spin(body_rates(setup.body_a), body_rates(setup.body_b), row.limit);
+  const Fixed past = prepare_limit_side(setup, row, angle, rate, joint.lower_angle, joint.upper_angle);
   // Engaged (in the tree solve) where it binds at the rates the step
   // starts with, or is past, or held last step; else row by row.
-  row.limit_in_tree =
-      past > Fixed{} || (lower ? rate <= row.limit_target : rate >= row.limit_target) || joint.limit_impulse != Fixed{};
+  row.limit_in_tree = past > Fixed{} || (row.limit_side > 0 ? rate <= row.limit_target : rate >= row.limit_target) ||
+                      joint.limit_impulse != Fixed{};
+}
+
+const char* motor_error(Fixed speed, Fixed max, Fixed max_speed) {
+  if (max < Fixed{} || max > 1000000.0_fx) return "motor: max_torque or max_force outside 0..1000000";
+  if (speed < -max_speed || speed > max_speed) return "motor: speed beyond the world's largest";
+  return nullptr;
+}
+
+const char* joint_motor_error(JointType type, Fixed speed, Fixed max) {
+  if (!is_joint_type(type)) return "type: not a joint type";
+  return with_joint_type(type, [&](auto kind) { return decltype(kind)::motor_error(speed, max); });
+}
+
+const char* no_motor_error(Fixed speed, Fixed max) {
+  return speed != Fixed{} || max != Fixed{} ? "motor: only hinges and sliders have one" : nullptr;
+}
+
+void prepare_motor_limit(const JointSetup& setup, JointRow& row) {
+  Joint& joint = setup.joint;
+  row.motor = joint.motor_max > Fixed{};
+  if (!row.motor) {
+    joint.motor_impulse = Fixed{};
+    return;
+  }
+  // Last step's impulse within this step's bound (motor_max or dt may
+  // have changed since).
+  row.motor_limit = joint.motor_max * setup.settings.dt;
+  joint.motor_impulse = max(min(joint.motor_impulse, row.motor_limit), -row.motor_limit);
 }
 
 void prepare_turn_friction(const JointSetup& setup, JointRow& row, const Vec3* axis) {

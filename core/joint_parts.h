@@ -50,12 +50,19 @@ struct Targets {
   // turn the arm, and may not turn it toward its nearer limit (it did, 3
   // degrees past under a 1,000 N m torque).
   bool rope_on, limit_on, swing_on;
+  // A slider's block: its two rows across the axis, then its three
+  // angular rows. The motor's speed where it drives (velocity only).
+  Fixed slide[5];
+  Fixed motor;
+  bool motor_on;
 };
 struct Impulses {
   Vec3& point;
   Fixed& rope;
   Fixed (&hinge)[2];
   Fixed& limit;
+  Vec3& angular;  // a slider's three angular rows (N m s, world axes)
+  Fixed& motor;
 };
 
 // pi (rad) rounded to Q32.32: the angle limits' range.
@@ -157,6 +164,13 @@ void set_axis_frames(const JointDef& def, const Body& a, const Body& b, Joint& j
 // step's own curvature in the velocity target.
 void prepare_point_rows(const JointSetup& setup, JointRow& row, Vec3 gap);
 
+// The side of a limit row (JointRow::limit_side, limit_target,
+// limit_push_target) for a value (rad or m) moving at `rate` between
+// lower_bound and upper_bound; resets Joint::limit_impulse held on the
+// other side. Returns how far the value is past the bound (> 0: past).
+Fixed prepare_limit_side(const JointSetup& setup, JointRow& row, Fixed value, Fixed rate, Fixed lower_bound,
+                         Fixed upper_bound);
+
 // An angle's limit row about `axis` (a hinge's angle, a cone's twist; rad):
 // one-sided, speculative, on the limit the angle is heading to, paired
 // with the point impulse.
@@ -166,6 +180,16 @@ void prepare_angle_limit(const JointSetup& setup, JointRow& row, Fixed angle, Ve
 // `axis` (a hinge's), or about every axis at once where axis is null.
 void prepare_turn_friction(const JointSetup& setup, JointRow& row, const Vec3* axis);
 void solve_turn_friction(const SolverBody& sa, const SolverBody& sb, BodyRates& a, BodyRates& b, JointRow& row);
+
+// A motor's settings checked (JointDef::motor_speed, motor_max; max_speed
+// the world's largest, rad/s or m/s), and a type's without a motor: an
+// error, or null.
+const char* motor_error(Fixed speed, Fixed max, Fixed max_speed);
+const char* no_motor_error(Fixed speed, Fixed max);
+
+// JointRow::motor and motor_limit (motor_max dt), last step's impulse kept
+// within it; without a motor the impulse is 0.
+void prepare_motor_limit(const JointSetup& setup, JointRow& row);
 
 // The point block's own row-by-row solve (where the tree does not take it).
 inline void solve_point_rows(const SolverBody& sa, const SolverBody& sb, BodyRates& a, BodyRates& b,

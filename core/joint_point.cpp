@@ -9,6 +9,8 @@ namespace bitstep {
 
 const char* PointJoint::validate(const JointDef& def) { return def.limited ? angle_limits_error(def) : nullptr; }
 
+const char* PointJoint::motor_error(Fixed speed, Fixed max) { return no_motor_error(speed, max); }
+
 const Vec3& PointJoint::anchor_b(const JointDef& def) { return def.anchor_a; }
 
 void PointJoint::make_frames(const JointDef&, const Body&, const Body&, Joint&) {}

@@ -21,6 +21,8 @@ const char* RopeJoint::validate(const JointDef& def) {
   return def.friction_torque != Fixed{} ? "friction_torque: a rope has no friction" : nullptr;
 }
 
+const char* RopeJoint::motor_error(Fixed speed, Fixed max) { return no_motor_error(speed, max); }
+
 const Vec3& RopeJoint::anchor_b(const JointDef& def) { return def.anchor_b; }
 
 void RopeJoint::make_frames(const JointDef&, const Body&, const Body&, Joint&) {}

@@ -10,21 +10,38 @@ namespace bitstep {
 namespace {
 
 Targets velocity_targets(const JointRow& row) {
-  return {row.point_target,   row.rope_target,       {row.hinge_target[0], row.hinge_target[1]},
-          row.limit_target,   row.rope_active,       row.limit_side != 0,
-          row.swing_active};
+  return {row.point_target,
+          row.rope_target,
+          {row.hinge_target[0], row.hinge_target[1]},
+          row.limit_target,
+          row.rope_active,
+          row.limit_side != 0,
+          row.swing_active,
+          {row.slide_target[0], row.slide_target[1], row.slide_target[2], row.slide_target[3], row.slide_target[4]},
+          row.joint->motor_speed,
+          row.motor};
 }
 Targets push_targets(const JointRow& row) {
-  return {row.point_push_target,  row.rope_push_target,           {row.hinge_push_target[0], row.hinge_push_target[1]},
-          row.limit_push_target,  row.rope_push_target != Fixed{}, row.limit_side != 0,
-          row.swing_active};
+  return {row.point_push_target,
+          row.rope_push_target,
+          {row.hinge_push_target[0], row.hinge_push_target[1]},
+          row.limit_push_target,
+          row.rope_push_target != Fixed{},
+          row.limit_side != 0,
+          row.swing_active,
+          {row.slide_push_target[0], row.slide_push_target[1], row.slide_push_target[2], row.slide_push_target[3],
+           row.slide_push_target[4]},
+          Fixed{},
+          false};
 }
 Impulses velocity_impulses(JointRow& row) {
   Joint& joint = *row.joint;
-  return {joint.point_impulse, joint.distance_impulse, joint.hinge_impulse, joint.limit_impulse};
+  return {joint.point_impulse, joint.distance_impulse, joint.hinge_impulse, joint.limit_impulse,
+          joint.angular_impulse, joint.motor_impulse};
 }
 Impulses push_impulses(JointRow& row) {
-  return {row.point_push_impulse, row.rope_push_impulse, row.hinge_push_impulse, row.limit_push_impulse};
+  return {row.point_push_impulse, row.rope_push_impulse,   row.hinge_push_impulse,
+          row.limit_push_impulse, row.angular_push_impulse, row.motor_push_impulse};
 }
 
 // The joint's rows the tree leaves out (all of them where there is no
@@ -276,6 +293,9 @@ bool joints_to_push(const std::vector<JointRow>& rows) {
     if (row.point_push_target != Vec3{} || row.rope_push_target != Fixed{} || row.hinge_push_target[0] != Fixed{} ||
         row.hinge_push_target[1] != Fixed{} || row.limit_push_target != Fixed{}) {
       return true;
+    }
+    for (const Fixed target : row.slide_push_target) {
+      if (target != Fixed{}) return true;
     }
   }
   return false;

@@ -9,6 +9,9 @@
 // The functions each type has:
 //   validate(def)       the type's checks of a JointDef (World::create_joint,
 //                       after the ones every type shares): an error, or null
+//   motor_error(speed, max)
+//                       the type's check of motor settings (a JointDef's,
+//                       World::set_joint_motor's): an error, or null
 //   anchor_b(def)       the world point joined on b (def.anchor_a or def.anchor_b)
 //   make_frames(def, a, b, joint)
 //                       the type's part of a new Joint: its axes, references
@@ -34,6 +37,7 @@ namespace bitstep {
 
 #define BITSTEP_JOINT_TYPE_FUNCTIONS                                                                                 \
   static const char* validate(const JointDef& def);                                                                  \
+  static const char* motor_error(Fixed speed, Fixed max);                                                            \
   static const Vec3& anchor_b(const JointDef& def);                                                                  \
   static void make_frames(const JointDef& def, const Body& a, const Body& b, Joint& joint);                          \
   static void prepare(const JointSetup& setup, JointRow& row);                                                       \
@@ -59,6 +63,10 @@ struct HingeJoint {
 struct ConeJoint {
   BITSTEP_JOINT_TYPE_FUNCTIONS
 };
+// Prismatic (joint_slider.cpp).
+struct SliderJoint {
+  BITSTEP_JOINT_TYPE_FUNCTIONS
+};
 
 #undef BITSTEP_JOINT_TYPE_FUNCTIONS
 
@@ -70,6 +78,7 @@ decltype(auto) with_joint_type(JointType type, F&& f) {
     case JointType::max_distance: return f(RopeJoint{});
     case JointType::hinge: return f(HingeJoint{});
     case JointType::cone: return f(ConeJoint{});
+    case JointType::slider: return f(SliderJoint{});
   }
   std::abort();  // never: World::create_joint and the state reader take JointType's values only
 }
@@ -81,7 +90,8 @@ inline bool is_joint_type(JointType type) {
     case JointType::point:
     case JointType::max_distance:
     case JointType::hinge:
-    case JointType::cone: return true;
+    case JointType::cone:
+    case JointType::slider: return true;
   }
   return false;
 }

@@ -262,7 +262,10 @@ JointResult World::create_joint(const JointDef& def) {
     result.error = "body_b: the same body as body_a";
   } else if (bodies_[def.body_a.index].type != BodyType::dynamic && bodies_[def.body_b.index].type != BodyType::dynamic) {
     result.error = "body_b: neither body is dynamic";
-  } else if (const char* error = with_joint_type(def.type, [&](auto type) { return decltype(type)::validate(def); })) {
+  } else if (const char* error = with_joint_type(def.type, [&](auto type) {
+               const char* invalid = decltype(type)::validate(def);
+               return invalid != nullptr ? invalid : decltype(type)::motor_error(def.motor_speed, def.motor_max);
+             })) {
     result.error = error;  // the type's own checks (core/joint_types.h)
   } else if (def.length < Fixed{} || def.length > 1000.0_fx) {
     result.error = "length: outside 0..1000 m";
@@ -315,6 +318,18 @@ JointResult World::create_joint(const JointDef& def) {
 
 bool World::is_alive(JointId id) const {
   return id.index < joints_.size() && joints_[id.index].alive && joints_[id.index].generation == id.generation;
+}
+
+const char* World::set_joint_motor(JointId id, Fixed speed, Fixed max) {
+  if (!is_alive(id)) return "not a live joint";
+  Joint& joint = joints_[id.index];
+  if (const char* error = joint_motor_error(joint.type, speed, max)) return error;
+  joint.motor_speed = max > Fixed{} ? speed : Fixed{};  // no motor: nothing of one is kept
+  joint.motor_max = max;
+  if (max == Fixed{}) joint.motor_impulse = Fixed{};
+  // A motor may start a joint at rest: its bodies wake (with their islands).
+  wake_islands_of({joint.body_a, joint.body_b});
+  return nullptr;
 }
 
 bool World::remove_joint(JointId id) {
