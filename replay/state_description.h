@@ -312,7 +312,12 @@ void describe_joint_type(V& v, J& joint) {
     case JointType::point:
     case JointType::max_distance:
     case JointType::hinge:
-    case JointType::cone: return;
+    case JointType::cone:
+      if constexpr (V::reading) {  // read in place (a rollback state): none of a slider's values
+        joint.lower_translation = joint.upper_translation = Fixed{};
+        joint.angular_impulse = Vec3{};
+      }
+      return;
     case JointType::slider:
       v.fixed("lower_translation", joint.lower_translation);
       v.fixed("upper_translation", joint.upper_translation);
@@ -361,6 +366,11 @@ void describe_joint(V& v, J& joint, const Bodies& bodies) {
   v.fixeds("hinge_impulse", joint.hinge_impulse, 2);
   v.fixed("limit_impulse", joint.limit_impulse);
   describe_joint_type(v, joint);
+  if constexpr (V::reading) {
+    // A rollback state is read into the joint in place: a joint without a
+    // motor has none of one's values (last step's may be there).
+    if ((bits & 2) == 0) joint.motor_speed = joint.motor_max = joint.motor_impulse = Fixed{};
+  }
   if ((bits & 2) != 0) {
     v.fixed("motor_speed", joint.motor_speed);
     v.fixed("motor_max", joint.motor_max);

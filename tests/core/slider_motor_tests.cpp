@@ -106,6 +106,48 @@ TEST_CASE("a slider struck off its axis keeps b on the axis, unturned, while it 
   CHECK(translation(t, slider) > 1.5 * expected_speed);
 }
 
+TEST_CASE("a slider between two free bodies keeps b on a's turning axis while the pair tumbles", "[joint][slider]") {
+  Settings settings;
+  settings.gravity = {};
+  TestWorld t(settings);
+  const BodyId a = add_block(t, {}, 2.0_fx);
+  const BodyId b = add_block(t, {0.5_fx, Fixed{}, Fixed{}}, 1.0_fx);
+  const JointId slider =
+      make_joint(t, joint_def(JointType::slider, a, b, {0.5_fx, Fixed{}, Fixed{}}, {Fixed::one(), Fixed{}, Fixed{}}));
+  // A blow at b's corner: the pair tumbles at a few rad/s while b slides out.
+  t.world.apply_impulse(b, {0.5_fx, 1.0_fx, 0.3_fx}, t.body(b).pose.position + Vec3{0.2_fx, 0.1_fx, 0.15_fx});
+  const auto energy = [&] {
+    double sum = 0;
+    for (const BodyId id : {a, b}) {
+      const Body& body = t.body(id);
+      const double m = 1 / to_double(body.inverse_mass);
+      const Vec3 w = body.angular_velocity;
+      const Vec3 local = rotate_inverse(body.pose.orientation, w);
+      sum += 0.5 * m * to_double(dot(body.linear_velocity, body.linear_velocity)) +
+             0.5 * to_double(dot(local, body.inertia_local * local));
+    }
+    return sum;
+  };
+  t.world.step();
+  const double start_energy = energy();
+  double worst_off = 0, worst_turn = 0, most_spin = 0;
+  for (int step = 0; step < 120; ++step) {
+    t.world.step();
+    worst_off = std::max(worst_off, off_axis(t, slider));
+    worst_turn = std::max(worst_turn, turned_degrees(t.body(a).pose.orientation, t.body(b).pose.orientation));
+    most_spin = std::max(most_spin, to_double(length(t.body(a).angular_velocity)));
+  }
+  INFO("off the axis " << worst_off * 1000 << " mm, turned " << worst_turn << " degrees, spin " << most_spin
+                       << " rad/s, translation " << translation(t, slider) << " m, energy " << start_energy << " -> "
+                       << energy() << " J");
+  CHECK(most_spin > 1.0);
+  CHECK(worst_off < 0.001);
+  CHECK(worst_turn < 0.1);
+  CHECK(translation(t, slider) > 0.1);
+  CHECK(energy() < start_energy * 1.01);
+  CHECK(energy() > start_energy * 0.9);
+}
+
 TEST_CASE("a slider struck along its axis stops at its limit, without sticking or bouncing", "[joint][slider]") {
   Settings settings;
   settings.gravity = {};
