@@ -23,6 +23,10 @@ enum class JointType : uint8_t {
   // stays within swing_angle of a's copy of it (a cone) and whose twist
   // about it stays within [lower_angle, upper_angle].
   cone,
+  // Prismatic: b slides along an axis fixed in a, without turning relative
+  // to a (three angular rows) or leaving the axis (two linear rows),
+  // optionally within [lower_translation, upper_translation].
+  slider,
 };
 
 struct JointId {
@@ -43,17 +47,29 @@ struct JointDef {
   Vec3 anchor_a;          // m: the joined point on a (point, hinge: on both)
   Vec3 anchor_b;          // m: max_distance: the rope's end on b (the others use anchor_a)
   Fixed length;           // m: max_distance: the rope's length; 0 takes the anchors' distance now
-  Vec3 axis;              // hinge: the axis; cone: the twist axis (any length above 1e-3; made unit)
-  bool limited = false;   // hinge: the angle is kept within [lower_angle, upper_angle] (a cone's always is)
+  Vec3 axis;              // hinge: the axis; cone: the twist axis; slider: the axis b slides along (any length above 1e-3; made unit)
+  // hinge: the angle is kept within [lower_angle, upper_angle] (a cone's
+  // always is); slider: the translation within [lower_translation,
+  // upper_translation].
+  bool limited = false;
   Fixed lower_angle;      // rad, -pi..0: b's turn about the axis relative to a, from now
   Fixed upper_angle;      // rad, 0..pi
   Fixed swing_angle;      // rad, 0..pi: cone: how far b's twist axis may swing from a's
+  Fixed lower_translation;  // m, -1000..0: slider: b's anchor along the axis from a's, from now
+  Fixed upper_translation;  // m, 0..1000
+  // A motor (hinge, slider): drives b relative to a at motor_speed (rad/s
+  // about a hinge's axis, within the world's max_angular_speed; m/s along
+  // a slider's, within max_linear_speed) with at most motor_max (N m; a
+  // slider's N), 0..1e6. 0: no motor. World::set_joint_motor changes both.
+  Fixed motor_speed;
+  Fixed motor_max;
   // N s: a joint whose constraint impulse in a step exceeds this breaks
   // (is removed at the end of the step). 0: never.
   Fixed break_impulse;
   // N m: the most torque the joint's friction puts against b turning
   // relative to a (a hinge: about its axis; point and cone: about any
-  // axis), 0..1e6. 0: none. Ropes have none.
+  // axis), 0..1e6. 0: none. Ropes have none. A slider's is a force (N)
+  // against b sliding along its axis.
   Fixed friction_torque;
   // Solver passes the joint's island asks for (0: the world's
   // Settings::velocity_iterations, position_iterations), 0..1000, as
@@ -63,6 +79,10 @@ struct JointDef {
   uint16_t velocity_iterations = 0;
   uint16_t position_iterations = 0;
 };
+
+// Why a joint of `type` cannot have this motor (JointDef::motor_speed,
+// motor_max: a type without motors, a setting out of range), or null.
+const char* joint_motor_error(JointType type, Fixed speed, Fixed max);
 
 // A joint as the world keeps it (state: hashed, saved, dumped). Anchors
 // and axes in each body's frame (about its centre of mass), and the
@@ -79,16 +99,22 @@ struct Joint {
   bool limited = false;
   Fixed lower_angle, upper_angle;
   Fixed swing_angle;  // cone
+  Fixed lower_translation, upper_translation;  // slider (m)
+  Fixed motor_speed, motor_max;  // hinge, slider: the motor (JointDef's); motor_max 0: none
   Fixed break_impulse;
   Fixed friction_torque;
   uint16_t velocity_iterations = 0, position_iterations = 0;  // 0: the world's
-  // Accumulated impulses: the point rows (N s, world axes), the rope's,
-  // the hinge's two angular rows (N m s; a cone's swing row in the first)
-  // and its limit's (a cone's twist limit).
+  // Accumulated impulses: the point rows (N s, world axes; a slider's two
+  // rows across its axis), the rope's, the hinge's two angular rows (N m
+  // s; a cone's swing row in the first) and its limit's (a cone's twist
+  // limit; a slider's translation limit, N s), a slider's three angular
+  // rows (N m s, world axes), and the motor's (N m s; a slider's N s).
   Vec3 point_impulse;
   Fixed distance_impulse;
   Fixed hinge_impulse[2];
   Fixed limit_impulse;
+  Vec3 angular_impulse;
+  Fixed motor_impulse;
 };
 
 }  // namespace bitstep

@@ -25,6 +25,9 @@ namespace bitstep {
 struct JointRow {
   uint32_t a = 0, b = 0;
   Joint* joint = nullptr;
+  // The joint has a point block (point, hinge, cone: a node of the tree
+  // solve), and a hinge's two angular rows go with it.
+  bool has_point_block = false, hinge_rows_in_tree = false;
   Vec3 ra, rb;              // m: the anchors from the centres of mass, world frame
   Mat33 point_k;            // K
   Mat33 point_mass;         // K^-1
@@ -76,11 +79,36 @@ struct JointRow {
   AngularPart friction_hinge;
   Mat33 friction_mass;
   Vec3 friction_impulse;  // a hinge's in x
+  // A motor (Joint::motor_speed, motor_max): a hinge's row about its axis,
+  // paired with the point impulse (motor_turn, motor_anchor, motor_mass),
+  // a slider's its axis row (slide_axis); its impulse within motor_limit
+  // (motor_max dt) either way. Velocity only, row by row.
+  bool motor = false;
+  Fixed motor_limit;  // N m s or N s
+  AngularPart motor_turn;
+  Vec3 motor_anchor;
+  Fixed motor_mass;
+  // Slider (joint_slider.cpp): one block of five rows solved at once,
+  // lambda = K^-1 (target - J v): two linear rows across the axis (n_k .
+  // the anchors' gap) and three angular rows (w_b - w_a) . e_k about the
+  // world axes, K = J M^-1 J^T (5x5, slide_mass its inverse); and its axis
+  // row (the translation's rate: the limit, the motor and friction),
+  // paired with the block impulse that keeps the block's rates
+  // (slide_axis_anchor per unit of its impulse; slide_axis_mass the
+  // pair's effective mass, the Schur complement).
+  Jacobian slide[5];
+  Block slide_mass;
+  Fixed slide_target[5], slide_push_target[5];
+  Jacobian slide_axis;
+  Fixed slide_axis_anchor[5];
+  Fixed slide_axis_mass;
   // The passes its island runs beyond the world's (island_passes.h).
   uint16_t extra_velocity_passes = 0, extra_position_passes = 0;
   // Split impulses, this solve's only.
   Vec3 point_push_impulse;
   Fixed rope_push_impulse, hinge_push_impulse[2], limit_push_impulse;
+  Vec3 angular_push_impulse;
+  Fixed motor_push_impulse;  // always 0: a motor pushes nothing
 };
 
 // Rows for every live joint with an awake dynamic body, in joint order,
@@ -103,6 +131,11 @@ bool joints_to_push(const std::vector<JointRow>& rows);
 // -pi..pi): 0 at creation. For a cone, the twist: b's reference projected
 // onto the plane normal to a's axis first.
 Fixed hinge_angle(const Joint& joint, const Body& a, const Body& b);
+// A cone's twist (joint_cone.cpp).
+Fixed twist_angle(const Joint& joint, const Body& a, const Body& b);
+// A slider's translation: b's anchor from a's along a's axis (m), 0 at
+// creation (joint_slider.cpp).
+Fixed slider_translation(const Joint& joint, const Body& a, const Body& b);
 // A cone's swing: the angle between its two bodies' copies of the axis (rad, 0..pi).
 Fixed swing_angle(const Joint& joint, const Body& a, const Body& b);
 

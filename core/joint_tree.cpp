@@ -11,7 +11,7 @@ namespace {
 
 constexpr uint32_t unvisited = UINT32_MAX;
 
-bool has_point_block(const JointRow& row) { return row.joint->type != JointType::max_distance; }
+bool has_point_block(const JointRow& row) { return row.has_point_block; }
 
 // Row p of a joint on one of its bodies: the angular part.
 Vec3 angular_on(const JointRow& row, int p, uint32_t body) {

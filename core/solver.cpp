@@ -683,6 +683,8 @@ void solve_contacts(const SolveContext& context, SolvePass kind) {
       Joint& joint = *row.joint;
       joint.point_impulse = Vec3{};
       joint.distance_impulse = joint.limit_impulse = joint.hinge_impulse[0] = joint.hinge_impulse[1] = Fixed{};
+      joint.angular_impulse = Vec3{};
+      joint.motor_impulse = Fixed{};
     }
     for (const PointRow& row : rows) row.point->normal_impulse = Fixed{};
     for (const ManifoldRow& m : manifold_rows) {

@@ -7,6 +7,7 @@
 #include "core/broadphase.h"
 #include "core/contact_update.h"
 #include "core/integrate.h"
+#include "core/joint_types.h"
 #include "core/mass.h"
 #include "core/query.h"
 #include "core/solver.h"
@@ -39,8 +40,6 @@ Fixed body_radius(const Body& body) {
 
 // a + b for non-negative a, b, at most Fixed::max() (2^31 J): a report,
 // not state; computed so that no operation leaves the range (checked build).
-constexpr Fixed pi = Fixed::from_raw(0x3243F6A89);  // rounded to Q32.32
-
 Fixed capped_sum(Fixed a, Fixed b) { return a > Fixed::max() - b ? Fixed::max() : a + b; }
 
 // 1/2 m v^2 + 1/2 w . I w (J, the rotational part in body axes), at most
@@ -250,6 +249,13 @@ bool World::remove_body(BodyId id) {
 
 JointResult World::create_joint(const JointDef& def) {
   JointResult result;
+  if (!is_joint_type(def.type)) {
+    result.error = "type: not a joint type";
+    return result;
+  }
+  // The point joined on b: anchor_b (a rope's) or anchor_a (the others').
+  const Vec3& anchor_b = with_joint_type(def.type, [&](auto type) -> const Vec3& { return decltype(type)::anchor_b(def); });
+  const char* anchor_b_name = &anchor_b == &def.anchor_b ? "anchor_b" : "anchor_a";
   const auto reach_error = [&](const char* field, BodyId body, Vec3 anchor) -> std::string {
     // Within twice the body's reach and 1 m more: a joint's arms then stay
     // within the envelope's arms, which bound every solver product.
@@ -267,30 +273,22 @@ JointResult World::create_joint(const JointDef& def) {
     result.error = "body_b: the same body as body_a";
   } else if (bodies_[def.body_a.index].type != BodyType::dynamic && bodies_[def.body_b.index].type != BodyType::dynamic) {
     result.error = "body_b: neither body is dynamic";
-  } else if ((def.type == JointType::hinge || def.type == JointType::cone) && length(def.axis) < 0.001_fx) {
-    result.error = "axis: shorter than 0.001";
-  } else if (def.limited && (def.lower_angle < -pi || def.lower_angle > Fixed{} || def.upper_angle < Fixed{} ||
-                             def.upper_angle > pi)) {
-    result.error = "limits: lower must be within -180..0 degrees and upper within 0..180";
-  } else if (def.type == JointType::cone && (def.lower_angle < -pi || def.lower_angle > Fixed{} ||
-                                            def.upper_angle < Fixed{} || def.upper_angle > pi)) {
-    result.error = "limits: lower must be within -180..0 degrees and upper within 0..180";
-  } else if (def.type == JointType::cone && (def.swing_angle < Fixed{} || def.swing_angle > pi)) {
-    result.error = "swing_angle: outside 0..180 degrees";
+  } else if (const char* error = with_joint_type(def.type, [&](auto type) {
+               const char* invalid = decltype(type)::validate(def);
+               return invalid != nullptr ? invalid : decltype(type)::motor_error(def.motor_speed, def.motor_max);
+             })) {
+    result.error = error;  // the type's own checks (core/joint_types.h)
   } else if (def.length < Fixed{} || def.length > 1000.0_fx) {
     result.error = "length: outside 0..1000 m";
   } else if (def.break_impulse < Fixed{}) {
     result.error = "break_impulse: negative";
   } else if (def.friction_torque < Fixed{} || def.friction_torque > 1000000.0_fx) {
     result.error = "friction_torque: outside 0..1000000 N m";
-  } else if (def.type == JointType::max_distance && def.friction_torque != Fixed{}) {
-    result.error = "friction_torque: a rope has no friction";
   } else if (def.velocity_iterations > max_joint_iterations || def.position_iterations > max_joint_iterations) {
     result.error = "iterations: outside 0..1000";
   } else {
-    const Vec3 anchor_b = def.type == JointType::max_distance ? def.anchor_b : def.anchor_a;
     result.error = reach_error("anchor_a", def.body_a, def.anchor_a);
-    if (result.error.empty()) result.error = reach_error(def.type == JointType::max_distance ? "anchor_b" : "anchor_a", def.body_b, anchor_b);
+    if (result.error.empty()) result.error = reach_error(anchor_b_name, def.body_b, anchor_b);
   }
   if (!result.ok()) return result;
 
@@ -301,27 +299,10 @@ JointResult World::create_joint(const JointDef& def) {
   joint.type = def.type;
   joint.body_a = def.body_a.index;
   joint.body_b = def.body_b.index;
-  const Vec3 anchor_b = def.type == JointType::max_distance ? def.anchor_b : def.anchor_a;
   joint.local_anchor_a = a.pose.apply_inverse(def.anchor_a);
   joint.local_anchor_b = b.pose.apply_inverse(anchor_b);
   joint.length = def.length == Fixed{} ? length(anchor_b - def.anchor_a) : def.length;
-  if (def.type == JointType::hinge || def.type == JointType::cone) {
-    const Vec3 axis = normalize(def.axis);
-    // A unit vector normal to the axis: the angle is measured between its
-    // two bodies' copies, equal now.
-    const Vec3 other = abs(axis.x) < 0.5_fx ? Vec3{Fixed::one(), Fixed{}, Fixed{}} : Vec3{Fixed{}, Fixed::one(), Fixed{}};
-    const Vec3 reference = normalize(cross(axis, other));
-    joint.local_axis_a = rotate_inverse(a.pose.orientation, axis);
-    joint.local_axis_b = rotate_inverse(b.pose.orientation, axis);
-    joint.local_reference_a = rotate_inverse(a.pose.orientation, reference);
-    joint.local_reference_b = rotate_inverse(b.pose.orientation, reference);
-  }
-  joint.limited = (def.type == JointType::hinge && def.limited) || def.type == JointType::cone;
-  if (joint.limited) {
-    joint.lower_angle = def.lower_angle;
-    joint.upper_angle = def.upper_angle;
-  }
-  if (def.type == JointType::cone) joint.swing_angle = def.swing_angle;
+  with_joint_type(def.type, [&](auto type) { decltype(type)::make_frames(def, a, b, joint); });
   joint.break_impulse = def.break_impulse;
   joint.friction_torque = def.friction_torque;
   joint.velocity_iterations = def.velocity_iterations;
@@ -348,6 +329,18 @@ JointResult World::create_joint(const JointDef& def) {
 
 bool World::is_alive(JointId id) const {
   return id.index < joints_.size() && joints_[id.index].alive && joints_[id.index].generation == id.generation;
+}
+
+const char* World::set_joint_motor(JointId id, Fixed speed, Fixed max) {
+  if (!is_alive(id)) return "not a live joint";
+  Joint& joint = joints_[id.index];
+  if (const char* error = joint_motor_error(joint.type, speed, max)) return error;
+  joint.motor_speed = max > Fixed{} ? speed : Fixed{};  // no motor: nothing of one is kept
+  joint.motor_max = max;
+  if (max == Fixed{}) joint.motor_impulse = Fixed{};
+  // A motor may start a joint at rest: its bodies wake (with their islands).
+  wake_islands_of({joint.body_a, joint.body_b});
+  return nullptr;
 }
 
 bool World::remove_joint(JointId id) {

@@ -87,6 +87,19 @@ Vec3 read_speed(const Node& node, Fixed limit, const char* unit) {
   return v;
 }
 
+// A joint's motor from this step on (World::set_joint_motor): "joint" by
+// name, "speed" (rad/s for a hinge, m/s for a slider) and "max_torque" (N
+// m) or "max_force" (N), 0 turning it off. A joint that has no motor, or
+// settings outside its type's range, leave it as it is.
+void read_motor_input(ObjectReader& reader, Input& input) {
+  input.joint.name = read_string(reader.require("joint"));
+  input.motor_speed = read_fixed_within(reader.require("speed"), -envelope::max_linear_speed, envelope::max_linear_speed, "");
+  const Node* torque = reader.find("max_torque");
+  const Node* force = reader.find("max_force");
+  if ((torque == nullptr) == (force == nullptr)) fail(reader.node(), "give \"max_torque\" or \"max_force\", one of them");
+  input.motor_max = read_fixed_within(torque != nullptr ? *torque : *force, Fixed{}, Fixed::from_int(1000000), "");
+}
+
 Input read_input(const Node& node, const Scene& scene, BodyNames& names) {
   ObjectReader reader(node);
   Input input;
@@ -94,9 +107,10 @@ Input read_input(const Node& node, const Scene& scene, BodyNames& names) {
   input.step = read_int(reader.require("step"), 1, max_steps);
   static constexpr Input::Kind kinds[] = {Input::Kind::impulse, Input::Kind::force,     Input::Kind::set_velocity,
                                           Input::Kind::spawn,   Input::Kind::remove,    Input::Kind::wake,
-                                          Input::Kind::add_joint, Input::Kind::remove_joint, Input::Kind::drive};
+                                          Input::Kind::add_joint, Input::Kind::remove_joint, Input::Kind::drive,
+                                          Input::Kind::motor};
   input.kind = kinds[read_choice(reader.require("type"), {"impulse", "force", "set_velocity", "spawn", "remove", "wake",
-                                                          "add_joint", "remove_joint", "drive"})];
+                                                          "add_joint", "remove_joint", "drive", "motor"})];
   const auto body = [&] { return read_body_ref(reader.require("body"), names); };
   switch (input.kind) {
     case Input::Kind::impulse:
@@ -142,6 +156,7 @@ Input read_input(const Node& node, const Scene& scene, BodyNames& names) {
       if (const Node* n = reader.find("steer")) input.controls.steer = read_fixed_within(*n, -Fixed::one(), Fixed::one(), "");
       break;
     }
+    case Input::Kind::motor: read_motor_input(reader, input); break;
   }
   reader.finish();
   return input;
@@ -164,7 +179,7 @@ void number_joints(std::vector<Input>& inputs, const Scene& scene) {
       if (!name.empty() && !numbers.emplace(name, input.joint_number).second) {
         fail(input.source.path + ".joint.name", "duplicate joint name " + json::quote(name));
       }
-    } else if (input.kind == Input::Kind::remove_joint) {
+    } else if (input.kind == Input::Kind::remove_joint || input.kind == Input::Kind::motor) {
       const auto found = numbers.find(name);
       if (found == numbers.end()) {
         fail(input.source.path + ".joint",
@@ -427,6 +442,11 @@ void apply_inputs(World& world, const std::vector<Input>& inputs, int64_t step, 
         if (input.joint_number < run.joints.size()) world.remove_joint(run.joints[input.joint_number]);
         break;
       case Input::Kind::drive: world.set_car_controls({input.car}, input.controls); break;
+      case Input::Kind::motor:
+        if (input.joint_number < run.joints.size()) {
+          world.set_joint_motor(run.joints[input.joint_number], input.motor_speed, input.motor_max);
+        }
+        break;
     }
   }
 }

@@ -459,6 +459,72 @@ void read_limits(const Node& node, JointDef& def) {
   def.upper_angle = mul_div(upper, pi, Fixed::from_int(180));
 }
 
+// "motor": {"speed": rad/s (a hinge) or m/s (a slider), and "max_torque"
+// (N m, a hinge) or "max_force" (N, a slider)}: the most the motor puts
+// into driving b relative to a at that speed. 0: no motor.
+void read_motor(const Node& node, JointDef& def, std::string_view max_key, Fixed fastest, std::string_view speed_unit,
+                std::string_view max_unit) {
+  ObjectReader reader(node);
+  def.motor_speed = read_fixed_within(reader.require("speed"), -fastest, fastest, speed_unit);
+  def.motor_max = read_fixed_within(reader.require(max_key), Fixed{}, Fixed::from_int(1000000), max_unit);
+  reader.finish();
+}
+
+// A slider's keys: its axis, its limits in m from the creation pose
+// ("lower_translation" -1000..0, "upper_translation" 0..1000; either
+// given limits it, the other then 0), a motor, and friction (N, along
+// the axis).
+void read_slider_keys(ObjectReader& reader, JointDef& def) {
+  def.axis = read_direction(reader.require("axis"));
+  const Node* lower = reader.find("lower_translation");
+  const Node* upper = reader.find("upper_translation");
+  def.limited = lower != nullptr || upper != nullptr;
+  if (lower != nullptr) def.lower_translation = read_fixed_within(*lower, -max_distance, Fixed{}, "m");
+  if (upper != nullptr) def.upper_translation = read_fixed_within(*upper, Fixed{}, max_distance, "m");
+  if (const Node* motor = reader.find("motor")) read_motor(*motor, def, "max_force", envelope::max_linear_speed, "m/s", "N");
+  if (const Node* friction = reader.find("friction")) {
+    def.friction_torque = read_fixed_within(*friction, Fixed{}, Fixed::from_int(1000000), "N");
+  }
+}
+
+// The keys of a joint's own type, one case per type (no default: a type
+// without its case is a -Wswitch error). Only these are known: "axis" on
+// a point joint is an unknown key.
+void read_type_keys(ObjectReader& reader, JointSpec& spec) {
+  JointDef& def = spec.def;
+  switch (def.type) {
+    case JointType::point: break;
+    case JointType::max_distance:
+      def.anchor_b = read_anchor(reader, "anchor_b", "local_anchor_b", spec.anchor_b_local);
+      if (const Node* length = reader.find("length")) {
+        // Absent: the anchors' distance at creation (JointDef::length 0).
+        def.length = read_fixed(*length, Bound::positive);
+        if (def.length > max_distance) fail(*length, "longer than 1000 m");
+      }
+      return;  // a rope has no friction
+    case JointType::hinge:
+      def.axis = read_direction(reader.require("axis"));
+      if (const Node* limits = reader.find("limits")) read_limits(*limits, def);
+      if (const Node* motor = reader.find("motor")) read_motor(*motor, def, "max_torque", envelope::max_angular_speed, "rad/s", "N m");
+      break;
+    case JointType::cone: {
+      // The twist axis, the swing cone's half angle and the twist limits, in degrees.
+      def.axis = read_direction(reader.require("axis"));
+      const Node& swing = reader.require("swing");
+      def.swing_angle = mul_div(read_fixed_within(swing, Fixed{}, Fixed::from_int(180), "degrees"), pi, Fixed::from_int(180));
+      read_limits(reader.require("twist"), def);
+      break;
+    }
+    case JointType::slider:
+      read_slider_keys(reader, def);
+      return;
+  }
+  // N m, against the bodies turning relative to each other.
+  if (const Node* friction = reader.find("friction")) {
+    def.friction_torque = read_fixed_within(*friction, Fixed{}, Fixed::from_int(1000000), "N m");
+  }
+}
+
 // Reads "joints": each joint's bodies by name, local anchors placed at the
 // bodies' scene poses. Names, when given, are unique among all the scene's
 // joints (`names` holds the generated ones, read before).
@@ -706,8 +772,9 @@ JointSpec read_joint_spec(const json::Node& node, const BodyResolver& resolve_bo
   ObjectReader reader(node);
   JointSpec spec;
   JointDef& def = spec.def;
-  static constexpr JointType types[] = {JointType::point, JointType::max_distance, JointType::hinge, JointType::cone};
-  def.type = types[read_choice(reader.require("type"), {"point", "max_distance", "hinge", "cone"})];
+  static constexpr JointType types[] = {JointType::point, JointType::max_distance, JointType::hinge, JointType::cone,
+                                        JointType::slider};
+  def.type = types[read_choice(reader.require("type"), {"point", "max_distance", "hinge", "cone", "slider"})];
   if (const Node* name = reader.find("name")) spec.name = read_string(*name);
   spec.body_a = resolve_body(reader.require("body_a"));
   const Node& body_b = reader.require("body_b");
@@ -715,31 +782,7 @@ JointSpec read_joint_spec(const json::Node& node, const BodyResolver& resolve_bo
   if (spec.body_b == spec.body_a) fail(body_b, "the same body as body_a");
   // Only the keys of the joint's type are known: "axis" on a point joint is an unknown key.
   def.anchor_a = read_anchor(reader, "anchor", "local_anchor_a", spec.anchor_a_local);
-  if (def.type == JointType::max_distance) {
-    def.anchor_b = read_anchor(reader, "anchor_b", "local_anchor_b", spec.anchor_b_local);
-    if (const Node* length = reader.find("length")) {
-      // Absent: the anchors' distance at creation (JointDef::length 0).
-      def.length = read_fixed(*length, Bound::positive);
-      if (def.length > max_distance) fail(*length, "longer than 1000 m");
-    }
-  }
-  if (def.type == JointType::hinge) {
-    def.axis = read_direction(reader.require("axis"));
-    if (const Node* limits = reader.find("limits")) read_limits(*limits, def);
-  }
-  if (def.type == JointType::cone) {
-    // The twist axis, the swing cone's half angle and the twist limits, in degrees.
-    def.axis = read_direction(reader.require("axis"));
-    const Node& swing = reader.require("swing");
-    def.swing_angle = mul_div(read_fixed_within(swing, Fixed{}, Fixed::from_int(180), "degrees"), pi, Fixed::from_int(180));
-    read_limits(reader.require("twist"), def);
-  }
-  if (def.type != JointType::max_distance) {
-    // N m, against the bodies turning relative to each other.
-    if (const Node* friction = reader.find("friction")) {
-      def.friction_torque = read_fixed_within(*friction, Fixed{}, Fixed::from_int(1000000), "N m");
-    }
-  }
+  read_type_keys(reader, spec);
   read_optional(reader, "break_impulse", def.break_impulse, Bound::non_negative);
   read_iterations(reader, def.velocity_iterations, def.position_iterations);
   reader.finish();

@@ -115,7 +115,8 @@ inline constexpr std::array<const char*, 6> setting_flags = {"baumgarte", "warm_
 inline constexpr std::array<const char*, 3> sleep_methods = {"off", "motion", "still"};
 inline constexpr std::array<const char*, 3> body_types = {"static", "kinematic", "dynamic"};
 inline constexpr std::array<const char*, 4> shape_types = {"plane", "box", "capsule", "sphere"};
-inline constexpr std::array<const char*, 4> joint_types = {"point", "max_distance", "hinge", "cone"};
+inline constexpr std::array<const char*, 5> joint_types = {"point", "max_distance", "hinge", "cone", "slider"};
+inline constexpr std::array<const char*, 2> joint_flags = {"limited", "motor"};
 
 template <class V, class S>
 void describe_settings(V& v, S& s) {
@@ -310,6 +311,28 @@ void describe_car(V& v, C& car, const Bodies& bodies) {
             [] { return std::string("a car's tyre impulses do not match its wheels"); });
 }
 
+// The fields of a joint's own type beyond those every joint has, one case
+// per type (no default: a type without its case is a -Wswitch error).
+template <class V, class J>
+void describe_joint_type(V& v, J& joint) {
+  switch (joint.type) {
+    case JointType::point:
+    case JointType::max_distance:
+    case JointType::hinge:
+    case JointType::cone:
+      if constexpr (V::reading) {  // read in place (a rollback state): none of a slider's values
+        joint.lower_translation = joint.upper_translation = Fixed{};
+        joint.angular_impulse = Vec3{};
+      }
+      return;
+    case JointType::slider:
+      v.fixed("lower_translation", joint.lower_translation);
+      v.fixed("upper_translation", joint.upper_translation);
+      v.vec("angular_impulse", joint.angular_impulse);
+      return;
+  }
+}
+
 template <class V, class J, class Bodies>
 void describe_joint(V& v, J& joint, const Bodies& bodies) {
   v.integer("alive", joint.alive, 1, 0, 1);
@@ -330,7 +353,13 @@ void describe_joint(V& v, J& joint, const Bodies& bodies) {
   v.vec("local_reference_a", joint.local_reference_a);
   v.vec("local_reference_b", joint.local_reference_b);
   v.fixed("length", joint.length);
-  v.integer("limited", joint.limited, 1, 0, 1);
+  // Two switches in one byte: limited (bit 1, the byte these joints had
+  // before motors), a motor (bit 2), whose block follows only when it is
+  // on, so a joint without one keeps its bytes.
+  uint8_t bits = 0;
+  if constexpr (!V::reading) bits = static_cast<uint8_t>((joint.limited ? 1 : 0) | (joint.motor_max > Fixed{} ? 2 : 0));
+  v.flags("flags", bits, joint_flags);
+  if constexpr (V::reading) joint.limited = (bits & 1) != 0;
   v.fixed("lower_angle", joint.lower_angle);
   v.fixed("upper_angle", joint.upper_angle);
   v.fixed("swing_angle", joint.swing_angle);
@@ -343,6 +372,19 @@ void describe_joint(V& v, J& joint, const Bodies& bodies) {
   v.fixed("distance_impulse", joint.distance_impulse);
   v.fixeds("hinge_impulse", joint.hinge_impulse, 2);
   v.fixed("limit_impulse", joint.limit_impulse);
+  describe_joint_type(v, joint);
+  if constexpr (V::reading) {
+    // A rollback state is read into the joint in place: a joint without a
+    // motor has none of one's values (last step's may be there).
+    if ((bits & 2) == 0) joint.motor_speed = joint.motor_max = joint.motor_impulse = Fixed{};
+  }
+  if ((bits & 2) != 0) {
+    v.fixed("motor_speed", joint.motor_speed);
+    v.fixed("motor_max", joint.motor_max);
+    v.fixed("motor_impulse", joint.motor_impulse);
+    v.require([&] { return joint.motor_max > Fixed{} && joint_motor_error(joint.type, joint.motor_speed, joint.motor_max) == nullptr; },
+              [] { return std::string("a joint's motor outside its type's range"); });
+  }
 }
 
 // A list of the dead slots of `items`, each once (free_slots, free_joint_slots).

@@ -20,13 +20,7 @@ constexpr double g = 9.81;
 constexpr double pi = 3.14159265358979323846;
 
 // A static anchor block at `position` (it touches nothing).
-BodyId add_anchor(TestWorld& t, Vec3 position) {
-  BodyDef def;
-  def.type = BodyType::static_body;
-  def.pose.position = position;
-  def.shapes.push_back({ShapeType::box, {0.05_fx, 0.05_fx, 0.05_fx}, {}, {}, {}});
-  return t.world.create_body(def).id;
-}
+BodyId add_anchor(TestWorld& t, Vec3 position) { return t.add_anchor(position); }
 
 BodyId add_ball(TestWorld& t, Vec3 position, Fixed radius, Fixed mass) {
   BodyDef def;

@@ -61,6 +61,15 @@ struct TestWorld {
     return world.create_body(def).id;
   }
 
+  // A small static block at `position` to join things to (it touches nothing).
+  BodyId add_anchor(Vec3 position) {
+    BodyDef def;
+    def.type = BodyType::static_body;
+    def.pose.position = position;
+    def.shapes.push_back({ShapeType::box, {0.05_fx, 0.05_fx, 0.05_fx}, {}, {}, {}});
+    return world.create_body(def).id;
+  }
+
   void simulate_steps(int steps) {
     for (int i = 0; i < steps; ++i) world.step();
   }

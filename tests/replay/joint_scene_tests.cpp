@@ -166,7 +166,7 @@ TEST_CASE("joint errors name the JSON path", "[scene][joints]") {
   CHECK(joint_error(R"({"type": "cone", "body_a": "a", "body_b": "b", "anchor": [0, 1, 0], "axis": [0, -1, 0],
                           "swing": 200, "twist": [-10, 10]})").find("$.joints[0].swing: ") != std::string::npos);
   CHECK(joint_error(R"({"type": "weld", "body_a": "a", "body_b": "b"})") ==
-        "f.json: $.joints[0].type: expected \"point\", \"max_distance\", \"hinge\" or \"cone\", got \"weld\"");
+        "f.json: $.joints[0].type: expected \"point\", \"max_distance\", \"hinge\", \"cone\" or \"slider\", got \"weld\"");
   // Anchors: one of the two keys.
   CHECK(joint_error(point + "}") == "f.json: $.joints[0]: missing key \"anchor\" (or \"local_anchor_a\")");
   CHECK(joint_error(point + R"(, "anchor": [0, 0, 0], "local_anchor_a": [0, 0, 0]})") ==
@@ -186,7 +186,7 @@ TEST_CASE("joint errors name the JSON path", "[scene][joints]") {
         "friction, break_impulse, velocity_iterations, position_iterations)");
   CHECK(joint_error(R"({"type": "hinge", )" + ab + R"(, "anchor": [0, 0, 0], "axis": [0, 0, 1], "length": 1})") ==
         "f.json: $.joints[0].length: unknown key (known keys: type, name, body_a, body_b, anchor, local_anchor_a, "
-        "axis, limits, friction, break_impulse, velocity_iterations, position_iterations)");
+        "axis, limits, motor, friction, break_impulse, velocity_iterations, position_iterations)");
   CHECK(joint_error(R"({"type": "max_distance", )" + ab + R"(, "anchor": [0, 0, 0], "anchor_b": [0, 1, 0],
                        "limits": [0, 0]})") ==
         "f.json: $.joints[0].limits: unknown key (known keys: type, name, body_a, body_b, anchor, local_anchor_a, "
@@ -197,6 +197,38 @@ TEST_CASE("joint errors name the JSON path", "[scene][joints]") {
         "f.json: $.joints[0].position_iterations: outside 0..1000");
   CHECK(joint_error(point + R"(, "anchor": [0, 0, 0], "velocity_iterations": 2.5})").find(
             "$.joints[0].velocity_iterations: ") != std::string::npos);
+  // Sliders and motors: their keys, ranges and units.
+  const std::string slider = R"({"type": "slider", )" + ab + R"(, "anchor": [0, 0.5, 0], "axis": [0, 1, 0])";
+  CHECK(joint_error(slider + R"(, "limits": [0, 1]})") ==
+        "f.json: $.joints[0].limits: unknown key (known keys: type, name, body_a, body_b, anchor, local_anchor_a, "
+        "axis, lower_translation, upper_translation, motor, friction, break_impulse, velocity_iterations, "
+        "position_iterations)");
+  CHECK(joint_error(slider + R"(, "lower_translation": 0.5})") ==
+        "f.json: $.joints[0].lower_translation: outside -1000..0 m");
+  CHECK(joint_error(slider + R"(, "motor": {"speed": 1, "max_torque": 10}})") ==
+        "f.json: $.joints[0].motor: missing key \"max_force\"");  // a slider's is a force
+  CHECK(joint_error(slider + R"(, "motor": {"speed": 1, "max_force": 10, "power": 1}})") ==
+        "f.json: $.joints[0].motor.power: unknown key (known keys: speed, max_force)");
+  CHECK(joint_error(slider + R"(, "motor": {"speed": 1}})") == "f.json: $.joints[0].motor: missing key \"max_force\"");
+  CHECK(joint_error(slider + R"(, "motor": {"speed": 600, "max_force": 10}})") ==
+        "f.json: $.joints[0].motor.speed: outside +-500 m/s");
+  CHECK(joint_error(R"({"type": "hinge", )" + ab +
+                    R"(, "anchor": [0, 0.5, 0], "axis": [0, 0, 1], "motor": {"speed": 1, "max_torque": -1}})") ==
+        "f.json: $.joints[0].motor.max_torque: outside 0..1000000 N m");
+  CHECK(joint_error(point + R"(, "anchor": [0, 0, 0], "motor": {"speed": 1, "max_torque": 1}})")
+            .find("$.joints[0].motor: unknown key") != std::string::npos);
+  {
+    const Scene scene = load_ok(scene_with(slider + R"(, "upper_translation": 0.25, "friction": 5,
+                                             "motor": {"speed": "1/2", "max_force": 30}})"));
+    const JointDef& def = scene.joints[0].def;
+    CHECK(def.type == JointType::slider);
+    CHECK(def.limited);
+    CHECK(def.lower_translation == Fixed{});
+    CHECK(def.upper_translation == 0.25_fx);
+    CHECK(def.motor_speed == 0.5_fx);
+    CHECK(def.motor_max == 30.0_fx);
+    CHECK(def.friction_torque == 5.0_fx);
+  }
   // Hinges: the axis and the limits in degrees.
   const std::string hinge = R"({"type": "hinge", )" + ab + R"(, "anchor": [0, 0.55, 0])";
   CHECK(joint_error(hinge + "}") == "f.json: $.joints[0]: missing key \"axis\"");

@@ -40,7 +40,8 @@ TEST_CASE("golden replays rolled back 8 ticks after every tick give their chains
   const std::vector<SyncTestSaves> ways = {SyncTestSaves::rollback_states, SyncTestSaves::snapshots};
   const std::vector<const char*> names = {"stack20.replay.json", "stack20.remove_middle.replay.json",
                                           "ragdolls.short.replay.json", "car_wall.replay.json",
-                                          "thrown.sleep_motion.replay.json", "sensors.replay.json"};
+                                          "thrown.sleep_motion.replay.json", "sensors.replay.json",
+                                          "sliders_motors.replay.json"};
 #else
   const std::vector<SyncTestSaves> ways = {SyncTestSaves::rollback_states};
   const std::vector<const char*> names = {"stack20.remove_middle.replay.json", "ragdolls.short.replay.json",

@@ -86,8 +86,8 @@ bool specs_from_scene(const Scene& scene, const std::string& path, SceneSpecs& o
   }
   for (const Joint& joint : world.joints()) {
     if (!joint.alive) continue;
-    if (joint.type == JointType::max_distance) {
-      reason = path + ": ropes are not part of the benchmark's joint specs";
+    if (joint.type == JointType::max_distance || joint.type == JointType::slider || joint.motor_max != Fixed{}) {
+      reason = path + ": ropes, sliders and motors are not part of the benchmark's joint specs";
       return false;
     }
     const Body& a = world.bodies()[joint.body_a];
