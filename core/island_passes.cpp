@@ -62,7 +62,7 @@ void plan_island_passes(const Settings& settings, const std::vector<SolverBody>&
     out.most_velocity = std::max<int>(out.most_velocity, row.extra_velocity_passes);
     out.most_position = std::max<int>(out.most_position, row.extra_position_passes);
   }
-  // Every row touches a movable body (solver.cpp builds no other).
+  // Every row touches a movable body (contact_rows.cpp builds no other).
   for (uint32_t i = 0; i < manifold_rows.size(); ++i) {
     const uint16_t extra = out.root_velocity[root_of(manifold_rows[i].a, manifold_rows[i].b)];
     if (extra > 0) out.manifolds.push_back({i, extra});

@@ -12,7 +12,7 @@
 // core/README.md has the numbers).
 //
 // The extra passes run after the world's (velocity) and before them
-// (position, so that the last position pass stays the world's: solver.cpp
+// (position, so that the last position pass stays the world's: position_passes.cpp
 // pushes jointed bodies one way there), over the island's rows alone, in
 // the order of the world's passes: friction, the centroid rows, rocking,
 // the free point rows, then its joints. Other islands keep their bits: a

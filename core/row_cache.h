@@ -49,7 +49,7 @@ struct BodyRowInputs {
 };
 
 // A contact the solve takes: its position in the contact list and where
-// its point rows begin (solver.cpp, plan_rows).
+// its point rows begin (contact_rows.cpp, plan_rows).
 struct SolvedContact {
   uint32_t contact;
   size_t first_row;

@@ -11,7 +11,7 @@
 
 #include "core/contact.h"
 #include "core/joint_solver.h"
-#include "core/solver_rows.h"
+#include "core/solver_scratch.h"
 
 namespace bitstep {
 

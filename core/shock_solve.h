@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/glue_face.h"
 #include "core/solver_rows.h"
 
 namespace bitstep {

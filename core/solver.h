@@ -11,7 +11,9 @@
 #include "core/body.h"
 #include "core/contact.h"
 #include "core/executor.h"
+#include "core/contact_rows.h"
 #include "core/joint_solver.h"
+#include "core/solver_scratch.h"
 #include "core/solver_rows.h"
 #include "core/tyre_rows.h"
 
@@ -22,14 +24,6 @@ namespace bitstep {
 struct PushVelocities {
   std::vector<Vec3> linear;
   std::vector<Vec3> angular;
-};
-
-// What a solve does (the pipelines of Settings::pipeline).
-enum class SolvePass : uint8_t {
-  standard,   // restitution at the moment of impact, resting contact, split impulse, shock step
-  collision,  // guendelman: restitution on the velocities before this step's forces; impulses of
-              // its own (the contact pass warm-starts from last step's contact pass)
-  contact,    // guendelman: inelastic after the forces, split impulse, shock step
 };
 
 // The joints to solve with the contacts, and their rows' workspace.

@@ -8,13 +8,7 @@
 #include "core/body.h"
 #include "core/contact.h"
 #include "core/executor.h"
-#include "core/glue_face.h"
-#include "core/island_passes.h"
 #include "core/manifold.h"
-#include "core/ordered_sweeps.h"
-#include "core/row_cache.h"
-#include "core/shock_levels.h"
-#include "core/stable_pool.h"
 
 namespace bitstep {
 
@@ -133,7 +127,7 @@ struct ManifoldRow {
 };
 
 // The contact point of m's i-th point row: the rows are built in the
-// manifold's point order (build_rows in solver.cpp, one-sided copies
+// manifold's point order (build_rows in contact_rows.cpp, one-sided copies
 // keep it), so it is read from the manifold, without loading the row (a
 // PointRow is ~220 bytes; a resting face's rows are not otherwise read in
 // an iteration).
@@ -347,7 +341,7 @@ inline void solve_push(SolverBody& a, SolverBody& b, const PointRow& row) {
 }
 
 // A contact row of a jointed body pushed one way in the last position
-// pass (solver.cpp, one_way_pushes): the body below stands still for the
+// pass (position_passes.cpp, one_way_pushes): the body below stands still for the
 // one above, which takes the whole push (its mass alone in `mass`).
 struct OneWayPush {
   uint32_t row;       // in the solve's point rows
@@ -403,66 +397,6 @@ struct RankBody {
   BodyRates velocity;
 };
 
-// The solve's working memory, kept by the world between steps so that a
-// settled scene's step allocates nothing. Never state: every vector is
-// rebuilt from the bodies and contacts before it is read.
-struct SolverScratch {
-  std::vector<BodyRates> start_velocities;  // per slot, before this step's forces (restitution measures these)
-  std::vector<SolverBody> bodies;
-  std::vector<PointRow> rows;
-  std::vector<ManifoldRow> manifolds;
-  std::vector<SolvedContact> solved;  // the contacts the rows are built for, in order
-  std::vector<uint32_t> free_rows;     // the rows outside a resting face (the iterations' point rows)
-  std::vector<PointRow> collision_rows;  // the collision pass's (guendelman), apart from the cached solve's
-  std::vector<ManifoldRow> collision_manifolds;
-  // The shock step (shock.cpp).
-  ShockLevels levels;
-  std::vector<ShockEntry> order;
-  ShockOrderWorkspace order_workspace;
-  SupportGroups supports;
-  ShockGroups groups;
-  std::vector<uint8_t> glued_to_all;      // per slot
-  std::vector<uint8_t> glued_alone;       // per slot: glued to its one support in the last pass
-  std::vector<BodyRates> glued_velocity;  // per slot: the velocity the last glue gave it
-  std::vector<ManifoldRow*> shock_manifolds;  // per position in the order: the row solved there
-  StablePool<ManifoldRow> one_sided;          // copies made one-sided (shock_solve.h)
-  std::vector<Fixed> shock_saved;             // the iterations' impulses (save_impulses) during the shock step
-  size_t rows_before_shock = 0;               // rows past this are the one-sided copies' point rows
-  std::vector<RankBody> rank_bodies;
-  std::vector<BodyRates> rank_history;  // the rank's velocities after its last 8 passes (skip_repeating_passes)
-  GlueFaces glue_faces;  // the glues' pose-only parts, measured once a step (shock_solve.h)
-  std::vector<uint32_t> frozen_bodies;
-  std::vector<Fixed> saved_inverse_mass;
-  std::vector<Fixed> saved_impulses;  // the contact pass's, kept aside during the collision pass
-  // Exact reuse of the pose-dependent row parts (row_cache.h): the last
-  // cached solve's rows, moved aside before the next solve builds its own
-  // unless it reuses them in place.
-  RowCache row_cache;
-  std::vector<BodyRowInputs> body_row_inputs;  // this solve's, per slot
-  std::vector<PointRow> last_rows;
-  std::vector<ManifoldRow> last_manifolds;
-  bool rows_from_cached_solve = false;  // rows / manifolds hold the last cached solve's
-  // The solves that build `manifolds`, numbered from 1; the one whose rows
-  // this solve's were reused from (ManifoldRow::reused_from), 0 for none.
-  uint64_t solves = 0, rows_reused_from = 0;
-  // The iterations' copies of the manifold rows' parts, one array per
-  // sweep: made from this many manifold rows (their 1,152 bytes each then
-  // outgrow a core's cache, and the copy costs less than the rows streamed
-  // three times a pass), on one thread or on several. Below it the sweeps
-  // read the rows (a copy cost pyramid20's 400 manifolds 6% on one thread,
-  // 27% on two). The same bits either way (replay_tests runs both).
-  SweepRows sweep_rows;
-  size_t sweep_copies_from = 2048;
-  // The iterations and position passes on several workers (ordered_sweeps.h).
-  OrderedSweeps sweeps;
-  // The last position pass's one-way rows, by row (one_way_pushes), which
-  // bodies a joint holds, and their trees (a union-find's parents).
-  std::vector<OneWayPush> one_way;
-  std::vector<uint8_t> jointed;
-  std::vector<uint32_t> joint_trees;
-  // The passes beyond the world's for islands whose joints ask for more.
-  IslandPasses island_passes;
-};
 
 // The contacts' accumulated impulses, in contact order, kept aside and put
 // back: the collision pass keeps its own, the shock step corrects this
