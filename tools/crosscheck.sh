@@ -22,9 +22,12 @@ ln -sf /usr/include/xxhash.h "$out/include/xxhash.h"
 replay_flags=(-isystem "$out/include" -DXXH_INLINE_ALL -DXXH_VECTOR=0)
 
 # Golden replays: every build verifies them all (wasm under node too, in
-# ~12 s), except that the builds run under qemu take the short versions of the four heaviest scenes
+# ~12 s), except that the builds run under qemu, and the unoptimised and
+# checked ones, take the short versions of the four heaviest scenes
 # (<scene>.short.replay.json: 2 to 20 steps) instead of their full replays
-# (minutes each when emulated); so every scene runs in every build.
+# (minutes each when emulated; ragdolls' 8 substeps alone took 38 s at -O0);
+# so every scene runs in every build, and every full replay in the
+# optimised native builds and wasm.
 replays=(scenes/*.replay.json)
 short_replays=()
 for r in "${replays[@]}"; do
@@ -136,13 +139,14 @@ printf '%s\n%s\n' "$header" "$rule"
 # Each build's replays as a separate job, two at a time (each verifier is one
 # thread); the table is read from their result files in build order.
 set_of() {
-  case "$1" in qemu-*) printf '%s\n' "${short_replays[@]}" ;; *) printf '%s\n' "${replays[@]}" ;; esac
+  case "$2" in qemu-*) printf '%s\n' "${short_replays[@]}"; return ;; esac
+  case "$1" in *-O0*|*checked*) printf '%s\n' "${short_replays[@]}" ;; *) printf '%s\n' "${replays[@]}" ;; esac
 }
 # A verifier's failure shows in its results (the table below), not here.
 verify() {
   IFS='|' read -r name _ _ runner <<<"$1"
   local verifier="$out/replays_$(slug "$name")" set_ run
-  mapfile -t set_ < <(set_of "$runner")
+  mapfile -t set_ < <(set_of "$name" "$runner")
   run=("$verifier")
   [ "$runner" = "-" ] || run=("$runner" "$verifier")
   "${run[@]}" "${set_[@]}" >"$verifier.results" || true
@@ -150,7 +154,7 @@ verify() {
 for_each_build verify
 for b in "${builds[@]}"; do
   IFS='|' read -r name _ _ runner <<<"$b"
-  mapfile -t set_ < <(set_of "$runner")
+  mapfile -t set_ < <(set_of "$name" "$runner")
   results=$(cat "$out/replays_$(slug "$name").results")
   row="| $name |"
   for r in "${replays[@]}"; do
@@ -174,4 +178,4 @@ for b in "${builds[@]}"; do
   echo "$row"
 done
 [ $failed -eq 0 ] || { echo "crosscheck: a golden replay differs" >&2; exit 1; }
-echo "crosscheck: every build reproduces every golden replay it runs (- = the full replay of a heavy scene, replaced by its short one under qemu; wasm runs every full replay)"
+echo "crosscheck: every build reproduces every golden replay it runs (- = the full replay of a heavy scene, replaced by its short one under qemu, -O0 and checked; wasm runs every full replay)"
