@@ -56,6 +56,12 @@ struct Settings {
   Vec3 gravity{Fixed{}, -9.81_fx, Fixed{}};          // m/s^2
   int velocity_iterations = 10;                      // sequential-impulse passes per step
   int position_iterations = 4;                       // split-impulse (pseudo-velocity) passes per step
+  // Velocity passes, at most velocity_iterations, for an island the
+  // contacts hold at rest (core/held_islands.h): every body of it still
+  // when the step begins, every contact a resting face, no impact, joint
+  // or tyre. Only with the shock step, which gives such an island its
+  // velocities from the ground up.
+  int held_velocity_iterations = 4;
   // count, 1..max_substeps: the step runs its whole physics n times at
   // dt / n (forces, cars, collision, solve, positions, joint projection), as
   // Jolt's collision steps do; inputs, hashes, snapshots, events, sleep,

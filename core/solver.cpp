@@ -4,6 +4,7 @@
 #include <cstddef>
 
 #include "core/contact_rows.h"
+#include "core/held_islands.h"
 #include "core/position_passes.h"
 #include "core/shock.h"
 
@@ -28,6 +29,7 @@ struct Solve {
   bool parallel = false;  // the sweeps run on the executor's workers
   bool copies = false;    // the iterations sweep the rows' copies (SweepRows)
   bool swept = false;     // the workers ran the warm start and the iterations
+  int passes = 0;         // velocity passes over every row (plan_passes)
 
   const Settings& settings() const { return context.settings; }
   SolverScratch& scratch() const { return context.scratch; }
@@ -174,6 +176,20 @@ void prepare_contacts(Solve& s) {
   }
 }
 
+// How many velocity passes sweep every row, and which rows the passes
+// after them sweep (held_islands.h; the collision pass: the world's).
+void plan_passes(Solve& s) {
+  HeldIslands& plan = s.scratch().held_islands;
+  if (s.kind == SolvePass::collision) {
+    plan.all_passes = s.settings().velocity_iterations;
+    plan.more_passes = 0;
+  } else {
+    plan_held_islands(s.settings(), s.bodies(), s.scratch().start_velocities, *s.rows, *s.manifold_rows,
+                      s.joint_rows(), s.tyre_rows(), plan);
+  }
+  s.passes = plan.all_passes;
+}
+
 // Without warm starting (and in the collision pass, whose impulses are its
 // own) every row starts from zero.
 void begin_impulses(Solve& s) {
@@ -214,7 +230,7 @@ void sweep_on_workers(Solve& s) {
   std::vector<SweepStep>& steps = scratch.sweeps.steps;
   steps.clear();
   if (s.warm) steps.insert(steps.end(), {{SweepKind::warm_point, false}, {SweepKind::warm_manifold, false}});
-  for (int pass = 0; pass < s.settings().velocity_iterations; ++pass) {
+  for (int pass = 0; pass < s.passes; ++pass) {
     steps.insert(steps.end(), {{SweepKind::friction, false},
                                {SweepKind::manifold_normal, false},
                                {SweepKind::rocking, false},
@@ -248,7 +264,7 @@ void iterate(Solve& s) {
       if (is_free_row((*s.rows)[i])) free_rows.push_back(i);
     }
   }
-  for (int pass = 0; pass < s.settings().velocity_iterations; ++pass) {
+  for (int pass = 0; pass < s.passes; ++pass) {
     if (s.copies) {
       sweep_manifolds(bodies, sweep_rows.friction, solve_friction<FrictionRow>);
       sweep_manifolds(bodies, sweep_rows.centroids, solve_manifold_normal<CentroidRow>);
@@ -265,11 +281,20 @@ void iterate(Solve& s) {
   }
 }
 
-// The impulses the iterations settled on, back where they are kept.
-void store_impulses(Solve& s) {
-  store_tyre_impulses(s.tyre_rows(), s.context.tyres.contacts);
+// The copies' impulses back into the manifolds.
+void write_back_copies(Solve& s) {
   if (s.copies) write_back_impulses(*s.manifold_rows, *s.rows, s.scratch().sweep_rows, s.row_executor);
 }
+
+// The passes after the held ones, over the islands in motion, on this
+// thread (held_islands.h).
+void moving_passes(Solve& s) {
+  run_moving_passes(s.bodies(), *s.rows, *s.manifold_rows, s.joint_rows(), s.context.joints.tree, s.tyre_rows(),
+                    s.scratch().held_islands);
+}
+
+// The tyres' impulses, back where they are kept.
+void store_impulses(Solve& s) { store_tyre_impulses(s.tyre_rows(), s.context.tyres.contacts); }
 
 // Islands whose joints ask for more velocity passes than the world's run
 // them here, over their own rows (island_passes.h; with joints the sweeps
@@ -331,13 +356,16 @@ using Stage = void (*)(Solve&);
 
 // The guendelman collision pass: restitution on the contacts that hit,
 // nothing pushed, its impulses its own.
-constexpr Stage collision_stages[] = {gather,          prepare_joints, prepare_contacts, begin_impulses,
-                                      split_rows,      sweep_on_workers, warm_start,     iterate,
-                                      store_impulses,  island_passes,  keep_collision_impulses, write_velocities};
+constexpr Stage collision_stages[] = {gather,           prepare_joints,  prepare_contacts, plan_passes,
+                                      begin_impulses,   split_rows,      sweep_on_workers, warm_start,
+                                      iterate,          write_back_copies, moving_passes,  store_impulses,
+                                      island_passes,    keep_collision_impulses, write_velocities};
 // The standard solve and the guendelman contact pass.
-constexpr Stage contact_stages[] = {gather,         prepare_joints, prepare_contacts, begin_impulses, split_rows,
-                                    sweep_on_workers, warm_start,   iterate,          store_impulses, island_passes,
-                                    shock_step,     position_passes, write_velocities, write_push};
+constexpr Stage contact_stages[] = {gather,           prepare_joints,    prepare_contacts, plan_passes,
+                                    begin_impulses,   split_rows,        sweep_on_workers, warm_start,
+                                    iterate,          write_back_copies, moving_passes,    store_impulses,
+                                    island_passes,    shock_step,        position_passes,  write_velocities,
+                                    write_push};
 
 }  // namespace
 

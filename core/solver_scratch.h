@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/glue_face.h"
+#include "core/held_islands.h"
 #include "core/island_passes.h"
 #include "core/ordered_sweeps.h"
 #include "core/position_passes.h"
@@ -72,6 +73,7 @@ struct SolverScratch {
   OrderedSweeps sweeps;
   // The passes beyond the world's for islands whose joints ask for more.
   IslandPasses island_passes;
+  HeldIslands held_islands;  // the velocity passes per island (held_islands.h)
   PositionScratch positions;  // the position passes' (position_passes.h)
 };
 

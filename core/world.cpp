@@ -92,6 +92,7 @@ uint64_t World::reused_shape_pairs() const { return scratch_->narrowphase_cache.
 uint64_t World::tested_shape_pairs() const { return scratch_->narrowphase_cache.tested; }
 uint64_t World::reused_manifold_rows() const { return scratch_->solver_scratch.row_cache.reused; }
 uint64_t World::built_manifold_rows() const { return scratch_->solver_scratch.row_cache.built; }
+uint64_t World::held_manifold_rows() const { return scratch_->solver_scratch.held_islands.held_rows; }
 
 void World::after_in_place_restore() {
   special_bodies_ = sensor_bodies_ = 0;

@@ -172,6 +172,9 @@ class World {
   // Manifolds whose solver rows were reused / built, over the world's life.
   uint64_t reused_manifold_rows() const;
   uint64_t built_manifold_rows() const;
+  // Manifold rows solved at the held islands' velocity passes, over the
+  // world's life (core/held_islands.h).
+  uint64_t held_manifold_rows() const;
 
  private:
   // The step's parts (world.cpp). Those of a substep take its settings,

@@ -656,6 +656,7 @@ void read_settings_onto(const Node& node, Settings& s) {
   read_optional_within(reader, "gravity", s.gravity, -envelope::max_gravity, envelope::max_gravity, "m/s^2");
   read_optional(reader, "velocity_iterations", s.velocity_iterations, 1, 1000);
   read_optional(reader, "position_iterations", s.position_iterations, 0, 1000);
+  read_optional(reader, "held_velocity_iterations", s.held_velocity_iterations, 1, 1000);
   read_optional(reader, "substeps", s.substeps, 1, envelope::max_substeps);
   read_optional_within(reader, "penetration_slop", s.penetration_slop, Fixed{}, envelope::max_size, "m");
   read_optional(reader, "split_impulse_factor", s.split_impulse_factor, Bound::unit_interval);

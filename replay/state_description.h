@@ -110,8 +110,9 @@ struct StateParts {
 namespace state_description {
 
 inline constexpr uint64_t max_iterations = 1000;  // as the scene format
-inline constexpr std::array<const char*, 6> setting_flags = {"baumgarte", "warm_starting", "shock_propagation",
-                                                              "sleep", "guendelman", "substeps"};
+inline constexpr std::array<const char*, 7> setting_flags = {"baumgarte", "warm_starting", "shock_propagation",
+                                                              "sleep", "guendelman", "substeps", "held_passes"};
+inline constexpr int default_held_passes = Settings{}.held_velocity_iterations;
 inline constexpr std::array<const char*, 3> sleep_methods = {"off", "motion", "still"};
 inline constexpr std::array<const char*, 3> body_types = {"static", "kinematic", "dynamic"};
 inline constexpr std::array<const char*, 4> shape_types = {"plane", "box", "capsule", "sphere"};
@@ -132,16 +133,18 @@ void describe_settings(V& v, S& s) {
   v.fixed("speculative_distance", s.speculative_distance);
   v.fixed("max_linear_speed", s.max_linear_speed);
   v.fixed("max_angular_speed", s.max_angular_speed);
-  // Six switches in one byte. Sleep's block follows only when it is on
+  // Seven switches in one byte. Sleep's block follows only when it is on
   // (bit 8), so a world without sleep has the bytes it had before sleep
   // existed; bit 16: the guendelman pipeline; bit 32: more than one
   // substep, whose count follows shock_iterations (a world of one substep
-  // has the bytes it had before substeps existed).
+  // has the bytes it had before substeps existed); bit 64: held islands'
+  // velocity passes other than the default, their count after that.
   uint8_t bits = 0;
   if constexpr (!V::reading) {
     bits = static_cast<uint8_t>((s.baumgarte ? 1 : 0) | (s.warm_starting ? 2 : 0) | (s.shock_propagation ? 4 : 0) |
                                 (s.sleep_method != SleepMethod::off ? 8 : 0) |
-                                (s.pipeline == Pipeline::guendelman ? 16 : 0) | (s.substeps != 1 ? 32 : 0));
+                                (s.pipeline == Pipeline::guendelman ? 16 : 0) | (s.substeps != 1 ? 32 : 0) |
+                                (s.held_velocity_iterations != default_held_passes ? 64 : 0));
   }
   v.flags("flags", bits, setting_flags);
   if constexpr (V::reading) {
@@ -155,6 +158,11 @@ void describe_settings(V& v, S& s) {
     v.integer("substeps", s.substeps, 1, 2, static_cast<uint64_t>(envelope::max_substeps));
   } else if constexpr (V::reading) {
     s.substeps = 1;
+  }
+  if ((bits & 64) != 0) {
+    v.integer("held_velocity_iterations", s.held_velocity_iterations, 4, 1, max_iterations);
+  } else if constexpr (V::reading) {
+    s.held_velocity_iterations = default_held_passes;
   }
   v.require([&] { return setting_outside_envelope(s) == nullptr; },
             [&] { return std::string(setting_outside_envelope(s)) + " outside the world envelope"; });

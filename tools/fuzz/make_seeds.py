@@ -98,7 +98,7 @@ def settings():
     write("settings", "empty.json", "{}")
     write("settings", "sleep_still.json", '{"sleep": "still", "sleep_time": 2, "sleep_linear_tolerance": "1/100"}')
     write("settings", "all.json", json.dumps({
-        "dt": "1/120", "gravity": ["0", "-9.81", "raw:0"], "velocity_iterations": 12, "position_iterations": "3", "substeps": 2,
+        "dt": "1/120", "gravity": ["0", "-9.81", "raw:0"], "velocity_iterations": 12, "position_iterations": "3", "held_velocity_iterations": 6, "substeps": 2,
         "penetration_slop": 0.005, "split_impulse_factor": 0.3, "max_push_out_speed": 2, "baumgarte": True,
         "baumgarte_factor": "1/5", "restitution_threshold": 1e0, "speculative_distance": 0.02,
         "max_linear_speed": 400, "max_angular_speed": 50, "warm_starting": False, "shock_propagation": True,
