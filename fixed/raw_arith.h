@@ -72,15 +72,56 @@ constexpr void bias_q64_parts(uint64_t& hi, uint64_t& lo) {
   lo = biased;
 }
 
-constexpr int64_t round_q64_parts(uint64_t hi, uint64_t lo, bool& saturated) {
+// On x86-64 (GCC, Clang) each signed 64 x 64 product is one widening `imul`
+// (rdx:rax = rax * src, signed 128-bit) and the rounding four instructions;
+// the plain C++ stays for constant evaluation and every other target. The
+// compilers turned about half of the solver's __int128 products into a
+// `mul` and two correcting `imul`s once they had hoisted the sign word of a
+// shared factor (an impulse times each component of a row). Same bits:
+// tests/fixed/u128_tests.cpp compares both forms and the portable backend.
+
+// a b, the exact signed 128-bit product (|a b| <= 2^126).
+constexpr native_i128 wide_product(int64_t a, int64_t b) {
+#if defined(__x86_64__)
+  if (!std::is_constant_evaluated()) {
+    uint64_t hi = 0, lo = 0;
+    __asm__("imulq %[b]" : "=a"(lo), "=d"(hi) : "a"(a), [b] "rm"(b) : "cc");
+    return static_cast<native_i128>((native_u128{hi} << 64) | lo);
+  }
+#endif
+  return native_i128{a} * b;
+}
+
+// The low 64 bits of (hi:lo + 2^31 - 1 + lsb) >> 32, hi left biased (its
+// carry added): bias_q64_parts and the shift. On x86-64 `bt` puts the lsb
+// (bit 32 of lo) in the carry flag, `adc` adds it and the bias to lo and
+// `adc` the carry to hi, and `shrd` shifts the pair.
+constexpr uint64_t bias_shift_q64_parts(uint64_t& hi, uint64_t lo) {
+#if defined(__x86_64__)
+  if (!std::is_constant_evaluated()) {
+    __asm__("btq $32, %[lo]\n\t"
+            "adcq $0x7fffffff, %[lo]\n\t"
+            "adcq $0, %[hi]\n\t"
+            "shrdq $32, %[hi], %[lo]"
+            : [lo] "+r"(lo), [hi] "+r"(hi)
+            :
+            : "cc");
+    return lo;
+  }
+#endif
   bias_q64_parts(hi, lo);
+  return (hi << 32) | (lo >> 32);
+}
+
+constexpr int64_t round_q64_parts(uint64_t hi, uint64_t lo, bool& saturated) {
+  const uint64_t shifted = bias_shift_q64_parts(hi, lo);
   // floor((hi:lo) / 2^32) = hi 2^32 + (lo >> 32) fits in int64 iff hi is in [-2^31, 2^31).
   const int64_t top = static_cast<int64_t>(hi);
   if ((top >> 31) != 0 && (top >> 31) != -1) {
     saturated = true;
     return top < 0 ? min_raw : max_raw;
   }
-  return static_cast<int64_t>((hi << 32) | (lo >> 32));
+  return static_cast<int64_t>(shifted);
 }
 
 constexpr int64_t round_q64_native(native_i128 s, bool& saturated) {
@@ -90,14 +131,14 @@ constexpr int64_t round_q64_native(native_i128 s, bool& saturated) {
 
 // a b as the signed 128-bit product (one imul on x86-64), rounded.
 constexpr int64_t mul_native(int64_t a, int64_t b, bool& saturated) {
-  return round_q64_native(native_i128{a} * b, saturated);
+  return round_q64_native(wide_product(a, b), saturated);
 }
 
 // a0 b0 + a1 b1 + a2 b2 (terms with zero factors allowed), false when the
 // 128-bit sum overflows (only near |operands| = 2^63; the caller falls back).
 constexpr bool sum_products_native(int64_t a0, int64_t b0, int64_t a1, int64_t b1, int64_t a2, int64_t b2,
                                    native_i128& sum) {
-  const native_i128 p0 = native_i128{a0} * b0, p1 = native_i128{a1} * b1, p2 = native_i128{a2} * b2;
+  const native_i128 p0 = wide_product(a0, b0), p1 = wide_product(a1, b1), p2 = wide_product(a2, b2);
   native_i128 partial = 0;
   const bool o1 = __builtin_add_overflow(p0, p1, &partial);
   const bool o2 = __builtin_add_overflow(partial, p2, &sum);
@@ -131,13 +172,13 @@ struct Accumulator {
   }
   constexpr void add_product(int64_t a, int64_t b) {
 #if defined(BITSTEP_HAS_NATIVE_128)
-    if constexpr (use_native_fast_path<U>) return add_native(native_i128{a} * b);
+    if constexpr (use_native_fast_path<U>) return add_native(wide_product(a, b));
 #endif
     add(signed_product<U>(a, b));
   }
   constexpr void sub_product(int64_t a, int64_t b) {
 #if defined(BITSTEP_HAS_NATIVE_128)
-    if constexpr (use_native_fast_path<U>) return add_native(-(native_i128{a} * b));  // |a b| <= 2^126
+    if constexpr (use_native_fast_path<U>) return add_native(-wide_product(a, b));  // |a b| <= 2^126
 #endif
     add(-signed_product<U>(a, b));
   }
@@ -289,7 +330,7 @@ constexpr int64_t mul_sub_mul(int64_t a, int64_t b, int64_t c, int64_t d) {
     // [-2^127 + 2^63, 2^127 - 2^63], inside the signed 128-bit range, for
     // every operand (INT64_MIN included).
     bool saturated = false;
-    const int64_t r = round_q64_native(native_i128{a} * b - native_i128{c} * d, saturated);
+    const int64_t r = round_q64_native(wide_product(a, b) - wide_product(c, d), saturated);
     BITSTEP_FAULT_IF(saturated, "cross", "result out of range, saturated", a, b);
     return r;
   }
@@ -318,7 +359,7 @@ class InRangeSum {
     if constexpr (use_native_fast_path<U>) {
       // Two's complement mod 2^128: each product fits (|a b| <= 2^126), the
       // sum wraps without undefined behaviour in unsigned arithmetic.
-      native_ += static_cast<native_u128>(native_i128{a} * b);
+      native_ += static_cast<native_u128>(wide_product(a, b));
     } else
 #endif
     {
@@ -339,9 +380,8 @@ class InRangeSum {
     if constexpr (use_native_fast_path<U>) {
       // (sum + bias) >> 32 in 64-bit words: the low word biased, its carry
       // into the high word, and the low 64 bits of the shifted result.
-      uint64_t hi = static_cast<uint64_t>(native_ >> 64), lo = static_cast<uint64_t>(native_);
-      bias_q64_parts(hi, lo);
-      result = (hi << fraction_bits) | (lo >> fraction_bits);
+      uint64_t hi = static_cast<uint64_t>(native_ >> 64);
+      result = bias_shift_q64_parts(hi, static_cast<uint64_t>(native_));
     } else
 #endif
     {

@@ -12,6 +12,13 @@
 // every normalisation shift 0..63 and dividends with hi = 0 .. divisor - 1).
 // Unoptimised builds run a tenth of the operands.
 //
+// The native backend's products and their rounding, one widening `imul` and
+// four instructions on x86-64 (raw::wide_product, raw::bias_shift_q64_parts),
+// are compared with the plain __int128 expressions, and mul, mul_in_range,
+// mul_add, dot3, sum_products_in_range and mul_sub_mul over them with the
+// portable backend: 10^7 operand tuples each (1.5 10^6 unoptimised), a quarter
+// of the products exact ties at half an ulp or one off a tie.
+//
 // Without __int128 (i686) the native side does not exist; the portable mul and
 // divrem are then checked against an independent bit-serial reference, which
 // also runs (on fewer operands) where the native backend exists.
@@ -20,6 +27,7 @@
 // drops the carry out of the middle column and a portable divrem that skips
 // the second quotient-digit correction go through the same sweeps and must be
 // reported, with their first mismatching operands.
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <catch2/catch.hpp>
@@ -52,13 +60,15 @@ constexpr uint64_t algorithm_count = bitstep::test::samples(1'000'000);   // ope
 constexpr uint64_t algorithm_minimum_compared = algorithm_count / 10 * 6;
 
 
-// A result as up to five 64-bit words, compared exactly.
+// A result as up to six 64-bit words, compared exactly.
 struct Bits {
-  std::array<uint64_t, 5> w{};
+  std::array<uint64_t, 6> w{};
   friend bool operator==(const Bits&, const Bits&) = default;
 };
 
-Bits bits(uint64_t a, uint64_t b = 0, uint64_t c = 0, uint64_t d = 0, uint64_t e = 0) { return {{a, b, c, d, e}}; }
+Bits bits(uint64_t a, uint64_t b = 0, uint64_t c = 0, uint64_t d = 0, uint64_t e = 0, uint64_t f = 0) {
+  return {{a, b, c, d, e, f}};
+}
 [[maybe_unused]] Bits bits_of(int64_t v) { return bits(static_cast<uint64_t>(v)); }
 
 std::string show(uint64_t v) {
@@ -839,6 +849,172 @@ TEST_CASE("raw mul, div, mul_div, mul_add, dot3, mul_sub_mul give the same bits 
   print_totals("arithmetic", totals);
 #else
   SUCCEED("no __int128 on this target: there is only one backend to run the raw algorithms on");
+#endif
+}
+
+#if defined(BITSTEP_HAS_NATIVE_128)
+namespace {
+
+// The native backend's products and their rounding (raw::wide_product,
+// raw::bias_shift_q64_parts: one widening `imul` and four instructions on
+// x86-64) against the plain __int128 expressions they replace.
+__attribute__((noinline)) Bits wide_primitives(int64_t a, int64_t b) {
+  const raw::native_i128 p = raw::wide_product(a, b);
+  const auto u = static_cast<raw::native_u128>(p);
+  uint64_t hi = static_cast<uint64_t>(u >> 64);
+  const uint64_t shifted = raw::bias_shift_q64_parts(hi, static_cast<uint64_t>(u));
+  bool saturated = false;
+  const int64_t rounded = raw::round_q64_parts(static_cast<uint64_t>(u >> 64), static_cast<uint64_t>(u), saturated);
+  return bits(static_cast<uint64_t>(u >> 64), static_cast<uint64_t>(u), shifted, hi, static_cast<uint64_t>(rounded),
+              saturated ? 1u : 0u);
+}
+__attribute__((noinline)) Bits plain_primitives(int64_t a, int64_t b) {
+  const auto u = static_cast<raw::native_u128>(raw::native_i128{a} * b);
+  uint64_t hi = static_cast<uint64_t>(u >> 64), lo = static_cast<uint64_t>(u);
+  raw::bias_q64_parts(hi, lo);
+  const uint64_t shifted = (hi << 32) | (lo >> 32);
+  // round_q64_parts as it was: the biased high word's range, then the shift.
+  const int64_t top = static_cast<int64_t>(hi);
+  const bool saturated = (top >> 31) != 0 && (top >> 31) != -1;
+  const int64_t rounded = saturated ? (top < 0 ? INT64_MIN : INT64_MAX) : static_cast<int64_t>(shifted);
+  return bits(static_cast<uint64_t>(u >> 64), static_cast<uint64_t>(u), shifted, hi, static_cast<uint64_t>(rounded),
+              saturated ? 1u : 0u);
+}
+
+// One product's forms: mul, mul_in_range, mul_add (c joins the product).
+template <class U>
+__attribute__((noinline)) Bits r_products(int64_t a, int64_t b, int64_t c) {
+  return bits(static_cast<uint64_t>(raw::mul<U>(a, b)), static_cast<uint64_t>(raw::mul_in_range<U>(a, b)),
+              static_cast<uint64_t>(raw::mul_add<U>(a, b, c)));
+}
+// The sums: dot3, the in-range sum of three, mul_sub_mul of the first two.
+template <class U>
+__attribute__((noinline)) Bits r_sums(int64_t a0, int64_t b0, int64_t a1, int64_t b1, int64_t a2, int64_t b2) {
+  const int64_t a[3] = {a0, a1, a2}, b[3] = {b0, b1, b2};
+  return bits(static_cast<uint64_t>(raw::dot3<U>(a0, b0, a1, b1, a2, b2)),
+              static_cast<uint64_t>(raw::sum_products_in_range<U, 3>(a, b)),
+              static_cast<uint64_t>(raw::mul_sub_mul<U>(a0, b0, a1, b1)));
+}
+
+// A factor pair whose product is a tie (a b = (2k + 1) 2^31: half an ulp
+// past a multiple of 2^32), or one off a tie, either sign: odd a times an
+// odd multiple of 2^31, both below 2^46 (physics sizes) or of any size.
+T2 tie_pair(SplitMix64& rng, bool physics) {
+  const uint64_t r = rng.next();
+  const uint64_t widths_a = physics ? 46 : 62, widths_b = physics ? 15 : 32;
+  const int width_a = 1 + static_cast<int>((r >> 8) % widths_a), width_b = static_cast<int>((r >> 16) % widths_b);
+  const uint64_t a_magnitude = (rng.next() >> (64 - width_a)) | 1u;
+  const uint64_t b_magnitude = ((rng.next() >> (64 - width_b - 1)) | 1u) << 31;  // < 2^63
+  int64_t a = static_cast<int64_t>(a_magnitude), b = static_cast<int64_t>(b_magnitude);
+  if ((r & 1u) != 0) a = wrap_neg(a);
+  if ((r & 2u) != 0) b = wrap_neg(b);
+  switch ((r >> 2) & 7u) {
+    case 0: b = wrap_add(b, 1); break;   // just past the tie
+    case 1: b = wrap_add(b, -1); break;  // just before it
+    default: break;
+  }
+  return (r & 32u) != 0 ? T2{a, b} : T2{b, a};
+}
+// Operand pairs: a quarter ties, the rest as the backend sweeps draw them
+// (physics sizes, or the full-range shapes).
+T2 product_pair(SplitMix64& rng, bool physics) {
+  if ((rng.next() & 3u) == 0) return tie_pair(rng, physics);
+  return T2{operand(rng, physics), operand(rng, physics)};
+}
+// Three quarters of the tuples of physics sizes, where the solver's products
+// are (and the checked build skips fewer), a quarter full range.
+bool mostly_physics(SplitMix64& rng) { return (rng.next() & 3u) != 0; }
+
+// Edge pairs: every pair of the signed boundaries (0, +-1 raw, INT64_MIN,
+// INT64_MAX, 2^32 +- 1, ...), and exact ties k 2^31 for odd k of either sign.
+std::vector<T2> product_edges() {
+  std::vector<T2> e = pair_edges();
+  const int64_t half = int64_t{1} << 31;
+  for (int64_t k : {int64_t{1}, int64_t{3}, int64_t{5}, (int64_t{1} << 32) + 1, (int64_t{1} << 32) - 1,
+                    (int64_t{1} << 33) + 1, INT64_MAX, INT64_MAX - 2}) {
+    for (int64_t s : {k, wrap_neg(k)}) {
+      for (int64_t h : {half, wrap_neg(half), half + 1, half - 1, 3 * half, -3 * half}) {
+        e.emplace_back(s, h);
+        e.emplace_back(h, s);
+      }
+    }
+  }
+  return e;
+}
+
+}  // namespace
+#endif
+
+TEST_CASE("raw products and sums: the widening multiply agrees with the portable backend", "[u128]") {
+#if defined(BITSTEP_HAS_NATIVE_128)
+  using P = PortableU128;
+  using N = NativeU128;
+  // Constant evaluation takes the plain C++ forms; ties round to even there too.
+  static_assert(raw::mul<N>(1, int64_t{1} << 31) == 0 && raw::mul<N>(3, int64_t{1} << 31) == 2);
+  static_assert(raw::mul<N>(-1, int64_t{1} << 31) == 0 && raw::mul<N>(-3, int64_t{1} << 31) == -2);
+  static_assert(raw::mul_in_range<N>(5, int64_t{1} << 31) == 2 && raw::mul_in_range<N>(-5, int64_t{1} << 31) == -2);
+  const std::vector<T2> edges2 = product_edges();
+  std::vector<T3> edges3;
+  for (const auto& [a, b] : edges2)
+    for (int64_t c : {int64_t{0}, int64_t{-1}, int64_t{1} << 32}) edges3.emplace_back(a, b, c);
+  std::vector<T6> edges6;
+  for (const auto& [a, b] : edges2) {
+    edges6.emplace_back(a, b, 0, 0, 0, 0);
+    edges6.emplace_back(a, b, b, a, a, b);
+    edges6.emplace_back(a, b, wrap_neg(a), b, 1, int64_t{1} << 31);
+  }
+  // 10^7 operand tuples per sweep, 1.5 10^6 unoptimised: the checked build
+  // skips the saturating ones and still compares more than 10^6.
+  const uint64_t count = std::max<uint64_t>(primitive_count, 1'500'000);
+  const uint64_t minimum_compared = 1'000'000;
+
+  require_agreement(sweep("raw::wide_product, bias_shift_q64_parts, round_q64_parts against __int128", count,
+                          0x20, &plain_primitives, &wide_primitives, edges2,
+                          [](SplitMix64& rng) { return product_pair(rng, mostly_physics(rng)); }),
+                    count);
+
+  const auto products_saturate = [](const T3& t) {
+    const auto [a, b, c] = t;
+    raw::Accumulator<Wide> sum;
+    sum.add_product(a, b);
+    const bool product = accumulator_saturates(sum);
+    sum.add_raw(c);
+    return product || accumulator_saturates(sum);
+  };
+  const Comparison products = sweep("raw::mul, mul_in_range, mul_add (native against portable)", count, 0x21,
+                                    &r_products<P>, &r_products<N>, edges3,
+                                    [](SplitMix64& rng) {
+                                      const bool physics = mostly_physics(rng);
+                                      const auto [a, b] = product_pair(rng, physics);
+                                      return T3{a, b, operand(rng, physics)};
+                                    },
+                                    checked_skip<T3>(products_saturate));
+  require_agreement(products, count);
+  CHECK(products.compared() >= minimum_compared);
+
+  const auto sums_saturate = [](const T6& t) {
+    raw::Accumulator<Wide> three, two;
+    three.add_product(std::get<0>(t), std::get<1>(t));
+    two.add_product(std::get<0>(t), std::get<1>(t));
+    three.add_product(std::get<2>(t), std::get<3>(t));
+    two.sub_product(std::get<2>(t), std::get<3>(t));
+    three.add_product(std::get<4>(t), std::get<5>(t));
+    return accumulator_saturates(three) || accumulator_saturates(two);
+  };
+  const Comparison sums = sweep("raw::dot3, sum_products_in_range, mul_sub_mul (native against portable)", count,
+                                0x22, &r_sums<P>, &r_sums<N>, edges6,
+                                [](SplitMix64& rng) {
+                                  const bool physics = mostly_physics(rng);
+                                  const auto [a0, b0] = product_pair(rng, physics);
+                                  const auto [a1, b1] = product_pair(rng, physics);
+                                  const auto [a2, b2] = product_pair(rng, physics);
+                                  return T6{a0, b0, a1, b1, a2, b2};
+                                },
+                                checked_skip<T6>(sums_saturate));
+  require_agreement(sums, count);
+  CHECK(sums.compared() >= minimum_compared);
+#else
+  SUCCEED("no __int128 on this target: the portable backend is the only path");
 #endif
 }
 
