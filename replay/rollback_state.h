@@ -29,7 +29,7 @@
 
 namespace bitstep {
 
-inline constexpr uint32_t rollback_state_version = 3;  // 2: cars' tyre impulses; 3: sliders, joint motors
+inline constexpr uint32_t rollback_state_version = 4;  // 2: cars' tyre impulses; 3: sliders, joint motors; 4: the suspension's impulse
 
 class RollbackStates final : private state_bytes::BodyStatics {
  public:
