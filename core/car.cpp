@@ -35,11 +35,6 @@ std::string car_def_error(const CarDef& def, const std::vector<Body>& bodies) {
 
 namespace {
 
-// The velocity of a body's material point p.
-Vec3 point_velocity(const Body& body, Vec3 p) {
-  return body.linear_velocity + cross(body.angular_velocity, p - body.pose.position);
-}
-
 Vec3 up_in(const Body& chassis) { return rotate(chassis.pose.orientation, Vec3{Fixed{}, Fixed::one(), Fixed{}}); }
 
 // Where one wheel touches: its rays spread along `ahead` across 0.8 of the
@@ -63,6 +58,32 @@ WheelState touch(const WorldQuery& query, const CarDef& def, const Body& chassis
     best = {true, compression, Fixed{}, hit->point, hit->normal, Vec3{}, hit->body.index};
   }
   return best;
+}
+
+// The suspension as a soft row of the solve: a spring k and damper c
+// integrated implicitly over the step h. With s the compression, C = -s
+// (negative while compressed) and J v = dC/dt the wheel point's speed away
+// from the ground along its normal n, they push the chassis along n with
+//   F = -k C - c J v.
+// Implicitly, at the step's end, where the velocity is v' and C has become
+// C + h J v', the step's impulse is
+//   N = h F = -h k (C + h J v') - h c J v'
+// so that
+//   J v' + (beta / h) C + gamma N = 0,  beta = h k / (c + h k),  gamma = 1 / (h (c + h k)):
+// a row asking J v' = target - gamma N with target = -(beta / h) C =
+// k s / (c + h k), the speed outward the compression asks for, softened by
+// gamma (the solve's effective mass is 1 / (J M^-1 J^T + gamma)). At rest
+// (J v' = 0) N = h k s: the spring's force k s, so the chassis sags m g /
+// (n k). Stable for every k and h, where an explicit force k s + c ds/dt
+// diverges once h^2 k / m passes 4. False when neither spring nor damper
+// acts (gamma would be infinite: no row).
+bool suspension_row(const CarDef& def, Fixed compression, Fixed h, TyreContact& tyre) {
+  const Fixed c_plus_hk = def.damping + h * def.stiffness;
+  const Fixed h_c_plus_hk = h * c_plus_hk;
+  if (h_c_plus_hk <= Fixed{}) return false;
+  tyre.softness = Fixed::one() / h_c_plus_hk;
+  tyre.suspension_target = mul_div(def.stiffness, compression, c_plus_hk);
+  return true;
 }
 
 }  // namespace
@@ -101,7 +122,7 @@ void drive_cars(const WorldQuery& query, Fixed dt, std::vector<Body>& bodies, st
       if (car.controls.throttle == Fixed{}) continue;
       to_wake.push_back(def.chassis.index);
     }
-    const Vec3 up = up_in(chassis), down = -up;
+    const Vec3 up = up_in(chassis);
     const Vec3 ahead = rotate(chassis.pose.orientation, Vec3{Fixed{}, Fixed{}, Fixed::one()});
     // The steered wheels turn about the chassis's up (positive: toward +x,
     // the left of a car facing +z).
@@ -116,37 +137,31 @@ void drive_cars(const WorldQuery& query, Fixed dt, std::vector<Body>& bodies, st
       const TyreImpulse last = car.tyre_impulses[w];
       car.tyre_impulses[w] = {};  // a wheel off the ground keeps none
       if (!state.on_ground) continue;
-      // The spring and the damper, closing = the wheel point moving down
-      // into the ground; a suspension pushes, never pulls. The ground
-      // pushes back along its normal (as Bullet's raycast vehicle does):
-      // along the chassis's tilted up, a car squatting as it accelerates
-      // lost part of its drive to the spring's slant.
-      Body& ground = bodies[state.ground];
-      const Vec3 relative = point_velocity(chassis, state.point) - point_velocity(ground, state.point);
-      const Fixed closing = dot(relative, down);
-      state.suspension_force = max(def.stiffness * state.compression + def.damping * closing, Fixed{});
+      // The suspension (a soft row, suspension_row) and the tyre (rows
+      // within the friction circle of its impulse), between the chassis and
+      // the body under the wheel at its ground point, the pair's
+      // coefficients mixed as contacts mix them. The ground pushes back
+      // along its normal (as Bullet's raycast vehicle does): along the
+      // chassis's tilted up, a car squatting as it accelerates lost part of
+      // its drive to the spring's slant.
+      const Body& ground = bodies[state.ground];
+      if (ground.type == BodyType::dynamic && ground.asleep) to_wake.push_back(state.ground);
       const Vec3 n = state.normal;
-      add_force(chassis, n * state.suspension_force, state.point, dt);
-      if (ground.type == BodyType::dynamic) {
-        add_force(ground, -(n * state.suspension_force), state.point, dt);
-        if (ground.asleep) to_wake.push_back(state.ground);
-      }
-      // The tyre: rows of the solve (core/tyre_rows.h) within the friction
-      // circle of the suspension's impulse, the pair's coefficients mixed
-      // as contacts mix them.
       TyreContact tyre;
+      if (!suspension_row(def, state.compression, dt, tyre)) continue;
       tyre.car = c;
       tyre.wheel = w;
       tyre.chassis = def.chassis.index;
       tyre.ground = state.ground;
       tyre.point = state.point;
+      tyre.normal = n;
       tyre.forward = normalize_or(heading - n * dot(heading, n), ahead);
       tyre.side = cross(n, tyre.forward);
-      tyre.load = state.suspension_force * dt;
       tyre.drive = def.wheels[w].driven ? throttle * def.drive_force * dt : Fixed{};
       tyre.brake = brake * def.brake_force * dt;
       tyre.static_friction = sqrt(def.grip * ground.material.static_friction);
       tyre.dynamic_friction = sqrt(def.grip * ground.material.dynamic_friction);
+      tyre.suspension_impulse = last.suspension;
       tyre.forward_impulse = last.forward;
       tyre.side_impulse = last.side;
       tyres.push_back(tyre);
@@ -157,8 +172,10 @@ void drive_cars(const WorldQuery& query, Fixed dt, std::vector<Body>& bodies, st
 void record_tyre_forces(const std::vector<TyreContact>& tyres, Fixed dt, std::vector<Car>& cars) {
   for (const TyreContact& tyre : tyres) {
     Car& car = cars[tyre.car];
-    car.tyre_impulses[tyre.wheel] = {tyre.forward_impulse, tyre.side_impulse};
-    car.wheels[tyre.wheel].tyre_force = (tyre.forward * tyre.forward_impulse + tyre.side * tyre.side_impulse) / dt;
+    car.tyre_impulses[tyre.wheel] = {tyre.suspension_impulse, tyre.forward_impulse, tyre.side_impulse};
+    WheelState& wheel = car.wheels[tyre.wheel];
+    wheel.suspension_force = tyre.suspension_impulse / dt;
+    wheel.tyre_force = (tyre.forward * tyre.forward_impulse + tyre.side * tyre.side_impulse) / dt;
   }
 }
 

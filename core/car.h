@@ -2,14 +2,15 @@
 // not bodies. "The car just uses ray casts for the suspension (you can set
 // it up to use multiple rays per wheel). Drive forces are applied at each
 // wheel to both the chassis, the wheel, and the object that it touches."
-// Each step, before the forces are integrated, every wheel casts its rays
-// (core/query.h) down the chassis's -y from its attachment, and where it
-// touches: a spring and damper along the suspension (a force), and the
-// tyre in the ground's plane (drive, brake, and the side grip that stops
-// sliding sideways) as friction rows of the contact solve, within the
-// friction circle of the suspension's load (core/tyre_rows.h). Each force
-// and impulse goes to the chassis and, opposite, to the body under the
-// wheel.
+// Each step, before the solve, every wheel casts its rays (core/query.h)
+// down the chassis's -y from its attachment, and where it touches, the
+// wheel is three rows of the contact solve (core/tyre_rows.h): the
+// suspension, a spring and damper along the ground's normal as a soft
+// unilateral row (the spring integrated implicitly: any stiffness is
+// stable at any step), and the tyre in the ground's plane (drive, brake,
+// and the side grip that stops sliding sideways) as friction rows within
+// the friction circle of the suspension row's impulse. Each impulse goes
+// to the chassis and, opposite, to the body under the wheel.
 #pragma once
 
 #include <cstdint>
@@ -55,17 +56,18 @@ struct CarControls {
 struct WheelState {
   bool on_ground = false;
   Fixed compression;        // m, of the suspension (0 at rest_length)
-  Fixed suspension_force;   // N
+  Fixed suspension_force;   // N, along normal, on the chassis: the solve's suspension impulse / dt
   Vec3 point, normal;       // where the wheel touches, and the ground's normal
   Vec3 tyre_force;          // N, in the ground's plane, on the chassis: the solve's tyre impulse / dt
   uint32_t ground = UINT32_MAX;  // the touched body's slot
 };
 
-// A tyre's impulses accumulated in the last step's solve, which start the
-// next one's (warm starting, as contacts'): N s on the chassis, along the
-// wheel's heading and across it; zero for a wheel off the ground.
+// A wheel's impulses accumulated in the last step's solve, which start the
+// next one's (warm starting, as contacts'): N s on the chassis, of the
+// suspension along the ground's normal, and of the tyre along the wheel's
+// heading and across it; zero for a wheel off the ground.
 struct TyreImpulse {
-  Fixed forward, side;
+  Fixed suspension, forward, side;
   friend bool operator==(const TyreImpulse&, const TyreImpulse&) = default;
 };
 
@@ -93,16 +95,15 @@ struct TyreContact;
 // WorldQuery over this region answers their rays exactly).
 Aabb car_region(const std::vector<Car>& cars, const std::vector<Body>& bodies);
 
-// Every live car's suspension forces, added to the chassis's and the
-// touched bodies' pending forces (World::step calls it first, so they are
-// integrated with gravity), and its grounded wheels' tyres, for the solve
-// (core/tyre_rows.h). `query` is a snapshot of the world at the step's
-// start. Sleeping bodies a car pushes, and a sleeping chassis whose driver
-// opens the throttle, are listed in `to_wake`.
+// Every live car's grounded wheels, for the solve (core/tyre_rows.h): where
+// each touches, its suspension row's coefficients for the step `dt`, and
+// its tyre's bounds and grip. `query` is a snapshot of the world at the
+// step's start. Sleeping bodies a car pushes, and a sleeping chassis whose
+// driver opens the throttle, are listed in `to_wake`.
 void drive_cars(const WorldQuery& query, Fixed dt, std::vector<Body>& bodies, std::vector<Car>& cars,
                 std::vector<TyreContact>& tyres, std::vector<uint32_t>& to_wake);
-// The tyres' impulses the solve settled on, kept to warm-start the next
-// step, and their forces, into the cars' wheel states.
+// The wheels' impulses the solve settled on, kept to warm-start the next
+// step, and their forces (suspension and tyre), into the cars' wheel states.
 void record_tyre_forces(const std::vector<TyreContact>& tyres, Fixed dt, std::vector<Car>& cars);
 
 }  // namespace bitstep

@@ -118,7 +118,8 @@ void integrate_velocities(const Settings& settings, std::vector<Body>& bodies, I
 
 void integrate_positions(const Settings& settings, std::vector<Body>& bodies, const PushVelocities& push,
                          const std::vector<BodyRates>& start_velocities, const std::vector<Contact>& contacts,
-                         const std::vector<Joint>& joints, std::vector<uint8_t>& touching) {
+                         const std::vector<Joint>& joints, const std::vector<TyreContact>& tyres,
+                         std::vector<uint8_t>& touching) {
   const Fixed dt = settings.dt;
   touching.assign(bodies.size(), 0);
   for (const Contact& c : contacts) {
@@ -128,6 +129,7 @@ void integrate_positions(const Settings& settings, std::vector<Body>& bodies, co
   for (const Joint& j : joints) {
     if (j.alive) touching[j.body_a] = touching[j.body_b] = 1;
   }
+  for (const TyreContact& t : tyres) touching[t.chassis] = touching[t.ground] = 1;
   for (size_t i = 0; i < bodies.size(); ++i) {
     Body& body = bodies[i];
     if (!body.alive || body.type == BodyType::static_body || body.asleep) continue;

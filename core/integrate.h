@@ -48,11 +48,13 @@ int scale_inertia_down(Mat33& inertia, Mat33* inverse = nullptr);
 // x += dt (v + v_push) for bodies with contact points, x += dt (v_start + v) / 2
 // for bodies in free flight (exact under constant force; v_start is the
 // velocity before this step's forces); q += dt/2 (w + w_push) q, renormalised.
-// `touching` is scratch (per slot: has a contact point or a joint this
-// step: constrained, not in free flight).
+// `touching` is scratch (per slot: has a contact point, a joint or a
+// grounded wheel's rows this step: constrained, not in free flight; a
+// chassis on its suspension moves by the velocity its implicit springs
+// solved for, as they assume).
 void integrate_positions(const Settings& settings, std::vector<Body>& bodies, const PushVelocities& push,
                          const std::vector<BodyRates>& start_velocities, const std::vector<Contact>& contacts,
-                         const std::vector<Joint>& joints,
+                         const std::vector<Joint>& joints, const std::vector<TyreContact>& tyres,
                          std::vector<uint8_t>& touching);
 
 }  // namespace bitstep

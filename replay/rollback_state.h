@@ -29,7 +29,7 @@
 
 namespace bitstep {
 
-inline constexpr uint32_t rollback_state_version = 4;  // 2: cars' tyre impulses; 3: sliders, joint motors; 4: held islands' velocity passes (a setting)
+inline constexpr uint32_t rollback_state_version = 4;  // 2: cars' tyre impulses; 3: sliders, joint motors; 4: the suspension's impulse, held islands' velocity passes (a setting)
 
 class RollbackStates final : private state_bytes::BodyStatics {
  public:

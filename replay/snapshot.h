@@ -16,7 +16,7 @@
 
 namespace bitstep {
 
-inline constexpr uint32_t snapshot_version = 6;  // 2: rolling resistance (material, contact impulses); 3: joints' solver passes; 4: cars' tyre impulses; 5: sliders, joint motors (a joint's flags byte); 6: held islands' velocity passes (a setting)
+inline constexpr uint32_t snapshot_version = 6;  // 2: rolling resistance (material, contact impulses); 3: joints' solver passes; 4: cars' tyre impulses; 5: sliders, joint motors (a joint's flags byte); 6: the suspension's impulse, held islands' velocity passes (a setting)
 
 std::vector<uint8_t> snapshot(const World& world);
 

@@ -311,7 +311,8 @@ void describe_car(V& v, C& car, const Bodies& bodies) {
     v.fixed("brake", car.controls.brake);
     v.fixed("steer", car.controls.steer);
   });
-  v.list("tyre_impulses", car.tyre_impulses, 2 * 8, 8, nullptr, [&](auto& tyre) {
+  v.list("tyre_impulses", car.tyre_impulses, 3 * 8, 8, nullptr, [&](auto& tyre) {
+    v.fixed("suspension", tyre.suspension);
     v.fixed("forward", tyre.forward);
     v.fixed("side", tyre.side);
   });
