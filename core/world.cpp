@@ -434,10 +434,10 @@ void World::step() {
   report_events();
 }
 
-// The whole physics over `s.dt`. Cars run in every substep: their
-// suspension forces are forces over the substep's dt, from the poses it
-// starts at, and join the pending forces (core/car.h) before they are
-// integrated; their tyres join the substep's solve.
+// The whole physics over `s.dt`. Cars run in every substep: their wheels
+// find the ground from the poses it starts at, and each grounded wheel's
+// suspension and tyre join the substep's solve as rows (core/car.h,
+// core/tyre_rows.h).
 void World::substep(const Settings& s) {
   scratch_->tyres.clear();
   const bool driving = std::any_of(cars_.begin(), cars_.end(), [](const Car& car) { return car.alive; });
