@@ -433,6 +433,7 @@ void World::step() {
   break_joints();
   ++step_count_;
   report_events();
+  remove_beyond_bound();
 }
 
 // The whole physics over `s.dt`. Cars run in every substep: their

@@ -95,6 +95,12 @@ class World {
   bool remove_joint(JointId id);
   bool is_alive(JointId id) const;
 
+  // One step of dt. At its end every body whose centre of mass is past
+  // envelope::world_bound (+-2^19 m) on an axis is removed, as remove_body
+  // does (its joints, contacts, overlaps and car go with it), in slot
+  // order, each with a left_world event (listed whether or not events are
+  // on: a game must learn that its handle died). The rule, and why not
+  // freeze or clamp: core/README.md "World bounds".
   void step();
 
   // Inputs, applied by the next step. An impulse changes the velocities at
@@ -181,6 +187,7 @@ class World {
   void break_joints();
   void touching_before_step();
   void report_events();
+  void remove_beyond_bound();  // world_bounds.cpp
   void step_standard(const Settings& s);
   void step_guendelman(const Settings& s);
   void find_contacts(const Settings& s);

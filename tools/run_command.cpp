@@ -45,14 +45,16 @@ struct RunOptions {
   bool events = false;          // --events: each step's contact and sensor events
 };
 
-constexpr const char* event_names[] = {"contact begin", "contact end", "sensor begin", "sensor end"};
+constexpr const char* event_names[] = {"contact begin", "contact end", "sensor begin", "sensor end", "left world"};
 
-// "step 42: contact begin "box.3" (shape 0) - "ground" (shape 0)"
+// "step 42: contact begin "box.3" (shape 0) - "ground" (shape 0)",
+// "step 9000: left world "ball"" (core/world.h: removed past the bound)
 std::string event_line(uint64_t step, const WorldEvent& e, const Scene& scene) {
   auto name = [&](uint32_t slot) {
     return slot < scene.bodies.size() && !scene.bodies[slot].name.empty() ? "\"" + scene.bodies[slot].name + "\""
                                                                           : "body " + std::to_string(slot);
   };
+  if (e.kind == EventKind::left_world) return fmt::format("step {}: left world {}", step, name(e.key.body_a));
   return fmt::format("step {}: {} {} (shape {}) - {} (shape {})", step, event_names[static_cast<int>(e.kind)],
                      name(e.key.body_a), e.key.shape_a, name(e.key.body_b), e.key.shape_b);
 }
@@ -308,15 +310,14 @@ int run_scene_command(int argc, char** argv) {
     maxima.add(stats, max_drift(world, start));
     if (all_asleep_step < 0 && all_asleep(stats)) all_asleep_step = static_cast<long long>(world.step_count());
     if (trace) trace->record(world);
-    if (options.events) {
-      for (const WorldEvent& e : world.events()) {
-        if (options.json) {
-          event_json.push_back(fmt::format("{{\"step\": {}, \"kind\": \"{}\", \"bodies\": [{}, {}], \"shapes\": [{}, {}]}}",
-                                           world.step_count(), event_names[static_cast<int>(e.kind)], e.key.body_a,
-                                           e.key.body_b, e.key.shape_a, e.key.shape_b));
-        } else {
-          fmt::print("{}\n", event_line(world.step_count(), e, scene));
-        }
+    // Without --events the world lists only bodies that left it (core/world.h).
+    for (const WorldEvent& e : world.events()) {
+      if (options.json) {
+        event_json.push_back(fmt::format("{{\"step\": {}, \"kind\": \"{}\", \"bodies\": [{}, {}], \"shapes\": [{}, {}]}}",
+                                         world.step_count(), event_names[static_cast<int>(e.kind)], e.key.body_a,
+                                         e.key.body_b, e.key.shape_a, e.key.shape_b));
+      } else {
+        fmt::print("{}\n", event_line(world.step_count(), e, scene));
       }
     }
     if (step == options.snapshot_at) {
@@ -374,7 +375,7 @@ int run_scene_command(int argc, char** argv) {
     fmt::print("{}{{\"step\": {}, \"hash\": \"{:016x}\"}}", i == 0 ? "" : ", ", hashes[i].first, hashes[i].second);
   }
   fmt::print("]");
-  if (options.events) {
+  if (options.events || !event_json.empty()) {
     fmt::print(", \"events\": [");
     for (size_t i = 0; i < event_json.size(); ++i) fmt::print("{}{}", i == 0 ? "" : ", ", event_json[i]);
     fmt::print("]");
