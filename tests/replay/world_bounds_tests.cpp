@@ -106,7 +106,7 @@ void reseal(std::vector<uint8_t>& image) {
 
 }  // namespace
 
-TEST_CASE("a ball falling for 200,000 steps leaves the world at its bound; the world saves, loads and steps",
+TEST_CASE("a ball falling for 200,000 steps leaves the world at its bound, which saves, loads and steps",
           "[bounds]") {
   World world = ground_box_and_ball();
   world.set_events(false);  // left_world is listed all the same
@@ -169,7 +169,7 @@ TEST_CASE("a ball thrown past the bound at full speed is removed that step, with
   CHECK(still.bodies()[2].alive);
 }
 
-TEST_CASE("a snapshot of a body between the bound and the readers' 2^20 m loads; its next step removes it",
+TEST_CASE("a snapshot of a body between the bound and the readers' 2^20 m loads, and its next step removes it",
           "[bounds]") {
   const Fixed beyond = envelope::world_bound + envelope::world_bound / 2.0_fx;
   const World old = moved(ground_box_and_ball(), 2, {Fixed{}, -beyond, Fixed{}}, {});
