@@ -38,9 +38,7 @@ struct RunOptions {
   std::string snapshot_path;
   std::string restore_path;     // continue from this snapshot instead of the scene's start
   std::string settings;         // JSON object of "settings" keys over the scene's
-  std::string trace_path;       // --trace: every body's pose and velocities
-  long long trace_every = 1;
-  std::string trace_format;     // "csv", "jsonl", or empty: from the extension
+  TraceOptions trace;           // --trace: every body's pose and velocities
   int threads = 1;              // --threads: workers stepping the world (the same bits for any count)
   bool events = false;          // --events: each step's contact and sensor events
 };
@@ -70,6 +68,10 @@ bool parse_count(const char* text, long long& out) {
 // Returns an error message, empty on success.
 std::string parse_options(int argc, char** argv, RunOptions& o) {
   for (int i = 0; i < argc; ++i) {
+    if (std::string trace_error; o.trace.parse(argc, argv, i, trace_error)) {
+      if (!trace_error.empty()) return trace_error;
+      continue;
+    }
     const std::string arg = argv[i];
     const bool has_value = i + 1 < argc;
     if (arg == "--json") {
@@ -97,17 +99,6 @@ std::string parse_options(int argc, char** argv, RunOptions& o) {
       o.settings = argv[++i];
     } else if (arg == "--events") {
       o.events = true;
-    } else if (arg == "--trace" && has_value) {
-      o.trace_path = argv[++i];
-    } else if (arg == "--trace-every" && has_value) {
-      if (!parse_count(argv[++i], o.trace_every) || o.trace_every == 0) {
-        return fmt::format("--trace-every needs a positive integer, got '{}'", argv[i]);
-      }
-    } else if (arg == "--trace-format" && has_value) {
-      o.trace_format = argv[++i];
-      if (o.trace_format != "csv" && o.trace_format != "jsonl") {
-        return fmt::format("--trace-format needs csv or jsonl, got '{}'", o.trace_format);
-      }
     } else if (!arg.empty() && arg[0] != '-' && o.scene_path.empty()) {
       o.scene_path = arg;
     } else {
@@ -115,10 +106,7 @@ std::string parse_options(int argc, char** argv, RunOptions& o) {
     }
   }
   if (o.scene_path.empty()) return "missing SCENE (a bitstep-scene JSON file)";
-  if (!o.trace_path.empty() && !trace_format(o.trace_format, o.trace_path)) {
-    return fmt::format("--trace {}: name it .csv or .jsonl, or give --trace-format", o.trace_path);
-  }
-  return {};
+  return o.trace.check();
 }
 
 struct SecondSummary {
@@ -271,18 +259,11 @@ int run_scene_command(int argc, char** argv) {
   }
   const long long steps_per_second = std::max<long long>(1, (Fixed::one() / scene.settings.dt).raw() >> 32);
   std::optional<BodyTrace> trace;
-  if (!options.trace_path.empty()) {
-    if (!BodyTrace::time_fits(scene.settings.dt, world.step_count() + static_cast<uint64_t>(steps))) {
-      fmt::print(stderr, "bitstep run: --trace: the last step's time is beyond the Q32.32 range\n");
-      return exit_code::usage;
-    }
-    trace.emplace(*trace_format(options.trace_format, options.trace_path), static_cast<uint64_t>(options.trace_every));
-    if (!trace->open(options.trace_path, reason)) {
-      fmt::print(stderr, "bitstep run: --trace: {}\n", reason);
-      return exit_code::output_failed;
-    }
-    trace->record_start(world);
+  if (const int code = options.trace.open("run", scene.settings.dt, world.step_count() + static_cast<uint64_t>(steps), trace);
+      code != exit_code::success) {
+    return code;
   }
+  if (trace) trace->record_start(world);
 
   if (!options.json) {
     fmt::print("scene {}: {} bodies, dt {} s, {} velocity iterations, {} steps\n", options.scene_path,
@@ -349,14 +330,11 @@ int run_scene_command(int argc, char** argv) {
       }
     }
   }
-  if (trace && !trace->finish(reason)) {
-    fmt::print(stderr, "bitstep run: --trace: {}\n", reason);
-    return exit_code::output_failed;
-  }
+  if (!TraceOptions::finish("run", trace)) return exit_code::output_failed;
   const uint64_t final_hash = state_hash(world);
   if (!options.json) {
     if (scene.settings.sleep_method != SleepMethod::off) fmt::print("all asleep: {}\n", all_asleep_text(all_asleep_step));
-    if (trace) fmt::print("trace written to {}\n", options.trace_path);
+    if (trace) fmt::print("trace written to {}\n", options.trace.path);
     fmt::print("final step {} hash {:016x}\n", world.step_count(), final_hash);
     return exit_code::success;
   }
