@@ -99,8 +99,15 @@ class World {
   // envelope::world_bound (+-2^19 m) on an axis is removed, as remove_body
   // does (its joints, contacts, overlaps and car go with it), in slot
   // order, each with a left_world event (listed whether or not events are
-  // on: a game must learn that its handle died). The rule, and why not
-  // freeze or clamp: core/README.md "World bounds".
+  // on: a game must learn that its handle died). Removal, not freezing or
+  // clamping: a dead slot is what every state format already holds (no
+  // format change; an older state with a body past the bound loads and
+  // loses it in its next step), where a frozen body needs a new state flag
+  // and a clamped one an invisible wall. Box2D 2.0 froze a body leaving
+  // its world AABB and told its b2BoundaryListener; Bullet takes a body
+  // whose AABB overflows out of the simulation (DISABLE_SIMULATION); Jolt
+  // offers double-precision positions instead of a bound (core/README.md
+  // "World bounds").
   void step();
 
   // Inputs, applied by the next step. An impulse changes the velocities at
