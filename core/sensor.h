@@ -26,6 +26,7 @@ enum class EventKind : uint8_t {
   contact_end,
   sensor_begin,   // a shape began overlapping a sensor's shape
   sensor_end,
+  left_world,     // a body crossed the world's bound and was removed (key: its slot twice, shapes 0)
 };
 
 // One event of a step: what began or ended between the two shapes of `key`.

@@ -34,6 +34,12 @@ inline constexpr Fixed max_gravity = 1000.0_fx;      // m/s^2, per axis
 // Substeps per step: dt / substeps must stay at least min_dt, the shortest
 // step the products above were bounded for.
 inline constexpr int max_substeps = 16;
+// The world's bound, m, |coordinate| of a centre of mass: a body past it at
+// the end of a step is removed (World::step), so no world holds a position
+// its saved state could not hold (the readers accept 2^20 m). 2^19 m is 32
+// times the creation envelope and, a step moving a body at most 50 m
+// (500 m/s x 0.1 s), leaves the readers' bound 500,000 m of room.
+inline constexpr Fixed world_bound = Fixed::from_raw(int64_t{1} << 51);  // 524,288 m
 }  // namespace envelope
 
 // How bodies fall asleep (core/sleep.h). Off: no sleep bookkeeping at all.

@@ -45,11 +45,13 @@ Fixed capped_sum(Fixed a, Fixed b) { return a > Fixed::max() - b ? Fixed::max() 
 // 1/2 m v^2 + 1/2 w . I w (J, the rotational part in body axes), at most
 // 2^31 J: a 1e5 kg body at 500 m/s has 1.25e10. m v^2 is taken whole when
 // it fits; I is halved until w . I w fits (|w| <= 100 rad/s, entries under
-// 2^15 kg m^2) and the result doubled back while it can be.
+// 2^15 kg m^2) and the result doubled back while it can be. Below 1 kg
+// m v^2 <= v^2 fits as it is (max() / m left the range for a 10 g die).
 Fixed kinetic_energy(const Body& body) {
   const Fixed mass = Fixed::one() / body.inverse_mass;
   const Fixed speed_sq = length_sq(body.linear_velocity);  // <= 3 x 500^2
-  const Fixed linear = speed_sq > Fixed::max() / mass ? Fixed::max() : mass * speed_sq / 2.0_fx;
+  const bool capped = mass > Fixed::one() && speed_sq > Fixed::max() / mass;
+  const Fixed linear = capped ? Fixed::max() : mass * speed_sq / 2.0_fx;
   const Vec3 w = rotate_inverse(body.pose.orientation, body.angular_velocity);
   Mat33 inertia = body.inertia_local;
   int halvings = scale_inertia_down(inertia);
@@ -432,6 +434,7 @@ void World::step() {
   break_joints();
   ++step_count_;
   report_events();
+  remove_beyond_bound();
 }
 
 // The whole physics over `s.dt`. Cars run in every substep: their wheels

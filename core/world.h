@@ -95,6 +95,19 @@ class World {
   bool remove_joint(JointId id);
   bool is_alive(JointId id) const;
 
+  // One step of dt. At its end every body whose centre of mass is past
+  // envelope::world_bound (+-2^19 m) on an axis is removed, as remove_body
+  // does (its joints, contacts, overlaps and car go with it), in slot
+  // order, each with a left_world event (listed whether or not events are
+  // on: a game must learn that its handle died). Removal, not freezing or
+  // clamping: a dead slot is what every state format already holds (no
+  // format change; an older state with a body past the bound loads and
+  // loses it in its next step), where a frozen body needs a new state flag
+  // and a clamped one an invisible wall. Box2D 2.0 froze a body leaving
+  // its world AABB and told its b2BoundaryListener; Bullet takes a body
+  // whose AABB overflows out of the simulation (DISABLE_SIMULATION); Jolt
+  // offers double-precision positions instead of a bound (core/README.md
+  // "World bounds").
   void step();
 
   // Inputs, applied by the next step. An impulse changes the velocities at
@@ -184,6 +197,7 @@ class World {
   void break_joints();
   void touching_before_step();
   void report_events();
+  void remove_beyond_bound();  // world_bounds.cpp
   void step_standard(const Settings& s);
   void step_guendelman(const Settings& s);
   void find_contacts(const Settings& s);

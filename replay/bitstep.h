@@ -116,7 +116,8 @@ bitstep_status bitstep_load(bitstep_simulation* sim, const uint8_t* image, size_
 /* A rollback game's save and load: the step's state alone (no shapes or
  * masses), into the caller's buffer without allocating once every body was
  * seen, restored in place; only into the simulation that saved it, and not
- * across a bitstep_load. Sizes as bitstep_save. */
+ * across a bitstep_load. Sizes as bitstep_save; INVALID, nothing changed,
+ * when the image is refused (it is read whole before it replaces anything). */
 bitstep_status bitstep_save_state(bitstep_simulation* sim, uint8_t* buffer, size_t capacity, size_t* size);
 bitstep_status bitstep_load_state(bitstep_simulation* sim, const uint8_t* image, size_t size);
 

@@ -452,18 +452,21 @@ void apply_inputs(World& world, const std::vector<Input>& inputs, int64_t step, 
 }
 
 void run_inputs(World& world, const std::vector<Input>& inputs, int64_t steps, std::vector<uint64_t>& hashes,
-                int64_t dump_step, std::string* dump) {
+                int64_t dump_step, std::string* dump, const StepWatch& watch) {
   if (dump != nullptr && dump_step == 0) *dump = dump_state(world);
+  if (watch) watch(world);
   InputRun run(world);
   for (int64_t step = 1; step <= steps; ++step) {
     apply_inputs(world, inputs, step, run);
     world.step();
     hashes.push_back(state_hash(world));
     if (dump != nullptr && step == dump_step) *dump = dump_state(world);
+    if (watch) watch(world);
   }
 }
 
-Verification verify_replay(const Replay& replay, int64_t dump_step, std::string* dump, Executor* executor) {
+Verification verify_replay(const Replay& replay, int64_t dump_step, std::string* dump, Executor* executor,
+                           const StepWatch& watch) {
   Verification v;
   World world(replay.scene.settings);
   world.set_executor(executor);
@@ -472,7 +475,7 @@ Verification verify_replay(const Replay& replay, int64_t dump_step, std::string*
   v.scene_hash = state_hash(world);
   v.scene_matches = v.scene_hash == replay.scene_hash;
   if (!v.scene_matches) return v;
-  run_inputs(world, replay.inputs, replay.steps, v.hashes, dump_step, dump);
+  run_inputs(world, replay.inputs, replay.steps, v.hashes, dump_step, dump, watch);
   v.divergent_step = first_divergent_step(replay.hashes, v.hashes);
   const std::vector<uint8_t> image = snapshot(world);
   for (size_t i = 0; i < 8; ++i) v.snapshot_checksum |= static_cast<uint64_t>(image[image.size() - 8 + i]) << (8 * i);

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <variant>
@@ -105,9 +106,11 @@ void apply_inputs(World& world, const std::vector<Input>& inputs, int64_t step, 
 // Runs `steps` steps with the inputs from a world at step 0, appending each
 // step's state hash.
 // With `dump` set, the state after step `dump_step` (0: before step 1) is
-// written into it as dump_state's JSON.
+// written into it as dump_state's JSON. `watch`, when set, sees the world
+// before step 1 and after each step (`record` / `verify --trace`).
+using StepWatch = std::function<void(const World&)>;
 void run_inputs(World& world, const std::vector<Input>& inputs, int64_t steps, std::vector<uint64_t>& hashes,
-                int64_t dump_step = -1, std::string* dump = nullptr);
+                int64_t dump_step = -1, std::string* dump = nullptr, const StepWatch& watch = {});
 
 // Re-runs a replay from its scene and compares every hash.
 struct Verification {
@@ -122,7 +125,7 @@ struct Verification {
 };
 // `executor` (null: one thread) steps the world (World::set_executor).
 Verification verify_replay(const Replay& replay, int64_t dump_step = -1, std::string* dump = nullptr,
-                           Executor* executor = nullptr);
+                           Executor* executor = nullptr, const StepWatch& watch = {});
 
 // The replay as JSON text (hashes as 16 hex digits).
 std::string replay_json(const Replay& replay, const std::string& engine_version);

@@ -8,12 +8,30 @@
 
 namespace bitstep {
 
-// The world's state members, for reading a state into them in place (a
-// friend of World).
+// The world's state members (a friend of World): copied out, and swapped
+// with a copy that a state was read into whole.
 struct WorldStateAccess {
-  static StateParts<true> parts(World& w) {
-    return {w.step_count_, w.settings_, w.bodies_, w.free_slots_, w.contacts_, w.joints_, w.free_joint_slots_,
-            w.sensor_overlaps_, w.cars_};
+  static void copy(const World& w, OwnedStateParts& p) {
+    p.step_count = w.step_count_;
+    p.settings = w.settings_;
+    p.bodies = w.bodies_;
+    p.free_slots = w.free_slots_;
+    p.contacts = w.contacts_;
+    p.joints = w.joints_;
+    p.free_joint_slots = w.free_joint_slots_;
+    p.sensor_overlaps = w.sensor_overlaps_;
+    p.cars = w.cars_;
+  }
+  static void swap(World& w, OwnedStateParts& p) {
+    std::swap(w.step_count_, p.step_count);
+    std::swap(w.settings_, p.settings);
+    w.bodies_.swap(p.bodies);
+    w.free_slots_.swap(p.free_slots);
+    w.contacts_.swap(p.contacts);
+    w.joints_.swap(p.joints);
+    w.free_joint_slots_.swap(p.free_joint_slots);
+    w.sensor_overlaps_.swap(p.sensor_overlaps);
+    w.cars_.swap(p.cars);
   }
 };
 
@@ -132,16 +150,18 @@ std::optional<std::string> RollbackStates::restore(std::span<const uint8_t> imag
   if (get_le(image, image.size() - 8, 8) != XXH3_64bits(image.data(), image.size() - 8)) {
     return std::string("checksum mismatch: the image is corrupt");
   }
-  // Our own bytes, intact: read in place. (A failure past this point would
-  // mean a bug; the world is then emptied, never left half-read.)
+  // Our own bytes, intact. Read into a copy of the world's state (as in
+  // place: a body still in its slot keeps its static fields), swapped in
+  // only when read whole: a refused state changes nothing.
+  WorldStateAccess::copy(world, read_);
   try {
     state_bytes::ByteReader r(image.subspan(header_bytes, static_cast<size_t>(payload)), this, &marks_);
-    describe_state(r, WorldStateAccess::parts(world));
+    describe_state(r, read_.refs());
     if (!r.done()) r.fail("bytes left after the state");
   } catch (const state_bytes::Corrupt& corrupt) {
-    world = World(world.settings());
-    return "rollback state unreadable, the world emptied: " + corrupt.reason;
+    return "rollback state unreadable: " + corrupt.reason;
   }
+  WorldStateAccess::swap(world, read_);
   world.after_in_place_restore();
   return std::nullopt;
 }

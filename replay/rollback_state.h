@@ -26,6 +26,7 @@
 
 #include "core/world.h"
 #include "replay/state_bytes.h"
+#include "replay/state_description.h"
 
 namespace bitstep {
 
@@ -45,7 +46,8 @@ class RollbackStates final : private state_bytes::BodyStatics {
 
   // Reads a state this object saved from `world` back into it, or says why
   // it cannot (another world, a corrupt or truncated image) and changes
-  // nothing.
+  // nothing: it is read into a copy of the world's state, swapped in only
+  // when read whole (the copy's memory is kept for the next restore).
   std::optional<std::string> restore(std::span<const uint8_t> image, World& world) const;
 
   // Forgets the static fields of the bodies that were in none of the last
@@ -70,6 +72,9 @@ class RollbackStates final : private state_bytes::BodyStatics {
   uint64_t oldest_restorable_ = 0;    // the number of the oldest save that still restores
   std::map<uint64_t, Kept> statics_;  // by serial
   mutable std::vector<uint8_t> marks_;  // the reader's scratch, kept
+  // What a restore reads into (a copy of the world's state), then swaps
+  // with the world's.
+  mutable OwnedStateParts read_;
 };
 
 }  // namespace bitstep

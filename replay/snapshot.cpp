@@ -24,21 +24,12 @@ void put_u64(std::vector<uint8_t>& out, uint64_t v) {
 
 World read_world(std::span<const uint8_t> payload) {
   state_bytes::ByteReader r(payload);
-  uint64_t step_count = 0;
-  Settings settings;
-  std::vector<Body> bodies;
-  std::vector<uint32_t> free_slots;
-  std::vector<Contact> contacts;
-  std::vector<Joint> joints;
-  std::vector<uint32_t> free_joint_slots;
-  std::vector<SensorOverlap> sensor_overlaps;
-  std::vector<Car> cars;
-  describe_state(r, StateParts<true>{step_count, settings, bodies, free_slots, contacts, joints, free_joint_slots,
-                                     sensor_overlaps, cars});
+  OwnedStateParts p;
+  describe_state(r, p.refs());
   if (!r.done()) r.fail("bytes left after the state");
-  return World::from_state(settings, step_count, std::move(bodies), std::move(free_slots), std::move(contacts),
-                           std::move(joints), std::move(free_joint_slots), std::move(sensor_overlaps),
-                           std::move(cars));
+  return World::from_state(p.settings, p.step_count, std::move(p.bodies), std::move(p.free_slots),
+                           std::move(p.contacts), std::move(p.joints), std::move(p.free_joint_slots),
+                           std::move(p.sensor_overlaps), std::move(p.cars));
 }
 
 }  // namespace

@@ -107,6 +107,23 @@ struct StateParts {
   Ref<std::vector<Car>> cars;
 };
 
+// A world's state parts of its own, to read a state into before it
+// becomes (snapshot.cpp) or replaces (rollback_state.cpp) a world's.
+struct OwnedStateParts {
+  uint64_t step_count = 0;
+  Settings settings;
+  std::vector<Body> bodies;
+  std::vector<uint32_t> free_slots;
+  std::vector<Contact> contacts;
+  std::vector<Joint> joints;
+  std::vector<uint32_t> free_joint_slots;
+  std::vector<SensorOverlap> sensor_overlaps;
+  std::vector<Car> cars;
+  StateParts<true> refs() {
+    return {step_count, settings, bodies, free_slots, contacts, joints, free_joint_slots, sensor_overlaps, cars};
+  }
+};
+
 namespace state_description {
 
 inline constexpr uint64_t max_iterations = 1000;  // as the scene format

@@ -4,9 +4,12 @@
 
 #include <array>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 
 #include "fixed/decimal.h"
+#include "tools/exit_codes.h"
 
 namespace bitstep {
 
@@ -89,5 +92,53 @@ void BodyTrace::write_row(const World& world, uint32_t slot) {
 }
 
 bool BodyTrace::finish(std::string& reason) { return file_.commit(reason); }
+
+bool TraceOptions::parse(int argc, char** argv, int& i, std::string& error) {
+  const std::string arg = argv[i];
+  if (i + 1 >= argc || (arg != "--trace" && arg != "--trace-every" && arg != "--trace-format")) return false;
+  const std::string value = argv[++i];
+  if (arg == "--trace") {
+    path = value;
+  } else if (arg == "--trace-every") {
+    char* end = nullptr;
+    const long long n = std::strtoll(value.c_str(), &end, 10);
+    if (end == value.c_str() || *end != '\0' || n <= 0) {
+      error = fmt::format("--trace-every needs a positive integer, got '{}'", value);
+    } else {
+      every = static_cast<uint64_t>(n);
+    }
+  } else {
+    format = value;
+    if (format != "csv" && format != "jsonl") error = fmt::format("--trace-format needs csv or jsonl, got '{}'", value);
+  }
+  return true;
+}
+
+std::string TraceOptions::check() const {
+  if (path.empty() || trace_format(format, path)) return {};
+  return fmt::format("--trace {}: name it .csv or .jsonl, or give --trace-format", path);
+}
+
+int TraceOptions::open(const char* command, Fixed dt, uint64_t last_step, std::optional<BodyTrace>& trace) const {
+  if (path.empty()) return exit_code::success;
+  if (!BodyTrace::time_fits(dt, last_step)) {
+    fmt::print(stderr, "bitstep {}: --trace: the last step's time is beyond the Q32.32 range\n", command);
+    return exit_code::usage;
+  }
+  trace.emplace(*trace_format(format, path), every);
+  if (std::string reason; !trace->open(path, reason)) {
+    fmt::print(stderr, "bitstep {}: --trace: {}\n", command, reason);
+    trace.reset();
+    return exit_code::output_failed;
+  }
+  return exit_code::success;
+}
+
+bool TraceOptions::finish(const char* command, std::optional<BodyTrace>& trace) {
+  std::string reason;
+  if (!trace || trace->finish(reason)) return true;
+  fmt::print(stderr, "bitstep {}: --trace: {}\n", command, reason);
+  return false;
+}
 
 }  // namespace bitstep

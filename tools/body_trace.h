@@ -1,4 +1,4 @@
-// bitstep run --trace: every live body's pose and velocities at the traced
+// bitstep run / record / verify --trace: every live body's pose and velocities at the traced
 // steps, one row per body per step, as CSV or JSON Lines. Numbers are exact
 // decimal text (fixed/decimal.h to_string: the shortest text that parses
 // back to the same bits), never a double. The position is the body's centre
@@ -49,6 +49,26 @@ class BodyTrace {
   TraceFormat format_;
   uint64_t every_;
   AtomicFile file_;
+};
+
+// The options --trace FILE, --trace-every K and --trace-format csv|jsonl,
+// the same for run, record and verify.
+struct TraceOptions {
+  std::string path;  // empty: no trace
+  uint64_t every = 1;
+  std::string format;  // "csv", "jsonl", or empty: from the extension
+
+  // When argv[i] is one of the three (with its value): reads it, advances i
+  // past the value and returns true; a bad value sets `error`.
+  bool parse(int argc, char** argv, int& i, std::string& error);
+  // After the options: an error when a trace is asked for in no format.
+  std::string check() const;
+  // The trace of a run whose last step is `last_step`, opened, or an error
+  // printed as "bitstep COMMAND: --trace: ..." and its exit code (usage:
+  // the time column leaves Q32.32; output_failed: the file).
+  int open(const char* command, Fixed dt, uint64_t last_step, std::optional<BodyTrace>& trace) const;
+  // Renames the file into place, or prints why not; true when done.
+  static bool finish(const char* command, std::optional<BodyTrace>& trace);
 };
 
 }  // namespace bitstep

@@ -15,6 +15,7 @@
 #include "tools/file_output.h"
 #include "replay/state_dump.h"
 #include "replay/state_hash.h"
+#include "tools/body_trace.h"
 #include "tools/exit_codes.h"
 #include "tools/thread_option.h"
 
@@ -31,6 +32,23 @@ bool parse_steps(const char* text, int64_t& out) {
   return true;
 }
 
+// --trace's options at argv[i] (true: taken, `failed` set on a bad value).
+bool take_trace_option(const char* command, int argc, char** argv, int& i, TraceOptions& trace, bool& failed) {
+  std::string error;
+  if (!trace.parse(argc, argv, i, error)) return false;
+  if (!error.empty()) {
+    fmt::print(stderr, "bitstep {}: {}\n", command, error);
+    failed = true;
+  }
+  return true;
+}
+
+// The trace's rows at every step a run shows `watch`.
+StepWatch trace_watch(std::optional<BodyTrace>& trace) {
+  if (!trace) return {};
+  return [&trace](const World& world) { trace->record(world); };
+}
+
 }  // namespace
 
 int record_command(int argc, char** argv, const char* engine_version) {
@@ -38,7 +56,12 @@ int record_command(int argc, char** argv, const char* engine_version) {
   int64_t steps = -1;
   int threads = 1;
   bool embed_scene = false;
+  TraceOptions trace_options;
   for (int i = 0; i < argc; ++i) {
+    if (bool failed = false; take_trace_option("record", argc, argv, i, trace_options, failed)) {
+      if (failed) return exit_code::usage;
+      continue;
+    }
     const std::string arg = argv[i];
     const bool has_value = i + 1 < argc;
     if (arg == "--threads" && has_value) {
@@ -70,7 +93,11 @@ int record_command(int argc, char** argv, const char* engine_version) {
   if (scene_path.empty() || steps < 0 || output.empty()) {
     fmt::print(stderr,
                "bitstep record: usage: bitstep record SCENE [--inputs FILE] [--settings JSON] [--embed-scene] "
-               "[--threads N] --steps N -o REPLAY\n");
+               "[--threads N] [--trace FILE [--trace-every K] [--trace-format csv|jsonl]] --steps N -o REPLAY\n");
+    return exit_code::usage;
+  }
+  if (const std::string error = trace_options.check(); !error.empty()) {
+    fmt::print(stderr, "bitstep record: {}\n", error);
     return exit_code::usage;
   }
   auto loaded = load_scene_file(scene_path);
@@ -136,7 +163,13 @@ int record_command(int argc, char** argv, const char* engine_version) {
   const std::unique_ptr<ThreadPool> pool = make_pool(threads);
   world.set_executor(pool.get());
   replay.scene_hash = state_hash(world);
-  run_inputs(world, replay.inputs, steps, replay.hashes);
+  std::optional<BodyTrace> trace;
+  if (const int code = trace_options.open("record", replay.scene.settings.dt, static_cast<uint64_t>(steps), trace);
+      code != exit_code::success) {
+    return code;
+  }
+  run_inputs(world, replay.inputs, steps, replay.hashes, -1, nullptr, trace_watch(trace));
+  if (!TraceOptions::finish("record", trace)) return exit_code::output_failed;
   const std::string text = replay_json(replay, std::string("bitstep ") + engine_version);
   std::fwrite(text.data(), 1, text.size(), file.stream());
   if (!file.commit(reason)) {
@@ -145,6 +178,7 @@ int record_command(int argc, char** argv, const char* engine_version) {
   }
   fmt::print("recorded {}: {} steps, {} inputs, final hash {:016x}\n", output, steps, replay.inputs.size(),
              replay.hashes.empty() ? replay.scene_hash : replay.hashes.back());
+  if (trace) fmt::print("trace written to {}\n", trace_options.path);
   return exit_code::success;
 }
 
@@ -153,7 +187,12 @@ int verify_command(int argc, char** argv) {
   int64_t dump_step = -1;
   std::string dump_path;
   int threads = 1;
+  TraceOptions trace_options;
   for (int i = 0; i < argc; ++i) {
+    if (bool failed = false; take_trace_option("verify", argc, argv, i, trace_options, failed)) {
+      if (failed) return exit_code::usage;
+      continue;
+    }
     const std::string arg = argv[i];
     if (arg == "--threads" && i + 1 < argc) {
       if (!parse_threads(argv[++i], threads)) {
@@ -174,10 +213,14 @@ int verify_command(int argc, char** argv) {
       return exit_code::usage;
     }
   }
-  if (paths.empty() || (!dump_path.empty() && paths.size() != 1)) {
+  if (paths.empty() || ((!dump_path.empty() || !trace_options.path.empty()) && paths.size() != 1)) {
     fmt::print(stderr,
-               "bitstep verify: usage: bitstep verify [--threads N] REPLAY... | bitstep verify REPLAY --dump-at STEP "
-               "FILE\n");
+               "bitstep verify: usage: bitstep verify [--threads N] REPLAY... | bitstep verify REPLAY [--dump-at STEP "
+               "FILE] [--trace FILE [--trace-every K] [--trace-format csv|jsonl]]\n");
+    return exit_code::usage;
+  }
+  if (const std::string error = trace_options.check(); !error.empty()) {
+    fmt::print(stderr, "bitstep verify: {}\n", error);
     return exit_code::usage;
   }
   // The dump's file is opened (under its temporary name) before the run:
@@ -202,8 +245,16 @@ int verify_command(int argc, char** argv) {
       fmt::print(stderr, "bitstep verify: --dump-at {}: the replay {} has {} steps\n", dump_step, path, replay.steps);
       return exit_code::usage;
     }
+    std::optional<BodyTrace> trace;
+    if (const int code = trace_options.open("verify", replay.scene.settings.dt, static_cast<uint64_t>(replay.steps), trace);
+        code != exit_code::success) {
+      return code;
+    }
     std::string dump;
-    const Verification v = verify_replay(replay, dump_step, dump_path.empty() ? nullptr : &dump, pool.get());
+    const Verification v =
+        verify_replay(replay, dump_step, dump_path.empty() ? nullptr : &dump, pool.get(), trace_watch(trace));
+    if (!TraceOptions::finish("verify", trace)) return exit_code::output_failed;
+    if (trace) fmt::print("trace written to {}\n", trace_options.path);
     if (!dump_path.empty() && !dump.empty()) {
       std::string reason;
       std::fwrite(dump.data(), 1, dump.size(), dump_file.stream());

@@ -38,21 +38,21 @@ struct RunOptions {
   std::string snapshot_path;
   std::string restore_path;     // continue from this snapshot instead of the scene's start
   std::string settings;         // JSON object of "settings" keys over the scene's
-  std::string trace_path;       // --trace: every body's pose and velocities
-  long long trace_every = 1;
-  std::string trace_format;     // "csv", "jsonl", or empty: from the extension
+  TraceOptions trace;           // --trace: every body's pose and velocities
   int threads = 1;              // --threads: workers stepping the world (the same bits for any count)
   bool events = false;          // --events: each step's contact and sensor events
 };
 
-constexpr const char* event_names[] = {"contact begin", "contact end", "sensor begin", "sensor end"};
+constexpr const char* event_names[] = {"contact begin", "contact end", "sensor begin", "sensor end", "left world"};
 
-// "step 42: contact begin "box.3" (shape 0) - "ground" (shape 0)"
+// "step 42: contact begin "box.3" (shape 0) - "ground" (shape 0)",
+// "step 9000: left world "ball"" (core/world.h: removed past the bound)
 std::string event_line(uint64_t step, const WorldEvent& e, const Scene& scene) {
   auto name = [&](uint32_t slot) {
     return slot < scene.bodies.size() && !scene.bodies[slot].name.empty() ? "\"" + scene.bodies[slot].name + "\""
                                                                           : "body " + std::to_string(slot);
   };
+  if (e.kind == EventKind::left_world) return fmt::format("step {}: left world {}", step, name(e.key.body_a));
   return fmt::format("step {}: {} {} (shape {}) - {} (shape {})", step, event_names[static_cast<int>(e.kind)],
                      name(e.key.body_a), e.key.shape_a, name(e.key.body_b), e.key.shape_b);
 }
@@ -68,6 +68,10 @@ bool parse_count(const char* text, long long& out) {
 // Returns an error message, empty on success.
 std::string parse_options(int argc, char** argv, RunOptions& o) {
   for (int i = 0; i < argc; ++i) {
+    if (std::string trace_error; o.trace.parse(argc, argv, i, trace_error)) {
+      if (!trace_error.empty()) return trace_error;
+      continue;
+    }
     const std::string arg = argv[i];
     const bool has_value = i + 1 < argc;
     if (arg == "--json") {
@@ -95,17 +99,6 @@ std::string parse_options(int argc, char** argv, RunOptions& o) {
       o.settings = argv[++i];
     } else if (arg == "--events") {
       o.events = true;
-    } else if (arg == "--trace" && has_value) {
-      o.trace_path = argv[++i];
-    } else if (arg == "--trace-every" && has_value) {
-      if (!parse_count(argv[++i], o.trace_every) || o.trace_every == 0) {
-        return fmt::format("--trace-every needs a positive integer, got '{}'", argv[i]);
-      }
-    } else if (arg == "--trace-format" && has_value) {
-      o.trace_format = argv[++i];
-      if (o.trace_format != "csv" && o.trace_format != "jsonl") {
-        return fmt::format("--trace-format needs csv or jsonl, got '{}'", o.trace_format);
-      }
     } else if (!arg.empty() && arg[0] != '-' && o.scene_path.empty()) {
       o.scene_path = arg;
     } else {
@@ -113,10 +106,7 @@ std::string parse_options(int argc, char** argv, RunOptions& o) {
     }
   }
   if (o.scene_path.empty()) return "missing SCENE (a bitstep-scene JSON file)";
-  if (!o.trace_path.empty() && !trace_format(o.trace_format, o.trace_path)) {
-    return fmt::format("--trace {}: name it .csv or .jsonl, or give --trace-format", o.trace_path);
-  }
-  return {};
+  return o.trace.check();
 }
 
 struct SecondSummary {
@@ -269,18 +259,11 @@ int run_scene_command(int argc, char** argv) {
   }
   const long long steps_per_second = std::max<long long>(1, (Fixed::one() / scene.settings.dt).raw() >> 32);
   std::optional<BodyTrace> trace;
-  if (!options.trace_path.empty()) {
-    if (!BodyTrace::time_fits(scene.settings.dt, world.step_count() + static_cast<uint64_t>(steps))) {
-      fmt::print(stderr, "bitstep run: --trace: the last step's time is beyond the Q32.32 range\n");
-      return exit_code::usage;
-    }
-    trace.emplace(*trace_format(options.trace_format, options.trace_path), static_cast<uint64_t>(options.trace_every));
-    if (!trace->open(options.trace_path, reason)) {
-      fmt::print(stderr, "bitstep run: --trace: {}\n", reason);
-      return exit_code::output_failed;
-    }
-    trace->record_start(world);
+  if (const int code = options.trace.open("run", scene.settings.dt, world.step_count() + static_cast<uint64_t>(steps), trace);
+      code != exit_code::success) {
+    return code;
   }
+  if (trace) trace->record_start(world);
 
   if (!options.json) {
     fmt::print("scene {}: {} bodies, dt {} s, {} velocity iterations, {} steps\n", options.scene_path,
@@ -308,15 +291,14 @@ int run_scene_command(int argc, char** argv) {
     maxima.add(stats, max_drift(world, start));
     if (all_asleep_step < 0 && all_asleep(stats)) all_asleep_step = static_cast<long long>(world.step_count());
     if (trace) trace->record(world);
-    if (options.events) {
-      for (const WorldEvent& e : world.events()) {
-        if (options.json) {
-          event_json.push_back(fmt::format("{{\"step\": {}, \"kind\": \"{}\", \"bodies\": [{}, {}], \"shapes\": [{}, {}]}}",
-                                           world.step_count(), event_names[static_cast<int>(e.kind)], e.key.body_a,
-                                           e.key.body_b, e.key.shape_a, e.key.shape_b));
-        } else {
-          fmt::print("{}\n", event_line(world.step_count(), e, scene));
-        }
+    // Without --events the world lists only bodies that left it (core/world.h).
+    for (const WorldEvent& e : world.events()) {
+      if (options.json) {
+        event_json.push_back(fmt::format("{{\"step\": {}, \"kind\": \"{}\", \"bodies\": [{}, {}], \"shapes\": [{}, {}]}}",
+                                         world.step_count(), event_names[static_cast<int>(e.kind)], e.key.body_a,
+                                         e.key.body_b, e.key.shape_a, e.key.shape_b));
+      } else {
+        fmt::print("{}\n", event_line(world.step_count(), e, scene));
       }
     }
     if (step == options.snapshot_at) {
@@ -348,14 +330,11 @@ int run_scene_command(int argc, char** argv) {
       }
     }
   }
-  if (trace && !trace->finish(reason)) {
-    fmt::print(stderr, "bitstep run: --trace: {}\n", reason);
-    return exit_code::output_failed;
-  }
+  if (!TraceOptions::finish("run", trace)) return exit_code::output_failed;
   const uint64_t final_hash = state_hash(world);
   if (!options.json) {
     if (scene.settings.sleep_method != SleepMethod::off) fmt::print("all asleep: {}\n", all_asleep_text(all_asleep_step));
-    if (trace) fmt::print("trace written to {}\n", options.trace_path);
+    if (trace) fmt::print("trace written to {}\n", options.trace.path);
     fmt::print("final step {} hash {:016x}\n", world.step_count(), final_hash);
     return exit_code::success;
   }
@@ -374,7 +353,7 @@ int run_scene_command(int argc, char** argv) {
     fmt::print("{}{{\"step\": {}, \"hash\": \"{:016x}\"}}", i == 0 ? "" : ", ", hashes[i].first, hashes[i].second);
   }
   fmt::print("]");
-  if (options.events) {
+  if (options.events || !event_json.empty()) {
     fmt::print(", \"events\": [");
     for (size_t i = 0; i < event_json.size(); ++i) fmt::print("{}{}", i == 0 ? "" : ", ", event_json[i]);
     fmt::print("]");

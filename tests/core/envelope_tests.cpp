@@ -247,18 +247,28 @@ TEST_CASE("the heaviest extreme bodies spinning at the clamp compute their gyros
 // run reports the kinetic energy every second: a 1e5 kg body at 500 m/s
 // (1.25e10 J) spinning at 100 rad/s aborted the checked build in stats().
 // The report is capped at 2^31 J; a light body's is exact.
-TEST_CASE("the kinetic energy report of the heaviest, fastest body is capped, not overflowed", "[envelope][stats]") {
+// The reported energy of a box of half-size h and mass m moving at v
+// (m/s, along x) and spinning at w, alone in a world without gravity.
+Fixed energy_of(Fixed h, Fixed m, Fixed v, Vec3 w = {}) {
   Settings settings;
   settings.gravity = Vec3{};
   World world(settings);
-  BodyDef heavy = body_of({box(50.0_fx)}, 100000.0_fx);
-  heavy.linear_velocity = {500.0_fx, Fixed{}, Fixed{}};
-  heavy.angular_velocity = {60.0_fx, 80.0_fx, Fixed{}};
-  REQUIRE(world.create_body(heavy).ok());
-  CHECK(world.stats().kinetic_energy == Fixed::max());
-  World light_world(settings);
-  BodyDef light = body_of({box(0.5_fx)}, 2.0_fx);
-  light.linear_velocity = {3.0_fx, Fixed{}, Fixed{}};
-  REQUIRE(light_world.create_body(light).ok());
-  CHECK(light_world.stats().kinetic_energy == 9.0_fx);  // 1/2 x 2 kg x (3 m/s)^2
+  BodyDef body = body_of({box(h)}, m);
+  body.linear_velocity = {v, Fixed{}, Fixed{}};
+  body.angular_velocity = w;
+  REQUIRE(world.create_body(body).ok());
+  return world.stats().kinetic_energy;
+}
+
+TEST_CASE("the kinetic energy report of the heaviest, fastest body is capped, not overflowed", "[envelope][stats]") {
+  CHECK(energy_of(50.0_fx, 100000.0_fx, 500.0_fx, {60.0_fx, 80.0_fx, Fixed{}}) == Fixed::max());
+  CHECK(energy_of(0.5_fx, 2.0_fx, 3.0_fx) == 9.0_fx);  // 1/2 x 2 kg x (3 m/s)^2
+}
+
+// A 2 cm die of 10 g: max() / m left the range (2^31 / 0.01), and the
+// first report line aborted `bitstep run` in the checked build. Its energy
+// at the speed clamp is exact: 1/2 x 0.01 kg x (500 m/s)^2 = 1,250 J.
+TEST_CASE("the kinetic energy report of a 10 g die is exact at the speed clamp", "[envelope][stats]") {
+  CHECK(std::abs(to_double(energy_of(0.01_fx, 0.01_fx, 500.0_fx)) - 1250.0) < 0.01);
+  CHECK(std::abs(to_double(energy_of(0.01_fx, 0.01_fx, 2.0_fx, {Fixed{}, Fixed{}, 30.0_fx})) - 0.02) < 0.001);
 }
