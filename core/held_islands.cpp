@@ -17,12 +17,17 @@ void plan_held_islands(const Settings& settings, const std::vector<SolverBody>& 
   out.free_rows.clear();
   const int held_passes = std::min(settings.held_velocity_iterations, settings.velocity_iterations);
   if (!settings.shock_propagation || held_passes == settings.velocity_iterations || manifold_rows.empty()) return;
+  // Where no movable body starts still, every island moves: a world in
+  // motion finds no islands.
+  const auto movable = [&](uint32_t i) { return !immovable(bodies[i]); };
+  bool any_still = false;
+  for (uint32_t i = 0; i < bodies.size() && !any_still; ++i) any_still = movable(i) && start[i] == BodyRates{};
+  if (!any_still) return;
   // The islands: a union-find over the slots, through every row between
   // two movable bodies.
   std::vector<uint32_t>& parent = out.parent;
   parent.resize(bodies.size());
   for (uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
-  const auto movable = [&](uint32_t i) { return !immovable(bodies[i]); };
   const auto join = [&](uint32_t a, uint32_t b) {
     if (movable(a) && movable(b)) unite(parent, a, b);
   };
