@@ -228,6 +228,12 @@ const char* setting_outside_envelope(const Settings& s) {
   if (!within(s.dt, envelope::min_dt, envelope::max_dt)) return "dt";
   if (s.substeps < 1 || s.substeps > envelope::max_substeps) return "substeps";
   if (s.dt / Fixed::from_int(s.substeps) < envelope::min_dt) return "substeps";
+  if (s.soft_substeps < 0 || s.soft_substeps > envelope::max_substeps) return "soft_substeps";
+  if (s.soft_substeps > 0 && s.dt / Fixed::from_int(s.substeps * s.soft_substeps) < envelope::min_dt) {
+    return "soft_substeps";
+  }
+  if (!within(s.contact_hertz, Fixed{}, envelope::max_contact_hertz)) return "contact_hertz";
+  if (!within(s.contact_damping_ratio, Fixed{}, envelope::max_damping_ratio)) return "contact_damping_ratio";
   for (Fixed g : {s.gravity.x, s.gravity.y, s.gravity.z}) {
     if (!within(g, -envelope::max_gravity, envelope::max_gravity)) return "gravity";
   }

@@ -34,6 +34,11 @@ inline constexpr Fixed max_gravity = 1000.0_fx;      // m/s^2, per axis
 // Substeps per step: dt / substeps must stay at least min_dt, the shortest
 // step the products above were bounded for.
 inline constexpr int max_substeps = 16;
+// The soft step's contact spring (soft_step.h): its frequency and damping
+// ratio. 2 pi 1000 Hz times the longest substep (0.1 s) times 2 (1000 +
+// 630) stays far inside Q32.32.
+inline constexpr Fixed max_contact_hertz = 1000.0_fx;  // Hz
+inline constexpr Fixed max_damping_ratio = 1000.0_fx;  // 1
 // The world's bound, m, |coordinate| of a centre of mass: a body past it at
 // the end of a step is removed (World::step), so no world holds a position
 // its saved state could not hold (the readers accept 2^20 m). 2^19 m is 32
@@ -77,6 +82,13 @@ struct Settings {
   // small, so light links holding a heavy load need a shorter dt. 1: the
   // step as it always was, bit for bit.
   int substeps = 1;
+  // 0: the solve above (velocity_iterations passes, the shock step, the
+  // position passes). n > 0: the soft step (core/soft_step.h), Box2D v3's
+  // solver: n substeps of one soft pass and one relax pass each, no shock
+  // step, no position passes; velocity_iterations is not read.
+  int soft_substeps = 0;
+  Fixed contact_hertz = 30.0_fx;          // Hz, soft step: the contact spring's frequency
+  Fixed contact_damping_ratio = 10.0_fx;  // 1, soft step: its damping ratio (overdamped)
   Fixed penetration_slop = Fixed{};                  // m, overlap left alone (no push-out below it); 0: resting
                                                      // shapes sit at their true geometry (a 5 mm slop left
                                                      // uneven overlaps that tilted a capsule pile into rolling)

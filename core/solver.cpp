@@ -7,6 +7,7 @@
 #include "core/held_islands.h"
 #include "core/position_passes.h"
 #include "core/shock.h"
+#include "core/soft_step.h"
 
 namespace bitstep {
 
@@ -352,6 +353,14 @@ void write_push(Solve& s) {
   }
 }
 
+// The soft step's substeps (soft_step.h), on this thread.
+void soft_step(Solve& s) {
+  warm_start_tyres(s.bodies(), s.tyre_rows(), s.warm);
+  run_soft_step(s.settings(), s.context.bodies, s.bodies(),
+                {*s.rows, *s.manifold_rows, s.joint_rows(), s.context.joints.tree, s.tyre_rows()},
+                s.scratch().start_velocities, s.scratch().soft_step);
+}
+
 using Stage = void (*)(Solve&);
 
 // The guendelman collision pass: restitution on the contacts that hit,
@@ -367,12 +376,18 @@ constexpr Stage contact_stages[] = {gather,           prepare_joints,    prepare
                                     island_passes,    shock_step,        position_passes,  write_velocities,
                                     write_push};
 
+// The soft step (Settings::soft_substeps).
+constexpr Stage soft_stages[] = {gather,    prepare_joints, prepare_contacts, begin_impulses, soft_step,
+                                 store_impulses, write_velocities, write_push};
+
 }  // namespace
 
 void solve_contacts(const SolveContext& context, SolvePass kind) {
   Solve solve{context, kind};
   if (kind == SolvePass::collision) {
     for (const Stage stage : collision_stages) stage(solve);
+  } else if (context.settings.soft_substeps > 0) {
+    for (const Stage stage : soft_stages) stage(solve);
   } else {
     for (const Stage stage : contact_stages) stage(solve);
   }

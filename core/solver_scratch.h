@@ -14,6 +14,7 @@
 #include "core/position_passes.h"
 #include "core/row_cache.h"
 #include "core/shock_levels.h"
+#include "core/soft_step.h"
 #include "core/solver_rows.h"
 #include "core/stable_pool.h"
 
@@ -31,6 +32,7 @@ struct SolverScratch {
   std::vector<uint32_t> free_rows;     // the rows outside a resting face (the iterations' point rows)
   std::vector<PointRow> collision_rows;  // the collision pass's (guendelman), apart from the cached solve's
   std::vector<ManifoldRow> collision_manifolds;
+  SoftStepScratch soft_step;  // the soft step's (soft_step.h)
   // The shock step (shock.cpp).
   ShockLevels levels;
   std::vector<ShockEntry> order;

@@ -658,6 +658,10 @@ void read_settings_onto(const Node& node, Settings& s) {
   read_optional(reader, "position_iterations", s.position_iterations, 0, 1000);
   read_optional(reader, "held_velocity_iterations", s.held_velocity_iterations, 1, 1000);
   read_optional(reader, "substeps", s.substeps, 1, envelope::max_substeps);
+  read_optional(reader, "soft_substeps", s.soft_substeps, 0, envelope::max_substeps);
+  read_optional_within(reader, "contact_hertz", s.contact_hertz, Fixed{}, envelope::max_contact_hertz, "Hz");
+  read_optional_within(reader, "contact_damping_ratio", s.contact_damping_ratio, Fixed{}, envelope::max_damping_ratio,
+                       "");
   read_optional_within(reader, "penetration_slop", s.penetration_slop, Fixed{}, envelope::max_size, "m");
   read_optional(reader, "split_impulse_factor", s.split_impulse_factor, Bound::unit_interval);
   read_optional_within(reader, "max_push_out_speed", s.max_push_out_speed, Fixed{}, envelope::max_linear_speed, "m/s");
@@ -695,6 +699,12 @@ void read_settings_onto(const Node& node, Settings& s) {
     const Node* at = reader.find("substeps");
     if (at == nullptr) at = reader.find("dt");
     fail(at != nullptr ? *at : node, "dt / substeps below 0.0001 s (the shortest step of the world envelope)");
+  }
+  if (s.soft_substeps > 0 && s.dt / Fixed::from_int(s.substeps * s.soft_substeps) < envelope::min_dt) {
+    const Node* at = reader.find("soft_substeps");
+    if (at == nullptr) at = reader.find("dt");
+    fail(at != nullptr ? *at : node,
+         "dt / (substeps x soft_substeps) below 0.0001 s (the shortest step of the world envelope)");
   }
   reader.finish();
 }

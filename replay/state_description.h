@@ -127,8 +127,9 @@ struct OwnedStateParts {
 namespace state_description {
 
 inline constexpr uint64_t max_iterations = 1000;  // as the scene format
-inline constexpr std::array<const char*, 7> setting_flags = {"baumgarte", "warm_starting", "shock_propagation",
-                                                              "sleep", "guendelman", "substeps", "held_passes"};
+inline constexpr std::array<const char*, 8> setting_flags = {"baumgarte",  "warm_starting", "shock_propagation",
+                                                              "sleep",      "guendelman",    "substeps",
+                                                              "held_passes", "soft_step"};
 inline constexpr int default_held_passes = Settings{}.held_velocity_iterations;
 inline constexpr std::array<const char*, 3> sleep_methods = {"off", "motion", "still"};
 inline constexpr std::array<const char*, 3> body_types = {"static", "kinematic", "dynamic"};
@@ -155,13 +156,15 @@ void describe_settings(V& v, S& s) {
   // existed; bit 16: the guendelman pipeline; bit 32: more than one
   // substep, whose count follows shock_iterations (a world of one substep
   // has the bytes it had before substeps existed); bit 64: held islands'
-  // velocity passes other than the default, their count after that.
+  // velocity passes other than the default, their count after that; bit
+  // 128: the soft step, its substeps and contact spring after those.
   uint8_t bits = 0;
   if constexpr (!V::reading) {
     bits = static_cast<uint8_t>((s.baumgarte ? 1 : 0) | (s.warm_starting ? 2 : 0) | (s.shock_propagation ? 4 : 0) |
                                 (s.sleep_method != SleepMethod::off ? 8 : 0) |
                                 (s.pipeline == Pipeline::guendelman ? 16 : 0) | (s.substeps != 1 ? 32 : 0) |
-                                (s.held_velocity_iterations != default_held_passes ? 64 : 0));
+                                (s.held_velocity_iterations != default_held_passes ? 64 : 0) |
+                                (s.soft_substeps != 0 ? 128 : 0));
   }
   v.flags("flags", bits, setting_flags);
   if constexpr (V::reading) {
@@ -180,6 +183,15 @@ void describe_settings(V& v, S& s) {
     v.integer("held_velocity_iterations", s.held_velocity_iterations, 4, 1, max_iterations);
   } else if constexpr (V::reading) {
     s.held_velocity_iterations = default_held_passes;
+  }
+  if ((bits & 128) != 0) {
+    v.integer("soft_substeps", s.soft_substeps, 1, 1, static_cast<uint64_t>(envelope::max_substeps));
+    v.fixed("contact_hertz", s.contact_hertz);
+    v.fixed("contact_damping_ratio", s.contact_damping_ratio);
+  } else if constexpr (V::reading) {
+    s.soft_substeps = 0;
+    s.contact_hertz = Settings{}.contact_hertz;
+    s.contact_damping_ratio = Settings{}.contact_damping_ratio;
   }
   v.require([&] { return setting_outside_envelope(s) == nullptr; },
             [&] { return std::string(setting_outside_envelope(s)) + " outside the world envelope"; });

@@ -284,6 +284,17 @@ TEST_CASE("scene errors name the file, the JSON path and the reason", "[scene]")
     CHECK(settings_error(R"("dt": 0.0001, "substeps": 2)") ==
           "f.json: $.settings.substeps: dt / substeps below 0.0001 s (the shortest step of the world envelope)");
     CHECK(load_ok(scene_text("", R"("settings": {"substeps": 16, "dt": 0.0016}, )")).settings.substeps == 16);
+    CHECK(settings_error(R"("soft_substeps": 17)") == "f.json: $.settings.soft_substeps: outside 0..16");
+    CHECK(settings_error(R"("soft_substeps": 4, "substeps": 4, "dt": 0.001)") ==
+          "f.json: $.settings.soft_substeps: dt / (substeps x soft_substeps) below 0.0001 s (the shortest step of "
+          "the world envelope)");
+    CHECK(settings_error(R"("contact_hertz": 1001)") == "f.json: $.settings.contact_hertz: outside 0..1000 Hz");
+    CHECK(settings_error(R"("contact_damping_ratio": -1)") ==
+          "f.json: $.settings.contact_damping_ratio: outside 0..1000");
+    const Settings soft = load_ok(scene_text("", R"("settings": {"soft_substeps": 4, "contact_hertz": 60, )"
+                                                 R"("contact_damping_ratio": 5}, )"))
+                              .settings;
+    CHECK((soft.soft_substeps == 4 && soft.contact_hertz == 60.0_fx && soft.contact_damping_ratio == 5.0_fx));
     // The bounds themselves are admitted, and the core check agrees.
     Scene edge = load_ok(scene_text("", R"("settings": {"dt": 0.1, "gravity": [1000, -1000, 0], )"
                                         R"("max_linear_speed": 500, "max_angular_speed": 100}, )"));
@@ -298,6 +309,15 @@ TEST_CASE("scene errors name the file, the JSON path and the reason", "[scene]")
     edge.settings.dt = 0.0015_fx;
     edge.settings.substeps = 16;
     CHECK(std::string(setting_outside_envelope(edge.settings)) == "substeps");
+    edge.settings.substeps = 1;
+    edge.settings.dt = 0.0016_fx;
+    edge.settings.soft_substeps = 16;
+    CHECK(setting_outside_envelope(edge.settings) == nullptr);
+    edge.settings.soft_substeps = 17;
+    CHECK(std::string(setting_outside_envelope(edge.settings)) == "soft_substeps");
+    edge.settings.soft_substeps = 4;
+    edge.settings.contact_hertz = 1001.0_fx;
+    CHECK(std::string(setting_outside_envelope(edge.settings)) == "contact_hertz");
   }
   SECTION("missing key") {
     CHECK(error_of(scene_text(R"({"shapes": [{"type": "box"}]})")) ==

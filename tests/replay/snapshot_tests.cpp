@@ -180,6 +180,32 @@ TEST_CASE("a world of 4 substeps restores its substeps and continues identically
   CHECK(copy.step_count() == 60);
 }
 
+// The soft step is a flag and its three settings; a world without it has
+// the bytes it had before it existed.
+TEST_CASE("a world of the soft step restores it and continues identically", "[snapshot][soft]") {
+  auto loaded = load_scene_file(std::string(BITSTEP_SOURCE_DIR) + "/scenes/thrown.json");
+  REQUIRE(std::holds_alternative<Scene>(loaded));
+  Scene scene = std::get<Scene>(loaded);
+  World rigid(scene.settings);
+  std::string reason;
+  REQUIRE(build_world(scene, rigid, reason));
+  scene.settings.soft_substeps = 4;
+  scene.settings.contact_hertz = 45.0_fx;
+  World world(scene.settings);
+  REQUIRE(build_world(scene, world, reason));
+  CHECK(snapshot(world).size() == snapshot(rigid).size() + 1 + 8 + 8);
+  CHECK(dump_state(rigid).find("soft_substeps") == std::string::npos);
+  for (int s = 0; s < 40; ++s) world.step();  // the cubes are hitting the ground
+  World copy;
+  REQUIRE_FALSE(restore(snapshot(world), copy).has_value());
+  CHECK((copy.settings().soft_substeps == 4 && copy.settings().contact_hertz == 45.0_fx));
+  for (int s = 0; s < 40; ++s) {
+    world.step();
+    copy.step();
+    REQUIRE(state_hash(copy) == state_hash(world));
+  }
+}
+
 // The executor is how a world steps, not state: a restore keeps the one the
 // world had (a rollback session restores every frame), and a pyramid
 // restored mid-collapse continues on two workers with the bits it would
