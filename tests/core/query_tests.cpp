@@ -224,7 +224,7 @@ TEST_CASE("a sphere cast touches a box's face, its rounded edge, a sphere and a 
 
 TEST_CASE("the tree answers as a scan of every shape would, over 10,000 bodies", "[query]") {
   TestWorld t;
-  SplitMix64 rng(2026);
+  SplitMix64 rng{2026};
   auto coordinate = [&](int64_t span) {
     return Fixed::from_raw(static_cast<int64_t>(rng.next() % static_cast<uint64_t>(span << 32)) - (span << 31));
   };

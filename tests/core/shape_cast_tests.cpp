@@ -176,7 +176,7 @@ TEST_CASE("casts are swept, not sampled: through a 1 cm plate, and from inside a
 }
 
 TEST_CASE("over random pairs a cast stops where the narrowphase first finds them touching", "[query][shape_cast]") {
-  SplitMix64 rng(17);
+  SplitMix64 rng{17};
   auto unit = [&] { return Fixed::from_raw(static_cast<int64_t>(rng.next() % (uint64_t{1} << 32))); };  // [0, 1)
   auto signed_unit = [&] { return unit() * Fixed::from_int(2) - Fixed::one(); };
   auto orientation = [&] {
@@ -288,7 +288,7 @@ TEST_CASE("the world's shape casts: nearest first, every shape kind, filters, th
 
 TEST_CASE("the tree finds the nearest a scan of every shape finds, for box and capsule casts", "[query][shape_cast]") {
   TestWorld t;
-  SplitMix64 rng(99);
+  SplitMix64 rng{99};
   auto coordinate = [&](int64_t span) {
     return Fixed::from_raw(static_cast<int64_t>(rng.next() % static_cast<uint64_t>(span << 32)) - (span << 31));
   };

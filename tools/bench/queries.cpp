@@ -50,7 +50,7 @@ World world_of(int n) {
   ground.pose.position = {Fixed{}, Fixed::from_int(-20), Fixed{}};
   ground.shapes.push_back({ShapeType::plane, {}, {}, {}, {}});
   world.create_body(ground);
-  Region region{SplitMix64(2026)};
+  Region region{SplitMix64{2026}};
   for (int i = 0; i < n; ++i) {
     BodyDef def;
     def.pose.position = region.point(200, 40, 200);
@@ -143,7 +143,7 @@ int run_bench_queries(int argc, char** argv) {
   const Shape box{ShapeType::box, {half, half, half}, {}, {}, {}};
   for (const int n : {100, 1000, 10000}) {
     const World world = world_of(n);
-    Region region{SplitMix64(7)};
+    Region region{SplitMix64{7}};
     std::vector<Vec3> origins, translations;
     std::vector<Aabb> boxes;
     for (size_t q = 0; q < questions; ++q) {
