@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/islands.h"
+#include "core/row_islands.h"
 #include "core/settings.h"
 
 namespace bitstep {
@@ -23,21 +24,12 @@ void plan_held_islands(const Settings& settings, const std::vector<SolverBody>& 
   bool any_still = false;
   for (uint32_t i = 0; i < bodies.size() && !any_still; ++i) any_still = movable(i) && start[i] == BodyRates{};
   if (!any_still) return;
-  // The islands: a union-find over the slots, through every row between
-  // two movable bodies.
   std::vector<uint32_t>& parent = out.parent;
-  parent.resize(bodies.size());
-  for (uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
-  const auto join = [&](uint32_t a, uint32_t b) {
-    if (movable(a) && movable(b)) unite(parent, a, b);
-  };
-  for (const ManifoldRow& m : manifold_rows) join(m.a, m.b);
-  for (const JointRow& row : joint_rows) join(row.a, row.b);
-  for (const TyreRow& row : tyre_rows) join(row.a, row.b);
+  unite_rows(bodies, manifold_rows, joint_rows, &tyre_rows, parent);
   // An island moves if a body of it does, or it has an impact, a contact
   // other than a resting face, a joint or a tyre (every row touches a
   // movable body: contact_rows.cpp builds no other).
-  const auto root_of = [&](uint32_t a, uint32_t b) { return find_root(parent, movable(a) ? a : b); };
+  const auto root_of = [&](uint32_t a, uint32_t b) { return row_island(bodies, parent, a, b); };
   std::vector<uint8_t>& moving = out.moving;
   moving.assign(bodies.size(), 0);
   for (uint32_t i = 0; i < bodies.size(); ++i) {

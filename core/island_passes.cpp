@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "core/islands.h"
+#include "core/row_islands.h"
 #include "core/joint_solver.h"
 #include "core/settings.h"
 #include "core/solver_rows.h"
@@ -32,22 +32,14 @@ void plan_island_passes(const Settings& settings, const std::vector<SolverBody>&
            beyond(row.joint->position_iterations, settings.position_iterations) > 0;
   }
   if (!asks) return;
-  // The islands: a union-find over the slots, through every contact row
-  // and joint between two movable bodies.
+  // The islands, through every contact row and joint between two movable
+  // bodies (not the tyres).
   std::vector<uint32_t>& parent = out.parent;
-  parent.resize(bodies.size());
-  for (uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
-  const auto movable = [&](uint32_t i) { return !immovable(bodies[i]); };
-  for (const ManifoldRow& m : manifold_rows) {
-    if (movable(m.a) && movable(m.b)) unite(parent, m.a, m.b);
-  }
-  for (const JointRow& row : joint_rows) {
-    if (movable(row.a) && movable(row.b)) unite(parent, row.a, row.b);
-  }
+  unite_rows(bodies, manifold_rows, joint_rows, nullptr, parent);
   // Each island's extras: the most any of its joints asks.
   out.root_velocity.assign(bodies.size(), 0);
   out.root_position.assign(bodies.size(), 0);
-  const auto root_of = [&](uint32_t a, uint32_t b) { return find_root(parent, movable(a) ? a : b); };
+  const auto root_of = [&](uint32_t a, uint32_t b) { return row_island(bodies, parent, a, b); };
   for (const JointRow& row : joint_rows) {
     const uint32_t root = root_of(row.a, row.b);
     out.root_velocity[root] =

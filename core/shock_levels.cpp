@@ -39,23 +39,16 @@ void breadth_first(const Adjacency& adjacency, std::vector<uint32_t>& queue, std
   }
 }
 
-}  // namespace
-
-void shock_levels(const std::vector<Body>& bodies, const std::vector<Contact>& contacts, Vec3 gravity,
-                  ShockLevels& levels) {
+// Heights: breadth first up the supporter -> supported edges (the normal
+// points from a to b) from the immovable bodies (height 0).
+void heights(const std::vector<Body>& bodies, const std::vector<Contact>& contacts, const SupportTest& holds_up,
+             bool gravity, ShockLevels& levels) {
   const size_t count = bodies.size();
   std::vector<uint32_t>& height = levels.height;
-  std::vector<uint32_t>& rank = levels.rank;
   height.assign(count, not_supported);
-  rank.assign(count, not_supported);
-  const auto immovable = [&](uint32_t i) { return bodies[i].alive && !is_awake_dynamic(bodies[i]); };
-  const auto movable = [&](uint32_t i) { return is_awake_dynamic(bodies[i]); };
-  const SupportTest holds_up(gravity);
-
-  // Heights: supporter -> supported edges (the normal points from a to b).
   std::vector<Edge>& supports = levels.supports;
   supports.clear();
-  if (gravity != Vec3{}) {
+  if (gravity) {
     for (const Contact& c : contacts) {
       if (!touches(c.manifold)) continue;
       if (holds_up(c.manifold.normal)) supports.push_back({c.key.body_a, c.key.body_b});
@@ -65,20 +58,27 @@ void shock_levels(const std::vector<Body>& bodies, const std::vector<Contact>& c
   std::vector<uint32_t>& queue = levels.queue;
   queue.clear();
   for (uint32_t i = 0; i < count; ++i) {
-    if (!immovable(i)) continue;
+    if (!bodies[i].alive || is_awake_dynamic(bodies[i])) continue;
     height[i] = 0;
     queue.push_back(i);
   }
   build_adjacency(supports, count, levels.adjacency);
-  breadth_first(levels.adjacency, queue, height, movable);
+  breadth_first(levels.adjacency, queue, height, [&](uint32_t i) { return is_awake_dynamic(bodies[i]); });
+}
 
-  // Sideways: seeds are movable bodies in contact with an immovable one
-  // through a contact that does not hold them up; the chains run through
-  // contacts between movable bodies of the same height (never from a body
-  // to one that holds it up), and on into bodies of no height (a car that
-  // hops on hitting the pinned box stays pinned). Speculative contacts
-  // count: a body closing in on a pinned one this step is solved against it
-  // (only up to touching: nothing is glued sideways).
+// Sideways: seeds are movable bodies in contact with an immovable one
+// through a contact that does not hold them up; the chains run through
+// contacts between movable bodies of the same height (never from a body
+// to one that holds it up), and on into bodies of no height (a car that
+// hops on hitting the pinned box stays pinned). Speculative contacts
+// count: a body closing in on a pinned one this step is solved against it
+// (only up to touching: nothing is glued sideways).
+void sideways_distances(const std::vector<Body>& bodies, const std::vector<Contact>& contacts,
+                        const SupportTest& holds_up, ShockLevels& levels) {
+  const size_t count = bodies.size();
+  const std::vector<uint32_t>& height = levels.height;
+  const auto immovable = [&](uint32_t i) { return bodies[i].alive && !is_awake_dynamic(bodies[i]); };
+  const auto movable = [&](uint32_t i) { return is_awake_dynamic(bodies[i]); };
   std::vector<Edge>& sideways = levels.sideways;
   sideways.clear();
   std::vector<uint8_t>& seed = levels.seed;
@@ -100,6 +100,7 @@ void shock_levels(const std::vector<Body>& bodies, const std::vector<Contact>& c
   }
   std::vector<uint32_t>& sideways_distance = levels.sideways_distance;
   sideways_distance.assign(count, not_supported);
+  std::vector<uint32_t>& queue = levels.queue;
   queue.clear();
   for (uint32_t i = 0; i < count; ++i) {
     if (!seed[i]) continue;
@@ -108,9 +109,16 @@ void shock_levels(const std::vector<Body>& bodies, const std::vector<Contact>& c
   }
   build_adjacency(sideways, count, levels.adjacency);
   breadth_first(levels.adjacency, queue, sideways_distance, movable);
+}
 
-  // Ranks: (height, sideways distance) in lexicographic order, numbered
-  // consecutively from 1 for height 1; "no height" comes after the highest.
+// Ranks: (height, sideways distance) in lexicographic order, numbered
+// consecutively from 1 for height 1; "no height" comes after the highest.
+void ranks(ShockLevels& levels) {
+  const std::vector<uint32_t>& height = levels.height;
+  const std::vector<uint32_t>& sideways_distance = levels.sideways_distance;
+  std::vector<uint32_t>& rank = levels.rank;
+  const size_t count = height.size();
+  rank.assign(count, not_supported);
   uint32_t top = 0;
   for (uint32_t h : height) {
     if (h != not_supported) top = std::max(top, h);
@@ -133,6 +141,16 @@ void shock_levels(const std::vector<Body>& bodies, const std::vector<Contact>& c
       rank[i] = first[top + 1] + distance;
     }
   }
+}
+
+}  // namespace
+
+void shock_levels(const std::vector<Body>& bodies, const std::vector<Contact>& contacts, Vec3 gravity,
+                  ShockLevels& levels) {
+  const SupportTest holds_up(gravity);
+  heights(bodies, contacts, holds_up, gravity != Vec3{}, levels);
+  sideways_distances(bodies, contacts, holds_up, levels);
+  ranks(levels);
 }
 
 }  // namespace bitstep

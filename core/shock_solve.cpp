@@ -296,6 +296,107 @@ bool recall_faces(const uint32_t* entries, size_t entry_count, const std::vector
   return true;
 }
 
+// What glue_all reads of the supports: the manifolds (entries into
+// manifolds) and the ranks that say which side of each is the support.
+struct SupportSet {
+  const uint32_t* entries;
+  size_t count;
+  const std::vector<uint32_t>& level;
+  const std::vector<ManifoldRow*>& manifolds;
+  const ManifoldRow& operator[](size_t e) const { return *manifolds[entries[e]]; }
+  bool a_supports(const ManifoldRow& m) const { return level[m.a] < level[m.b]; }
+};
+
+// The supports' rigid motion continued to the mover's centre of mass, if
+// they share one (within same_motion).
+bool common_motion(const SupportSet& supports, const std::vector<SolverBody>& solver_bodies,
+                   const std::vector<Body>& bodies, Vec3 position, BodyRates& out) {
+  constexpr Fixed same_motion = 0.000001_fx;  // m/s and rad/s
+  Vec3 v, w;
+  for (size_t e = 0; e < supports.count; ++e) {
+    const ManifoldRow& m = supports[e];
+    const uint32_t support = supports.a_supports(m) ? m.a : m.b;
+    const SolverBody& s = solver_bodies[support];
+    const Vec3 w_s = s.velocity.angular;
+    const Vec3 v_s = s.velocity.linear + cross(w_s, position - bodies[support].pose.position);
+    if (e == 0) {
+      v = v_s;
+      w = w_s;
+    } else {
+      const Vec3 dv = v_s - v, dw = w_s - w;
+      if (max(max(abs(dv.x), abs(dv.y)), abs(dv.z)) > same_motion) return false;
+      if (max(max(abs(dw.x), abs(dw.y)), abs(dw.z)) > same_motion) return false;
+    }
+  }
+  out = {v, w};
+  return true;
+}
+
+// The whole impulse on the mover (the iterations' plus the glue's):
+// normal, tangential, twist about n at the centroid and the normal
+// impulses' in-plane moment about it.
+struct WholeImpulse {
+  Fixed total;
+  Vec3 tangential;
+  Fixed twist;
+  Vec3 moment;
+};
+
+WholeImpulse whole_impulse(const SupportSet& supports, const std::vector<PointRow>& rows, const GlueFace& face,
+                           const GlueFaces& faces, Vec3 impulse, Vec3 angular) {
+  const Vec3 n = face.n, centroid = face.centroid;
+  WholeImpulse whole;
+  whole.total = dot(impulse, n);
+  whole.tangential = impulse - n * whole.total;
+  whole.twist = dot(angular, n);
+  whole.moment = angular - n * whole.twist;
+  size_t k = face.first_point;
+  for (size_t e = 0; e < supports.count; ++e) {
+    const ManifoldRow& m = supports[e];
+    const Manifold& manifold = *m.manifold;
+    for (size_t i = 0; i < m.count; ++i, ++k) {
+      const Fixed jn = rows[m.first + i].point->normal_impulse;
+      whole.total += jn;
+      whole.moment += faces.points[k].lever * jn;
+    }
+    // An impulse lambda along a row acts +d on b, -d on a; the twist row's
+    // impulse is the same about the mover's up either way.
+    Vec3 friction = m.tangent[0].direction * manifold.friction_impulse[0] +
+                    m.tangent[1].direction * manifold.friction_impulse[1];
+    if (!supports.a_supports(m)) friction = -friction;
+    whole.tangential += friction;
+    whole.twist += manifold.twist_impulse + dot(cross(faces.middles[face.first_middle + e] - centroid, friction), n);
+  }
+  return whole;
+}
+
+// Held: the points take their shares (point_share(k) for the face's k-th
+// point); each contact the friction in proportion to its normal impulse,
+// and the twist that keeps the total.
+template <class PointShare>
+void share_impulse(const SupportSet& supports, std::vector<PointRow>& rows, const GlueFace& face,
+                   const GlueFaces& faces, const WholeImpulse& whole, PointShare point_share) {
+  const Vec3 n = face.n, centroid = face.centroid;
+  size_t k = face.first_point;
+  for (size_t e = 0; e < supports.count; ++e) {
+    const ManifoldRow& m = supports[e];
+    Manifold& manifold = *m.manifold;
+    Fixed normal;
+    for (size_t i = 0; i < m.count; ++i, ++k) {
+      ContactPoint& point = *rows[m.first + i].point;
+      point.normal_impulse = point_share(k);
+      normal += point.normal_impulse;
+    }
+    const Fixed part = normal / whole.total;
+    const Vec3 friction = whole.tangential * part;
+    const Vec3 along = supports.a_supports(m) ? friction : -friction;
+    manifold.friction_impulse[0] = dot(along, m.tangent[0].direction);
+    manifold.friction_impulse[1] = dot(along, m.tangent[1].direction);
+    manifold.twist_impulse =
+        whole.twist * part - dot(cross(faces.middles[face.first_middle + e] - centroid, friction), n);
+  }
+}
+
 }  // namespace
 
 // A body held up by several supports is glued to all of them at once when
@@ -314,98 +415,43 @@ bool glue_all(SolverBody& mover, const Body& body, const std::vector<SolverBody>
               const std::vector<Body>& bodies, const uint32_t* entries, size_t entry_count,
               const std::vector<uint32_t>& level, const std::vector<ManifoldRow*>& manifolds,
               std::vector<PointRow>& rows, GlueFace& face, GlueFaces& faces) {
-  constexpr Fixed same_motion = 0.000001_fx;  // m/s and rad/s
   if (!faces.measured(face) &&
       !(face.recallable && recall_faces(entries, entry_count, level, manifolds, rows, face, faces))) {
     measure_faces(entries, entry_count, level, manifolds, rows, face, faces);
   }
   if (face.state == GlueFace::State::never) return false;
+  const SupportSet supports{entries, entry_count, level, manifolds};
   const Vec3 position = body.pose.position;
-  const Vec3 n = face.n, centroid = face.centroid;
-  // The supports' rigid motion continued to the mover's centre of mass: one
-  // motion for all of them.
-  Vec3 v, w;
-  for (size_t e = 0; e < entry_count; ++e) {
-    const ManifoldRow& m = *manifolds[entries[e]];
-    const uint32_t support = level[m.a] < level[m.b] ? m.a : m.b;
-    const SolverBody& s = solver_bodies[support];
-    const Vec3 w_s = s.velocity.angular;
-    const Vec3 v_s = s.velocity.linear + cross(w_s, position - bodies[support].pose.position);
-    if (e == 0) {
-      v = v_s;
-      w = w_s;
-    } else {
-      const Vec3 dv = v_s - v, dw = w_s - w;
-      if (max(max(abs(dv.x), abs(dv.y)), abs(dv.z)) > same_motion) return false;
-      if (max(max(abs(dw.x), abs(dw.y)), abs(dw.z)) > same_motion) return false;
-    }
-  }
+  BodyRates motion;
+  if (!common_motion(supports, solver_bodies, bodies, position, motion)) return false;
+  const Vec3 v = motion.linear, w = motion.angular;
   // The glue's impulse on the mover: P through the centroid and an angular
   // impulse L about it (m dv = P, I dw = r x P + L), as in glue().
-  const Vec3 r_mover = centroid - position;
+  const Vec3 r_mover = face.centroid - position;
   const Vec3 impulse = (v - mover.velocity.linear) * (Fixed::one() / mover.inverse_mass);
   const Quat q = body.pose.orientation;
   const Vec3 angular =
       rotate(q, body.inertia_local * rotate_inverse(q, w - mover.velocity.angular)) - cross(r_mover, impulse);
-  // The whole impulse on the mover: normal, tangential, twist about n at the
-  // centroid and the normal impulses' in-plane moment about it.
-  Fixed total = dot(impulse, n);
-  Vec3 tangential = impulse - n * total;
-  Fixed twist = dot(angular, n);
-  Vec3 moment = angular - n * twist;
-  size_t k = face.first_point;
-  for (size_t e = 0; e < entry_count; ++e) {
-    const ManifoldRow& m = *manifolds[entries[e]];
-    const Manifold& manifold = *m.manifold;
-    for (size_t i = 0; i < m.count; ++i, ++k) {
-      const Fixed jn = rows[m.first + i].point->normal_impulse;
-      total += jn;
-      moment += faces.points[k].lever * jn;
-    }
-    // An impulse lambda along a row acts +d on b, -d on a; the twist row's
-    // impulse is the same about the mover's up either way.
-    Vec3 friction = m.tangent[0].direction * manifold.friction_impulse[0] +
-                    m.tangent[1].direction * manifold.friction_impulse[1];
-    if (!(level[m.a] < level[m.b])) friction = -friction;
-    tangential += friction;
-    twist += manifold.twist_impulse + dot(cross(faces.middles[face.first_middle + e] - centroid, friction), n);
-  }
-  if (total <= Fixed{}) return false;
-  const Fixed cone = face.mu * total;  // the static cone's radius, for friction and twist
-  if (longer_than(tangential, cone)) return false;
-  if (abs(twist) > cone * face.radius) return false;
+  const WholeImpulse whole = whole_impulse(supports, rows, face, faces, impulse, angular);
+  if (whole.total <= Fixed{}) return false;
+  const Fixed cone = face.mu * whole.total;  // the static cone's radius, for friction and twist
+  if (longer_than(whole.tangential, cone)) return false;
+  if (abs(whole.twist) > cone * face.radius) return false;
   // The fresh distribution pi_i = total / k + beta . a_i, a_i = (p_i - c) x n
   // in the face's plane (e0, e1), with G beta = moment: the least-squares
   // spread of the points' impulses that gives the moment (sum a_i = 0).
-  const Fixed b0 = dot(moment, face.e0) * face.inverse_radius, b1 = dot(moment, face.e1) * face.inverse_radius;
+  const Fixed b0 = dot(whole.moment, face.e0) * face.inverse_radius;
+  const Fixed b1 = dot(whole.moment, face.e1) * face.inverse_radius;
   const Fixed beta0 = (b0 * face.g11 - b1 * face.g01) * face.inverse_det;
   const Fixed beta1 = (b1 * face.g00 - b0 * face.g01) * face.inverse_det;
-  const Fixed share = total / Fixed::from_int(face.point_count);
+  const Fixed share = whole.total / Fixed::from_int(face.point_count);
   const auto point_share = [&](size_t point) {
     return share + beta0 * faces.points[point].a0 + beta1 * faces.points[point].a1;
   };
   for (size_t p = face.first_point; p < face.first_point + static_cast<size_t>(face.point_count); ++p) {
     if (point_share(p) < Fixed{}) return false;
   }
-  // Held: the points take their shares; each contact the friction in
-  // proportion to its normal impulse, and the twist that keeps the total.
-  k = face.first_point;
-  for (size_t e = 0; e < entry_count; ++e) {
-    const ManifoldRow& m = *manifolds[entries[e]];
-    Manifold& manifold = *m.manifold;
-    Fixed normal;
-    for (size_t i = 0; i < m.count; ++i, ++k) {
-      ContactPoint& point = *rows[m.first + i].point;
-      point.normal_impulse = point_share(k);
-      normal += point.normal_impulse;
-    }
-    const Fixed part = normal / total;
-    const Vec3 friction = tangential * part;
-    const Vec3 along = level[m.a] < level[m.b] ? friction : -friction;
-    manifold.friction_impulse[0] = dot(along, m.tangent[0].direction);
-    manifold.friction_impulse[1] = dot(along, m.tangent[1].direction);
-    manifold.twist_impulse = twist * part - dot(cross(faces.middles[face.first_middle + e] - centroid, friction), n);
-  }
+  share_impulse(supports, rows, face, faces, whole, point_share);
   mover.velocity = {v, w};
   return true;
 }
