@@ -31,6 +31,7 @@ const std::vector<SpeedCase>& speed_cases() {
       {"stack20.json", "standing", 60, 240},  {"pyramid20.json", "standing", 60, 120},
       {"wall64.json", "standing", 60, 20},    {"thrown.json", "impact", 0, 60},
       {"thrown.json", "settled", 600, 120},   {"playground.json", "settled", 600, 60},
+      {"knocked20.json", "knocked over", 0, 120},
   };
   return cases;
 }
