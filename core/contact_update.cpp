@@ -104,9 +104,79 @@ bool same_shape_pairs(const std::vector<Body>& bodies, const std::vector<BodyPai
 
 }  // namespace
 
+namespace {
+
+// Shape pairs per worker below which the collision tests stay on one
+// thread: waking the workers costs more than they save.
+constexpr size_t min_parallel_tests = 16;
+
+// Every shape pair of the pairs with a dynamic body, in key order: its key,
+// margin, and the cache entry it may be restored from (when both bodies sit
+// where they sat and the margin is the same; a pure function of them).
+void plan_shape_pairs(const std::vector<Body>& bodies, const std::vector<BodyPair>& pairs, const Settings& settings,
+                      const std::vector<Fixed>& turn_speed, NarrowphaseCache& cache) {
+  std::vector<NarrowphaseCache::Test>& tests = cache.tests;
+  tests.clear();
+  size_t next_cached = 0;  // both lists are sorted by key: one merge walk
+  size_t collided = 0;
+  for (const BodyPair& pair : pairs) {
+    const Body& a = bodies[pair.a];
+    const Body& b = bodies[pair.b];
+    if (a.type != BodyType::dynamic && b.type != BodyType::dynamic) continue;  // a moving kinematic body
+    // Contacts are kept this far apart: the speculative distance plus how
+    // far the two bodies can close in on each other this step (their
+    // centres' relative motion and each one's turn at its farthest point),
+    // so a fast or fast-turning body meets its contact one step early
+    // instead of one step deep (a falling domino's top edge moves at w r,
+    // several times its centre's speed).
+    const Fixed closing = length(b.linear_velocity - a.linear_velocity) + turn_speed[pair.a] + turn_speed[pair.b];
+    const Fixed margin = settings.speculative_distance + closing * settings.dt;
+    const bool both_still = cache.enabled && cache.still[pair.a] && cache.still[pair.b];
+    for (size_t sa = 0; sa < a.shapes.size(); ++sa) {
+      for (size_t sb = 0; sb < b.shapes.size(); ++sb) {
+        const ContactKey key{pair.a, pair.b, static_cast<uint16_t>(sa), static_cast<uint16_t>(sb)};
+        while (next_cached < cache.entries.size() && cache.entries[next_cached].key < key) ++next_cached;
+        const bool same = both_still && next_cached < cache.entries.size() &&
+                          cache.entries[next_cached].key == key && cache.entries[next_cached].margin == margin;
+        tests.push_back({key, margin, same ? next_cached : NarrowphaseCache::Test::none, collided});
+        if (!same) ++collided;
+      }
+    }
+  }
+  cache.collided.resize(collided);
+}
+
+struct CollideWork {
+  const std::vector<Body>& bodies;
+  NarrowphaseCache& cache;
+  int workers;
+};
+
+// A worker's contiguous share of the planned tests: the fresh manifold of
+// each one the cache does not hold, found by collide() (a function of its
+// own inputs alone, so the same bits on any number of workers).
+void collide_share(void* context, int worker) {
+  const CollideWork& work = *static_cast<const CollideWork*>(context);
+  if (worker >= work.workers) return;
+  const std::vector<NarrowphaseCache::Test>& tests = work.cache.tests;
+  const size_t n = tests.size(), w = static_cast<size_t>(worker), workers = static_cast<size_t>(work.workers);
+  for (size_t i = n * w / workers; i < n * (w + 1) / workers; ++i) {
+    const NarrowphaseCache::Test& test = tests[i];
+    if (test.cached != NarrowphaseCache::Test::none) continue;  // restored where it is merged
+    const Body& a = work.bodies[test.key.body_a];
+    const Body& b = work.bodies[test.key.body_b];
+    const WorldShape shape_a{&a.shapes[test.key.shape_a], compose(a.pose, a.shapes[test.key.shape_a].local)};
+    const WorldShape shape_b{&b.shapes[test.key.shape_b], compose(b.pose, b.shapes[test.key.shape_b].local)};
+    // A fresh manifold, point_count 0 when apart.
+    collide(shape_a, shape_b, test.margin, work.cache.collided[test.slot]);
+  }
+}
+
+}  // namespace
+
 void update_contacts(const std::vector<Body>& bodies, const std::vector<BodyPair>& pairs, const Settings& settings,
                      const std::vector<Fixed>& turn_speed, std::vector<Contact>& contacts,
-                     std::vector<Contact>& previous, NarrowphaseCache& cache) {
+                     std::vector<Contact>& previous, NarrowphaseCache& cache, Executor* executor) {
   // A contact between two bodies that cannot move this step (asleep,
   // static, kinematic at rest) is kept as it is, with its impulses: the
   // broadphase reports no pair for it.
@@ -120,74 +190,61 @@ void update_contacts(const std::vector<Body>& bodies, const std::vector<BodyPair
     cache.entries.clear();
     return;
   }
+  // The tests: planned here, run on the workers, merged here in order.
+  plan_shape_pairs(bodies, pairs, settings, turn_speed, cache);
+  const size_t to_collide = cache.collided.size();
+  const bool parallel = executor && executor->workers() > 1 &&
+                        to_collide >= min_parallel_tests * static_cast<size_t>(executor->workers());
+  CollideWork work{bodies, cache, parallel ? executor->workers() : 1};
+  if (parallel) {
+    executor->run(collide_share, &work);
+  } else {
+    collide_share(&work, 0);
+  }
+  cache.tested += to_collide;
+  cache.reused += cache.tests.size() - to_collide;
   previous.swap(contacts);  // keeps both buffers' capacity
   contacts.clear();
   contacts.reserve(previous.size());
   // When the shape pairs are last step's, in order (a standing scene), the
-  // cache's entries are rewritten where they lie, each read before it is
-  // written; else they are built anew, reserved at once rather than doubled
-  // up from nothing at the first step (a pair of single shapes is one entry).
+  // cache's entries are rewritten where they lie (each was read by its own
+  // test above); else they are built anew, reserved at once rather than
+  // doubled up from nothing at the first step (a pair of single shapes is
+  // one entry).
   const bool in_place = cache.enabled && same_shape_pairs(bodies, pairs, cache.entries);
   if (!in_place) cache.next.reserve(std::max(cache.entries.size(), pairs.size()));
-  size_t next_entry = 0;
-  size_t next_old = 0;     // both lists are sorted by key: one merge walk
-  size_t next_cached = 0;  // likewise through the cache
-  auto keep_old_before = [&](BodyPair pair) {
-    for (; next_old < previous.size() && std::tie(previous[next_old].key.body_a, previous[next_old].key.body_b) <
-                                             std::tie(pair.a, pair.b);
+  size_t next_old = 0;  // both lists are sorted by key: one merge walk
+  auto keep_old_before = [&](uint32_t a, uint32_t b) {
+    for (; next_old < previous.size() &&
+           std::tie(previous[next_old].key.body_a, previous[next_old].key.body_b) < std::tie(a, b);
          ++next_old) {
       if (kept(previous[next_old])) contacts.push_back(previous[next_old]);
     }
   };
-  for (const BodyPair& pair : pairs) {
-    const Body& a = bodies[pair.a];
-    const Body& b = bodies[pair.b];
-    if (a.type != BodyType::dynamic && b.type != BodyType::dynamic) continue;  // a moving kinematic body
-    keep_old_before(pair);
-    // Contacts are kept this far apart: the speculative distance plus how
-    // far the two bodies can close in on each other this step (their
-    // centres' relative motion and each one's turn at its farthest point),
-    // so a fast or fast-turning body meets its contact one step early
-    // instead of one step deep (a falling domino's top edge moves at w r,
-    // several times its centre's speed).
-    const Fixed closing = length(b.linear_velocity - a.linear_velocity) + turn_speed[pair.a] + turn_speed[pair.b];
-    const Fixed margin = settings.speculative_distance + closing * settings.dt;
-    const bool both_still = cache.enabled && cache.still[pair.a] && cache.still[pair.b];
-    for (size_t sa = 0; sa < a.shapes.size(); ++sa) {
-      for (size_t sb = 0; sb < b.shapes.size(); ++sb) {
-        Contact contact{{pair.a, pair.b, static_cast<uint16_t>(sa), static_cast<uint16_t>(sb)}, {}};
-        while (next_cached < cache.entries.size() && cache.entries[next_cached].key < contact.key) ++next_cached;
-        const bool same = both_still && next_cached < cache.entries.size() &&
-                          cache.entries[next_cached].key == contact.key && cache.entries[next_cached].margin == margin;
-        if (same) {
-          restore_found(cache.entries[next_cached].found, contact.manifold);
-          ++cache.reused;
-        } else {
-          const WorldShape shape_a{&a.shapes[sa], compose(a.pose, a.shapes[sa].local)};
-          const WorldShape shape_b{&b.shapes[sb], compose(b.pose, b.shapes[sb].local)};
-          collide(shape_a, shape_b, margin, contact.manifold);  // a fresh manifold, point_count 0 when apart
-          ++cache.tested;
-        }
-        if (in_place) {
-          // A reused entry (the one this pair was restored from) would be
-          // rewritten with what it holds: it is left as it is.
-          if (!(same && next_entry == next_cached)) {
-            cache.entries[next_entry] = {contact.key, margin, found_of(contact.manifold)};
-          }
-          ++next_entry;
-        } else if (cache.enabled) {
-          cache.next.push_back({contact.key, margin, found_of(contact.manifold)});
-        }
-        if (contact.manifold.point_count == 0) continue;
-        while (next_old < previous.size() && previous[next_old].key < contact.key) ++next_old;
-        if (settings.warm_starting && next_old < previous.size() && previous[next_old].key == contact.key) {
-          inherit_impulses(previous[next_old].manifold, contact.manifold);
-        }
-        contacts.push_back(contact);
-      }
+  for (size_t i = 0; i < cache.tests.size(); ++i) {
+    const NarrowphaseCache::Test& test = cache.tests[i];
+    keep_old_before(test.key.body_a, test.key.body_b);
+    Contact contact{test.key, {}};
+    if (test.cached != NarrowphaseCache::Test::none) {
+      restore_found(cache.entries[test.cached].found, contact.manifold);
+    } else {
+      contact.manifold = cache.collided[test.slot];
     }
+    if (in_place) {
+      // A reused entry (the one this test was restored from) would be
+      // rewritten with what it holds: it is left as it is.
+      if (test.cached != i) cache.entries[i] = {test.key, test.margin, found_of(contact.manifold)};
+    } else if (cache.enabled) {
+      cache.next.push_back({test.key, test.margin, found_of(contact.manifold)});
+    }
+    if (contact.manifold.point_count == 0) continue;
+    while (next_old < previous.size() && previous[next_old].key < contact.key) ++next_old;
+    if (settings.warm_starting && next_old < previous.size() && previous[next_old].key == contact.key) {
+      inherit_impulses(previous[next_old].manifold, contact.manifold);
+    }
+    contacts.push_back(contact);
   }
-  keep_old_before({UINT32_MAX, UINT32_MAX});
+  keep_old_before(UINT32_MAX, UINT32_MAX);
   if (!in_place) cache.entries.swap(cache.next);  // keeps both buffers' capacity
 }
 

@@ -4,11 +4,13 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "core/broadphase.h"
 #include "core/body.h"
 #include "core/contact.h"
+#include "core/executor.h"
 
 namespace bitstep {
 
@@ -45,6 +47,19 @@ struct NarrowphaseCache {
   std::vector<Entry> next;     // this step's, while they are found
   std::vector<Pose> poses;     // per slot: the pose at last step's narrowphase
   std::vector<uint8_t> still;  // per slot: this step's pose is that one, bit for bit
+  // This step's shape pairs to test, in key order (workspace of
+  // update_contacts): each one's key, margin, and the entry it is restored
+  // from, or none: then collide() writes its fresh manifold into
+  // collided[slot].
+  struct Test {
+    static constexpr size_t none = SIZE_MAX;
+    ContactKey key;
+    Fixed margin;
+    size_t cached = none;
+    size_t slot = 0;
+  };
+  std::vector<Test> tests;
+  std::vector<Manifold> collided;
   bool enabled = true;         // off: every pair is tested (the reuse tests compare both)
   uint64_t reused = 0, tested = 0;  // shape pairs over the world's life (bench figures, not state)
 };
@@ -56,6 +71,6 @@ struct NarrowphaseCache {
 // farthest point moves by its rotation alone (|w| r, m/s).
 void update_contacts(const std::vector<Body>& bodies, const std::vector<BodyPair>& pairs, const Settings& settings,
                      const std::vector<Fixed>& turn_speed, std::vector<Contact>& contacts,
-                     std::vector<Contact>& previous, NarrowphaseCache& cache);
+                     std::vector<Contact>& previous, NarrowphaseCache& cache, Executor* executor = nullptr);
 
 }  // namespace bitstep

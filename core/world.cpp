@@ -667,7 +667,7 @@ void World::find_contacts(const Settings& s) {
   }
   find_pairs(scratch_->proxies, scratch_->pairs, scratch_->broadphase_scratch);
   update_contacts(bodies_, contact_pairs(), s, scratch_->turn_speed, contacts_, scratch_->previous_contacts,
-                  scratch_->narrowphase_cache);
+                  scratch_->narrowphase_cache, executor_);
   if (sensor_bodies_ > 0 || !sensor_overlaps_.empty()) update_sensor_overlaps(bodies_, scratch_->pairs, sensor_overlaps_, scratch_->previous_overlaps);
 }
 
