@@ -136,7 +136,9 @@ bitstep_status bitstep_load(bitstep_simulation* sim, const uint8_t* image, size_
 bitstep_status bitstep_save_state(bitstep_simulation* sim, uint8_t* buffer, size_t capacity, size_t* size);
 bitstep_status bitstep_load_state(bitstep_simulation* sim, const uint8_t* image, size_t size);
 
-/* The first shape a ray from origin along translation meets (NOT_FOUND: none). */
+/* The first shape a ray from origin along translation meets (NOT_FOUND: none).
+ * A query changes nothing, so it takes any numbers: a zero translation, an
+ * origin beyond 65536 m or a translation longer than 131072 m meets nothing. */
 bitstep_status bitstep_cast_ray(bitstep_simulation* sim, bitstep_vec3 origin, bitstep_vec3 translation,
                                 bitstep_ray_hit* out);
 

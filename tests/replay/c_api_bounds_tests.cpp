@@ -185,3 +185,26 @@ TEST_CASE("the facade refuses what the C API refuses, with the same reason", "[s
   CHECK(sim->hash() != before);
   CHECK(sim->set_velocity({ball.index, ball.generation + 1}, fast, {}).status == InputResult::Status::not_found);
 }
+
+// A query changes nothing, so it takes any numbers: past the casts' reach
+// (an origin beyond 65536 m, a translation beyond 131072 m) a ray meets
+// nothing. The checked build aborted on the lowest value (its abs saturated).
+TEST_CASE("C API bounds: a ray takes any numbers, and past the casts' reach meets nothing",
+          "[simulation][c_api][bounds]") {
+  bitstep_simulation* sim = made();
+  const uint64_t before = bitstep_hash(sim);
+  const bitstep_fixed reach = units(131072), coordinate = units(65536);
+  bitstep_ray_hit hit{};
+  CHECK(bitstep_cast_ray(sim, {units(10), units(5), 0}, along_y(-reach), &hit) == BITSTEP_OK);
+  CHECK(hit.body.index == 0);  // the ground
+  CHECK(bitstep_cast_ray(sim, {0, units(5), 0}, along_y(-reach - ulp), &hit) == BITSTEP_NOT_FOUND);
+  CHECK(bitstep_cast_ray(sim, {0, units(5), 0}, along_y(most_negative), &hit) == BITSTEP_NOT_FOUND);
+  CHECK(bitstep_cast_ray(sim, {0, units(5), 0}, {huge, most_negative, huge}, &hit) == BITSTEP_NOT_FOUND);
+  CHECK(bitstep_cast_ray(sim, {units(10), coordinate, 0}, along_y(-reach), &hit) == BITSTEP_OK);
+  CHECK(bitstep_cast_ray(sim, {0, coordinate + ulp, 0}, along_y(-reach), &hit) == BITSTEP_NOT_FOUND);
+  CHECK(bitstep_cast_ray(sim, {most_negative, most_negative, most_negative}, along_y(-units(10)), &hit) ==
+        BITSTEP_NOT_FOUND);
+  CHECK(bitstep_cast_ray(sim, {huge, units(5), 0}, along_x(-units(10)), &hit) == BITSTEP_NOT_FOUND);
+  CHECK(bitstep_hash(sim) == before);
+  bitstep_destroy(sim);
+}
