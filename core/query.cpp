@@ -23,14 +23,18 @@ Fixed doubled_centre(const Aabb& b, int axis) { return get(b.min, axis) + get(b.
 // The ray of a translation: unit direction and length, or none for a zero
 // translation or one beyond the casts' reach.
 std::optional<Ray> ray_of(Vec3 origin, Vec3 translation) {
-  const Vec3 limit{max_ray_length, max_ray_length, max_ray_length};
-  if (translation == Vec3{} || abs(translation.x) > limit.x || abs(translation.y) > limit.y ||
-      abs(translation.z) > limit.z) {
-    return std::nullopt;
-  }
+  if (translation == Vec3{} || !within_axes(translation, max_ray_length)) return std::nullopt;
   const Fixed length = bitstep::length(translation);
   if (length == Fixed{} || length > max_ray_length) return std::nullopt;
   return Ray{origin, normalize(translation), length};
+}
+
+// A ray or sphere cast's ray: none also for an origin beyond the casts'
+// coordinates, which every shape refuses (ray_enters); refused here, before
+// the tree's boxes are measured from an origin that may be any value.
+std::optional<Ray> cast_ray_of(Vec3 origin, Vec3 translation) {
+  if (!within_axes(origin, max_ray_coordinate)) return std::nullopt;
+  return ray_of(origin, translation);
 }
 
 // The order of answers: nearest first, then by body slot and shape index.
@@ -196,25 +200,25 @@ Vec3 ball_reach(Fixed radius) { return {radius, radius, radius}; }
 }  // namespace
 
 std::optional<QueryHit> WorldQuery::cast_ray(Vec3 origin, Vec3 translation, const QueryFilter& filter) const {
-  const std::optional<Ray> ray = ray_of(origin, translation);
+  const std::optional<Ray> ray = cast_ray_of(origin, translation);
   return ray ? cast_nearest(*ray, Vec3{}, filter, ball_enters(Fixed{})) : std::nullopt;
 }
 void WorldQuery::cast_ray_all(Vec3 origin, Vec3 translation, std::vector<QueryHit>& hits,
                               const QueryFilter& filter) const {
   hits.clear();
-  const std::optional<Ray> ray = ray_of(origin, translation);
+  const std::optional<Ray> ray = cast_ray_of(origin, translation);
   if (ray) cast_all(*ray, Vec3{}, hits, filter, ball_enters(Fixed{}));
 }
 std::optional<QueryHit> WorldQuery::cast_sphere(Fixed radius, Vec3 origin, Vec3 translation,
                                                 const QueryFilter& filter) const {
-  const std::optional<Ray> ray = ray_of(origin, translation);
+  const std::optional<Ray> ray = cast_ray_of(origin, translation);
   if (!ray || radius < Fixed{}) return std::nullopt;
   return cast_nearest(*ray, ball_reach(radius), filter, ball_enters(radius));
 }
 void WorldQuery::cast_sphere_all(Fixed radius, Vec3 origin, Vec3 translation, std::vector<QueryHit>& hits,
                                  const QueryFilter& filter) const {
   hits.clear();
-  const std::optional<Ray> ray = ray_of(origin, translation);
+  const std::optional<Ray> ray = cast_ray_of(origin, translation);
   if (ray && radius >= Fixed{}) cast_all(*ray, ball_reach(radius), hits, filter, ball_enters(radius));
 }
 

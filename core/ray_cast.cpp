@@ -20,10 +20,7 @@ using collide_detail::get;
 using collide_detail::path_ratio;
 using collide_detail::set;
 
-// |v| <= r on every axis: squares of such vectors stay small.
-bool within(Vec3 v, Fixed r) { return abs(v.x) <= r && abs(v.y) <= r && abs(v.z) <= r; }
-
-bool inside_ball(Vec3 offset, Fixed r) { return within(offset, r) && length_sq(offset) <= r * r; }
+bool inside_ball(Vec3 offset, Fixed r) { return within_axes(offset, r) && length_sq(offset) <= r * r; }
 
 // The part of the ray between `near` and `far` that lies within slabs
 // lo <= x . axis <= hi, and the slab it entered through last.
@@ -170,7 +167,7 @@ bool cast_half_space(Vec3 point, Vec3 normal, Fixed r, const Ray& ray, RayEntry&
 }
 
 bool acceptable(const Ray& ray) {
-  return within(ray.origin, max_ray_coordinate) && ray.length >= Fixed{} && ray.length <= max_ray_length;
+  return within_axes(ray.origin, max_ray_coordinate) && ray.length >= Fixed{} && ray.length <= max_ray_length;
 }
 
 }  // namespace

@@ -27,6 +27,12 @@ struct RayEntry {
 inline constexpr Fixed max_ray_coordinate = Fixed::from_int(65536);
 inline constexpr Fixed max_ray_length = Fixed::from_int(131072);
 
+// |v| <= r on every axis (r >= 0), by comparisons: abs of the lowest value
+// saturates (and aborts the checked build), and a caller's ray may hold it.
+constexpr bool within_axes(Vec3 v, Fixed r) {
+  return v.x >= -r && v.x <= r && v.y >= -r && v.y <= r && v.z >= -r && v.z <= r;
+}
+
 // The first point of the solid shape, grown by `radius` (0 for a ray),
 // along the ray within its length; false when the ray misses it. Shapes
 // are solid: a ray that starts inside (or on the surface) enters at

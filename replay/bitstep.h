@@ -85,7 +85,22 @@ bitstep_status bitstep_remove_joint(bitstep_simulation* sim, bitstep_joint joint
 uint32_t bitstep_slot_count(const bitstep_simulation* sim);
 bitstep_status bitstep_body_in_slot(bitstep_simulation* sim, uint32_t slot, bitstep_body* out);
 
-/* Inputs for the next step. */
+/* Inputs for the next step, bounded as a replay's inputs are (so a match
+ * played through this API can be recorded and replayed):
+ *   apply_impulse  impulse  each component within +-1000000 N s
+ *   apply_force    force    each component within +-1000000 N
+ *   both           world_point  each component within +-16000 m
+ *   set_velocity   linear   each component and the length within 500 m/s
+ *                  angular  each component and the length within 100 rad/s
+ *   drive          throttle -1..1, brake 0..1, steer -1..1
+ * A value past its bound returns BITSTEP_INVALID and changes nothing (the
+ * hash stays); the message names the call, the argument and the bound
+ * ("set_velocity: linear.y: outside +-500 m/s", "set_velocity: angular:
+ * faster than 100 rad/s"). A handle no body has (removed, stale, never
+ * made) returns BITSTEP_NOT_FOUND, checked before the values. Numbers are
+ * Q32.32 integers: a binding converting from floating point must refuse
+ * NaN and infinities itself (C leaves their conversion to an integer
+ * undefined). */
 bitstep_status bitstep_apply_impulse(bitstep_simulation* sim, bitstep_body body, bitstep_vec3 impulse,
                                      bitstep_vec3 world_point);
 bitstep_status bitstep_apply_force(bitstep_simulation* sim, bitstep_body body, bitstep_vec3 force,
@@ -121,7 +136,9 @@ bitstep_status bitstep_load(bitstep_simulation* sim, const uint8_t* image, size_
 bitstep_status bitstep_save_state(bitstep_simulation* sim, uint8_t* buffer, size_t capacity, size_t* size);
 bitstep_status bitstep_load_state(bitstep_simulation* sim, const uint8_t* image, size_t size);
 
-/* The first shape a ray from origin along translation meets (NOT_FOUND: none). */
+/* The first shape a ray from origin along translation meets (NOT_FOUND: none).
+ * A query changes nothing, so it takes any numbers: a zero translation, an
+ * origin beyond 65536 m or a translation longer than 131072 m meets nothing. */
 bitstep_status bitstep_cast_ray(bitstep_simulation* sim, bitstep_vec3 origin, bitstep_vec3 translation,
                                 bitstep_ray_hit* out);
 

@@ -51,9 +51,23 @@ bitstep_status guarded(bitstep_simulation* sim, Call&& call) {
   }
 }
 
+// An input call's status: OK; NOT_FOUND for its body (or car, `missing`
+// its message); INVALID for a value past its bound, nothing changed.
+bitstep_status input_status(bitstep_simulation* sim, const bitstep::InputResult& result, const std::string& missing) {
+  switch (result.status) {
+    case bitstep::InputResult::Status::applied: return BITSTEP_OK;
+    case bitstep::InputResult::Status::not_found: return fail(sim, BITSTEP_NOT_FOUND, missing);
+    case bitstep::InputResult::Status::refused: break;
+  }
+  return fail(sim, BITSTEP_INVALID, result.reason);
+}
+
+std::string no_body_message(bitstep_body body) {
+  return "no body in slot " + std::to_string(body.index) + " of generation " + std::to_string(body.generation);
+}
+
 bitstep_status no_body(bitstep_simulation* sim, bitstep_body body) {
-  return fail(sim, BITSTEP_NOT_FOUND,
-              "no body in slot " + std::to_string(body.index) + " of generation " + std::to_string(body.generation));
+  return fail(sim, BITSTEP_NOT_FOUND, no_body_message(body));
 }
 
 bitstep_status created(std::optional<bitstep::Simulation> made, const std::string& message, bitstep_simulation** out,
@@ -175,22 +189,24 @@ bitstep_status bitstep_body_in_slot(bitstep_simulation* sim, uint32_t slot, bits
 bitstep_status bitstep_apply_impulse(bitstep_simulation* sim, bitstep_body body, bitstep_vec3 impulse,
                                      bitstep_vec3 world_point) {
   return guarded(sim, [&] {
-    return sim->sim.apply_impulse(body_of(body), vec3_of(impulse), vec3_of(world_point)) ? BITSTEP_OK
-                                                                                           : no_body(sim, body);
+    return input_status(sim, sim->sim.apply_impulse(body_of(body), vec3_of(impulse), vec3_of(world_point)),
+                        no_body_message(body));
   });
 }
 
 bitstep_status bitstep_apply_force(bitstep_simulation* sim, bitstep_body body, bitstep_vec3 force,
                                    bitstep_vec3 world_point) {
   return guarded(sim, [&] {
-    return sim->sim.apply_force(body_of(body), vec3_of(force), vec3_of(world_point)) ? BITSTEP_OK : no_body(sim, body);
+    return input_status(sim, sim->sim.apply_force(body_of(body), vec3_of(force), vec3_of(world_point)),
+                        no_body_message(body));
   });
 }
 
 bitstep_status bitstep_set_velocity(bitstep_simulation* sim, bitstep_body body, bitstep_vec3 linear,
                                     bitstep_vec3 angular) {
   return guarded(sim, [&] {
-    return sim->sim.set_velocity(body_of(body), vec3_of(linear), vec3_of(angular)) ? BITSTEP_OK : no_body(sim, body);
+    return input_status(sim, sim->sim.set_velocity(body_of(body), vec3_of(linear), vec3_of(angular)),
+                        no_body_message(body));
   });
 }
 
@@ -202,8 +218,8 @@ bitstep_status bitstep_drive(bitstep_simulation* sim, const char* car, bitstep_f
                              bitstep_fixed steer) {
   return guarded(sim, [&] {
     if (car == nullptr) return BITSTEP_NULL_ARGUMENT;
-    if (sim->sim.drive(car, {fixed_of(throttle), fixed_of(brake), fixed_of(steer)})) return BITSTEP_OK;
-    return fail(sim, BITSTEP_NOT_FOUND, std::string("no car named \"") + car + "\"");
+    return input_status(sim, sim->sim.drive(car, {fixed_of(throttle), fixed_of(brake), fixed_of(steer)}),
+                        std::string("no car named \"") + car + "\"");
   });
 }
 

@@ -6,6 +6,7 @@
 #include <map>
 #include <string_view>
 
+#include "replay/input_bounds.h"
 #include "replay/limits.h"
 #include "replay/scene_reader.h"
 #include "replay/snapshot.h"
@@ -20,13 +21,9 @@ using namespace scene_reader;
 
 namespace {
 
-// Per component. Their effect on a body is not bounded here (it depends on
-// the body then in the slot and where it is): 1e6 N s on 0.01 kg is 1e8 m/s,
-// at the corner of a 0.01 m box ~1e12 rad/s. World::apply_impulse and
-// apply_force compute it at a scale where it cannot overflow, and the speed
-// clamps apply (core/envelope.h).
-constexpr Fixed max_impulse = 1000000.0_fx;  // N s
-constexpr Fixed max_force = 1000000.0_fx;    // N
+// The inputs' bounds, shared with the facade and the C API.
+using input_bounds::max_force;
+using input_bounds::max_impulse;
 constexpr int max_steps = limits::max_replay_steps;
 
 uint64_t read_hash(const Node& node) {
@@ -76,14 +73,14 @@ uint32_t read_body_ref(const Node& node, BodyNames& names) {
 }
 
 Vec3 read_point(const Node& node) {
-  return read_vec3_within(node, -envelope::max_position, envelope::max_position, "m");
+  return read_vec3_within(node, -input_bounds::max_point, input_bounds::max_point, "m");
 }
 
 // A set_velocity value: components within the clamp (so that the length
 // stays in range), then the length, as a scene body's velocity.
 Vec3 read_speed(const Node& node, Fixed limit, const char* unit) {
   const Vec3 v = read_vec3_within(node, -limit, limit, unit);
-  if (length(v) > limit) fail(node, "faster than " + to_string(limit) + " " + unit);
+  if (length(v) > limit) fail(node, input_bounds::faster_than(limit, unit));
   return v;
 }
 
@@ -126,10 +123,10 @@ Input read_input(const Node& node, const Scene& scene, BodyNames& names) {
     case Input::Kind::set_velocity:
       input.body = body();
       if (const Node* linear = reader.find("linear")) {
-        input.vector = read_speed(*linear, envelope::max_linear_speed, "m/s");
+        input.vector = read_speed(*linear, input_bounds::max_linear_speed, "m/s");
       }
       if (const Node* angular = reader.find("angular")) {
-        input.point = read_speed(*angular, envelope::max_angular_speed, "rad/s");
+        input.point = read_speed(*angular, input_bounds::max_angular_speed, "rad/s");
       }
       break;
     case Input::Kind::spawn:

@@ -30,7 +30,7 @@
 
 namespace bitstep {
 
-inline constexpr uint32_t rollback_state_version = 4;  // 2: cars' tyre impulses; 3: sliders, joint motors; 4: the suspension's impulse, held islands' velocity passes (a setting)
+inline constexpr uint32_t rollback_state_version = 5;  // 2: cars' tyre impulses; 3: sliders, joint motors; 4: the suspension's impulse, held islands' velocity passes (a setting); 5: dead slots' filters
 
 class RollbackStates final : private state_bytes::BodyStatics {
  public:

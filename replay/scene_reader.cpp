@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "fixed/decimal.h"
+#include "replay/input_bounds.h"
 
 namespace bitstep::scene_reader {
 
@@ -81,8 +82,7 @@ Fixed read_fixed(const Node& node, Bound bound) {
 Fixed read_fixed_within(const Node& node, Fixed lo, Fixed hi, std::string_view unit) {
   const Fixed value = read_fixed(node);
   if (value < lo || value > hi) {
-    const std::string range = lo == -hi ? "+-" + to_string(hi) : to_string(lo) + ".." + to_string(hi);
-    fail(node, "outside " + range + (unit.empty() ? "" : " ") + std::string(unit));
+    fail(node, input_bounds::outside(lo, hi, unit));
   }
   return value;
 }

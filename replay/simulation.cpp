@@ -1,7 +1,9 @@
 #include "replay/simulation.h"
 
+#include <initializer_list>
 #include <utility>
 
+#include "replay/input_bounds.h"
 #include "replay/replay.h"
 #include "replay/scene_reader.h"
 #include "replay/snapshot.h"
@@ -131,22 +133,45 @@ std::optional<JointId> Simulation::add_joint(std::string_view joint_json, std::s
 
 bool Simulation::remove_joint(JointId id) { return world_.is_alive(id) && world_.remove_joint(id); }
 
-bool Simulation::apply_impulse(BodyId id, Vec3 impulse, Vec3 world_point) {
-  if (!valid(id)) return false;
-  world_.apply_impulse(id, impulse, world_point);
-  return true;
+namespace {
+
+InputResult not_found() { return {InputResult::Status::not_found, {}}; }
+
+// Applied by `apply` unless a check gave a reason, then refused with it
+// ("<call>: <reason>") and `apply` not run.
+template <typename Apply>
+InputResult applied_unless(std::initializer_list<std::optional<std::string>> checks, const char* call, Apply&& apply) {
+  for (const auto& why : checks) {
+    if (why) return {InputResult::Status::refused, std::string(call) + ": " + *why};
+  }
+  apply();
+  return {};
 }
 
-bool Simulation::apply_force(BodyId id, Vec3 force, Vec3 world_point) {
-  if (!valid(id)) return false;
-  world_.apply_force(id, force, world_point);
-  return true;
+}  // namespace
+
+InputResult Simulation::apply_impulse(BodyId id, Vec3 impulse, Vec3 world_point) {
+  if (!valid(id)) return not_found();
+  using namespace input_bounds;
+  return applied_unless(
+      {check_vec3(impulse, max_impulse, "impulse", "N s"), check_vec3(world_point, max_point, "world_point", "m")},
+      "apply_impulse", [&] { world_.apply_impulse(id, impulse, world_point); });
 }
 
-bool Simulation::set_velocity(BodyId id, Vec3 linear, Vec3 angular) {
-  if (!valid(id)) return false;
-  world_.set_velocity(id, linear, angular);
-  return true;
+InputResult Simulation::apply_force(BodyId id, Vec3 force, Vec3 world_point) {
+  if (!valid(id)) return not_found();
+  using namespace input_bounds;
+  return applied_unless(
+      {check_vec3(force, max_force, "force", "N"), check_vec3(world_point, max_point, "world_point", "m")},
+      "apply_force", [&] { world_.apply_force(id, force, world_point); });
+}
+
+InputResult Simulation::set_velocity(BodyId id, Vec3 linear, Vec3 angular) {
+  if (!valid(id)) return not_found();
+  using namespace input_bounds;
+  return applied_unless({check_speed(linear, max_linear_speed, "linear", "m/s"),
+                         check_speed(angular, max_angular_speed, "angular", "rad/s")},
+                        "set_velocity", [&] { world_.set_velocity(id, linear, angular); });
 }
 
 bool Simulation::wake(BodyId id) {
@@ -155,13 +180,16 @@ bool Simulation::wake(BodyId id) {
   return true;
 }
 
-bool Simulation::drive(std::string_view car_name, CarControls controls) {
+InputResult Simulation::drive(std::string_view car_name, CarControls controls) {
   const auto found = cars_.find(car_name);
   if (found == cars_.end() || found->second >= world_.cars().size() || !world_.cars()[found->second].alive) {
-    return false;
+    return not_found();
   }
-  world_.set_car_controls({found->second}, controls);
-  return true;
+  using input_bounds::check_within;
+  return applied_unless({check_within(controls.throttle, -Fixed::one(), Fixed::one(), "throttle", ""),
+                         check_within(controls.brake, Fixed{}, Fixed::one(), "brake", ""),
+                         check_within(controls.steer, -Fixed::one(), Fixed::one(), "steer", "")},
+                        "drive", [&] { world_.set_car_controls({found->second}, controls); });
 }
 
 void Simulation::step() { world_.step(); }

@@ -27,6 +27,17 @@
 
 namespace bitstep {
 
+// What an input call did: applied; nothing, for a body or car that is not
+// there; or nothing, for a value past its bound, `reason` saying which
+// ("set_velocity: linear: faster than 500 m/s"). True when applied.
+struct InputResult {
+  enum class Status { applied, not_found, refused };
+  Status status = Status::applied;
+  std::string reason;  // refused: one line, "<call>: <argument>: <bound>"
+
+  explicit operator bool() const { return status == Status::applied; }
+};
+
 class Simulation {
  public:
   // A world from a scene file, or from scene JSON text (`name` stands for
@@ -47,12 +58,19 @@ class Simulation {
   std::optional<JointId> add_joint(std::string_view joint_json, std::string& error);
   bool remove_joint(JointId id);
 
-  // Inputs, for the next step (false: no such body or car).
-  bool apply_impulse(BodyId id, Vec3 impulse, Vec3 world_point);
-  bool apply_force(BodyId id, Vec3 force, Vec3 world_point);
-  bool set_velocity(BodyId id, Vec3 linear, Vec3 angular);
+  // Inputs, for the next step. Each is bounded as the replay reader bounds
+  // the same input (replay/input_bounds.h): an impulse or force within
+  // +-1,000,000 N s or N per component, its point within +-16,000 m; a
+  // velocity within 500 m/s and 100 rad/s (per component and in length); a
+  // car's throttle and steer within -1..1, its brake 0..1. A value past its
+  // bound is refused and changes nothing (InputResult::refused, the reason
+  // naming the call, the argument and the bound); so is a handle no body
+  // has (not_found). A handle is checked before the values.
+  InputResult apply_impulse(BodyId id, Vec3 impulse, Vec3 world_point);
+  InputResult apply_force(BodyId id, Vec3 force, Vec3 world_point);
+  InputResult set_velocity(BodyId id, Vec3 linear, Vec3 angular);
   bool wake(BodyId id);
-  bool drive(std::string_view car_name, CarControls controls);
+  InputResult drive(std::string_view car_name, CarControls controls);
 
   void step();
   uint64_t tick() const { return world_.step_count(); }

@@ -502,11 +502,21 @@ void describe_state(V& v, const StateParts<Reading>& state) {
     filters_read = true;
     v.items("filters", state.bodies.size(), [&](size_t i) {
       auto& body = state.bodies[i];
-      v.statics([&] {
+      const auto describe_filter = [&] {
         v.integer("layers", body.filter.layers, 4, 0, UINT32_MAX);
         v.integer("collides_with", body.filter.collides_with, 4, 0, UINT32_MAX);
         v.integer("sensor", body.sensor, 1, 0, 1);
-      });
+      };
+      // A live body's are static fields (its serial brings them back); a
+      // dead slot keeps its last body's (remove_body leaves them, and the
+      // hash covers them), which no serial names: a step's state carries
+      // them, else a slot freed before a save and filled after it kept the
+      // new body's sensor flag when the save was restored.
+      if (body.alive) {
+        v.statics(describe_filter);
+      } else {
+        describe_filter();
+      }
     });
     // What overlaps the sensors: between a live sensor's and a live
     // non-sensor's existing shapes, strictly in key order.
@@ -537,6 +547,15 @@ void describe_state(V& v, const StateParts<Reading>& state) {
     v.list("cars", state.cars, car_bytes, UINT32_MAX, nullptr, [&](auto& car) { describe_car(v, car, state.bodies); });
   });
   if constexpr (Reading) {
+    // A block the image does not have holds nothing: a step's state is read
+    // into a copy of the world, whose joints, sensor overlaps or cars (made
+    // since the save) would otherwise stay.
+    if (!joints_read) {
+      state.joints.clear();
+      state.free_joint_slots.clear();
+    }
+    if (!filters_read) state.sensor_overlaps.clear();
+    if (!cars_read) state.cars.clear();
     bool filtered_read = !state.sensor_overlaps.empty() || !state.cars.empty();
     for (const Body& body : state.bodies) {
       filtered_read = filtered_read || (body.alive && (body.filter != CollisionFilter{} || body.sensor));

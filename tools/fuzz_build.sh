@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Configures (once) and builds the libFuzzer targets in build/fuzz: clang,
 # BITSTEP_FUZZ (libFuzzer, ASan, UBSan), optimised with debug information.
-#   tools/fuzz_build.sh [TARGET...]   fuzz_scene, fuzz_replay, ... (default: all five)
+#   tools/fuzz_build.sh [TARGET...]   fuzz_scene, fuzz_replay, ... (default: all six)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 dir=build/fuzz
@@ -10,5 +10,5 @@ if [ ! -f "$dir/CMakeCache.txt" ]; then
     -DBITSTEP_TESTS=OFF -DBITSTEP_PEER=OFF >/dev/null
 fi
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(fuzz_scene fuzz_replay fuzz_settings fuzz_snapshot fuzz_packet)
+[ ${#targets[@]} -eq 0 ] && targets=(fuzz_scene fuzz_replay fuzz_settings fuzz_snapshot fuzz_packet fuzz_capi)
 cmake --build "$dir" -j"$(nproc)" --target "${targets[@]}"

@@ -9,7 +9,8 @@
 #   4. the installed package: a C and a C++ consumer built against it
 #      (tools/check_package.sh);
 #   5. the fuzz targets (libFuzzer, ASan, UBSan): each reader of untrusted
-#      input for a fixed number of runs from its seeds (tools/fuzz_test.sh);
+#      input, and the C API's call sequences, for a fixed number of runs from
+#      its seeds (tools/fuzz_test.sh);
 #   6. bitstep peer processes on 127.0.0.1 playing a match, 2 and 4 peers,
 #      lockstep and rollback, with and without faults (tools/peer_test.sh);
 #   7. the browser viewer: its wasm engine under node, then the page in
@@ -57,7 +58,7 @@ if [ "$crosscheck_status" -ne 0 ]; then echo "test.sh: cross-build check failed"
 step "the installed package: a C and a C++ consumer print the golden hash"
 tools/check_package.sh build/release
 
-step "fuzz targets: scene, replay, settings, snapshot and packet readers (libFuzzer, ASan, UBSan)"
+step "fuzz targets: scene, replay, settings, snapshot and packet readers, the C API (libFuzzer, ASan, UBSan)"
 tools/fuzz_test.sh
 
 step "bitstep peer: 2 and 4 peers on 127.0.0.1, lockstep and rollback, with faults"

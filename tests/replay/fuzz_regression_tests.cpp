@@ -76,3 +76,7 @@ TEST_CASE("fuzz seeds and regressions: snapshot restore", "[fuzz]") {
 TEST_CASE("fuzz seeds and regressions: the packet decoder", "[fuzz]") {
   check_target("packet", bitstep::fuzz::packet_decoder);
 }
+
+TEST_CASE("fuzz seeds and regressions: C API call sequences", "[fuzz]") {
+  check_target("capi", bitstep::fuzz::capi_calls);
+}

@@ -39,6 +39,11 @@ Outcome snapshot_restore(std::span<const uint8_t> data);
 // same bytes.
 Outcome packet_decoder(std::span<const uint8_t> data);
 
+// The bytes as a sequence of C API calls on a simulation of a small scene
+// (capi_input.h); after each: a refused call changed nothing, an image as
+// saved loads with its hash.
+Outcome capi_calls(std::span<const uint8_t> data);
+
 // A property that must hold: when it does not, prints `what` and aborts (a
 // crash for libFuzzer, which keeps the input).
 void require(bool condition, const char* what);

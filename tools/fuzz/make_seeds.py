@@ -11,7 +11,8 @@ remove_joint, settings). settings: every settings object of the shipped
 scenes and replays, and a few written here. snapshot: images that
 `bitstep run --snapshot-at` writes of small scenes. packet: every packet
 type, encoded as replay/session_codec.h lays them out, a state packet
-carrying a snapshot image.
+carrying a snapshot image. capi: call sequences written here, in the
+format tools/fuzz/capi_input.h describes.
 """
 import json
 import os
@@ -153,6 +154,136 @@ def packets(images):
               struct.pack("<Q", 0x3c0e9c78ac0b4f0f))
 
 
+# --- capi: C API call sequences (tools/fuzz/capi_input.h) -------------------
+CALLS = ["add_body_fragment", "add_body_text", "add_joint_fragment", "add_joint_text", "remove_body", "remove_joint",
+         "set_velocity", "apply_impulse", "apply_force", "drive", "wake", "step", "save", "load", "save_state",
+         "load_state", "get", "cast_ray", "find_body", "null_arguments", "recreate"]
+NAMES = ["ground", "box", "ball", "chassis", "crate", "pill", "pair", "sensor", "wall", ""]
+TEXTS = ["0", "1", "-1", "0.5", "1/60", "16000", "16000.000001", "-16001", "50", "50.01",
+         "0.01", "0.009", "100000", "100001", "1e9", "1e300", "-1e300", "nan", "inf", "-inf",
+         "1e-300", "\"7\"", "null", "[]", "-0", "2147483647", "2147483648", "0x10", "", "1/0",
+         "500", "500.00001", "100", "-100.5", "1e6", "1000000.1", "90", "360", "1e-9", "3"]
+BOUNDS = [0, 1, 100, 500, 16000, 65536, 131072, 524288, 1000000, 1048576, 2147483647]
+
+
+def call(name, *args):
+    return bytes([CALLS.index(name)]) + b"".join(args)
+
+
+def known(k):  # the k-th handle the sequence has seen
+    return bytes([0, k])
+
+
+def made_up(index, generation):
+    return bytes([0x80, index, generation])
+
+
+def units(v):
+    return bytes([0, v & 0xff])
+
+
+def raw(r):
+    return bytes([1]) + struct.pack("<q", r)
+
+
+def edge(bound, delta=0, negative=False):
+    return bytes([2, BOUNDS.index(bound) | (0x80 if negative else 0), delta & 0xff])
+
+
+def double(d):
+    return bytes([3]) + struct.pack("<d", d)
+
+
+def text(t):
+    return bytes([4, TEXTS.index(t)])
+
+
+def fragment(index, texts, cut=0):
+    return bytes([index]) + bytes(TEXTS.index(t) for t in texts) + bytes([cut])
+
+
+def find(name):
+    return call("find_body", bytes([NAMES.index(name)]))
+
+
+def step(n):
+    return call("step", bytes([n - 1]))
+
+
+def load(name, which, flips=(), cut=0, make_right=False):
+    flipped = b"".join(struct.pack("<HB", at, xor) for at, xor in flips)
+    return call(name, bytes([which, len(flips)]), flipped, struct.pack("<H", cut), bytes([1 if make_right else 0]))
+
+
+def get(body, floats=(0.0,) * 8, slot=0):
+    return call("get", body, struct.pack("<8f", *floats), bytes([0, slot]))
+
+
+def capi_seeds():
+    zero3 = units(0) * 3
+    start = bytes([8]) + find("ground") + find("box") + find("ball") + find("chassis")  # handles 0..3
+    seeds = {
+        "basic.bin": start + call("set_velocity", known(2), units(3), units(0), units(0), zero3) + step(8) +
+        call("save", bytes([0])) + step(8) + load("load", 0) + get(known(2)) + step(4),
+        "bounds.bin": start +
+        call("set_velocity", known(2), edge(500), units(0), units(0), zero3) +
+        call("set_velocity", known(2), edge(500, 1), units(0), units(0), zero3) +
+        call("set_velocity", known(1), zero3, units(0), edge(100, -1, True), units(0)) +
+        call("set_velocity", known(1), raw(2**63 - 1), raw(-2**63), raw(1), zero3) +
+        call("set_velocity", known(2), double(float("nan")), double(float("inf")), double(1e300), zero3) +
+        call("apply_impulse", known(2), edge(1000000), units(0), edge(1000000, 1, True), edge(16000), units(0), units(0)) +
+        call("apply_force", known(1), units(0), edge(1000000, 1), units(0), zero3) +
+        call("apply_force", known(1), units(10), units(0), units(0), edge(16000, 1), units(0), units(0)) +
+        call("drive", bytes([0]), units(1), units(0), units(-1)) +
+        call("drive", bytes([0]), edge(1, 1), units(0), units(0)) +
+        call("drive", bytes([1]), units(1), units(0), units(0)) +
+        call("cast_ray", units(0), units(5), units(0), units(0), units(-10), units(0)) +
+        call("cast_ray", raw(2**63 - 1), raw(-2**63), units(0), raw(-2**63), raw(2**63 - 1), edge(131072, 1)) +
+        step(8),
+        "bodies.bin": start +
+        call("add_body_fragment", fragment(0, ["0", "3", "0"])) +
+        call("add_body_fragment", fragment(1, ["3", "0.5"])) +
+        call("add_body_fragment", fragment(2, ["1", "0.5"])) +
+        call("add_body_fragment", fragment(5, ["0", "90"])) +
+        call("add_body_fragment", fragment(6, ["1"])) +
+        call("add_joint_fragment", fragment(0, ["1", "3"])) +
+        call("add_joint_fragment", fragment(1, ["1", "90"])) +
+        call("add_joint_fragment", fragment(2, ["3"])) +
+        step(8) + call("remove_body", known(4)) + call("remove_body", known(4)) +
+        call("set_velocity", known(4), units(1), units(0), units(0), zero3) +
+        call("remove_joint", bytes([0, 0])) + call("remove_joint", bytes([0, 0])) +
+        call("remove_joint", bytes([0x80, 9, 3])) + call("remove_body", made_up(200, 1)) +
+        call("add_body_fragment", fragment(0, ["0", "50", "0"])) + call("wake", known(2)) + step(8),
+        "rollback.bin": start + step(2) +
+        call("save_state", bytes([0])) + call("set_velocity", known(2), units(2), units(0), units(0), zero3) + step(6) +
+        load("load_state", 0) + load("load_state", 0, flips=[(40, 1)]) +
+        load("load_state", 0, flips=[(50, 0x10)], make_right=True) + load("load_state", 0, cut=9) +
+        call("save", bytes([3])) + step(3) + load("load", 0, flips=[(30, 0xff)], make_right=True) +
+        load("load", 0) + load("load_state", 0) + call("save_state", bytes([0])) + step(2) + load("load_state", 1),
+        "malformed.bin": start +
+        call("add_body_text", bytes([14]), b'{"shapes": [}]') +
+        call("add_body_text", bytes([4]), b"\x00\xff{}") +
+        call("add_body_fragment", fragment(0, ["nan", "inf", "1e300"])) +
+        call("add_body_fragment", fragment(1, ["16000.000001", "0.009"])) +
+        call("add_body_fragment", fragment(4, ["100001", "-100.5"])) +
+        call("add_body_fragment", fragment(7, ["1e9"])) +
+        call("add_body_fragment", fragment(3, ["-16001"], cut=20)) +
+        call("add_joint_text", bytes([2]), b"[]") +
+        call("add_joint_fragment", fragment(3, ["\"7\""])) + step(2),
+        "nulls.bin": start + call("null_arguments", known(0)) + call("save", bytes([0])) +
+        call("recreate", struct.pack("<H", 100), bytes([4])) + call("recreate", struct.pack("<H", 0), bytes([8])) +
+        load("load", 0) + call("set_velocity", known(2), units(1), units(0), units(0), zero3) + step(2),
+        "getters.bin": start + step(4) +
+        get(known(2), floats=(float("nan"), 1.0, float("inf"), 0.0, 0.0, 0.0, -0.0, float("nan")), slot=1) +
+        get(made_up(50, 0), slot=7) + get(known(3), floats=(1e38, -1e38, 1e-45, 0.0, 1.0, 0.0, 0.0, 0.5)),
+        "drive.bin": start + call("drive", bytes([0]), units(1), units(0), double(0.25)) + step(8) +
+        call("save_state", bytes([0])) + step(8) + call("drive", bytes([0]), units(0), units(1), units(0)) +
+        step(8) + load("load_state", 0) + step(8),
+    }
+    for name, data in seeds.items():
+        write("capi", name, data)
+
+
 def main():
     if len(sys.argv) != 2:
         sys.exit("usage: python3 tools/fuzz/make_seeds.py BITSTEP")
@@ -161,6 +292,7 @@ def main():
     replays()
     settings()
     packets(snapshots(sys.argv[1]))
+    capi_seeds()
 
 
 main()

@@ -1,0 +1,445 @@
+// Fuzzes the C API (replay/bitstep.h) as a game calls it: the bytes are a
+// sequence of calls with their arguments (capi_input.h says how they are
+// read), made on a simulation of a small built-in scene: bodies and joints
+// added from JSON fragments (built-in ones with numbers the bytes choose,
+// or the bytes themselves), removed, or named by stale and made-up handles;
+// inputs with any 64-bit numbers; steps; saves and loads of snapshots and
+// rollback states, as saved or with bytes flipped and cut; getters, rays,
+// calls with null pointers; and a new simulation from a cut scene text.
+//
+// Must hold after every call: a call that did not return BITSTEP_OK changed
+// nothing (the hash and the snapshot image as before) and, unless it was
+// BITSTEP_NULL_ARGUMENT, left a one-line message; a getter changed
+// nothing; a load of an image as saved gives back the hash it was saved
+// with (a snapshot also snapshots to the same bytes); a rollback state
+// saved since the world's last load restores. And no crash, no undefined
+// behaviour, no leak (every simulation is destroyed at the end).
+#include <xxhash.h>
+
+#include <algorithm>
+#include <cstring>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "replay/bitstep.h"
+#include "tools/fuzz/capi_input.h"
+#include "tools/fuzz/fuzz_targets.h"
+
+namespace bitstep::fuzz {
+
+namespace {
+
+using capi_input::Call;
+using capi_input::Reader;
+
+// A ground, a box and a ball joined by a point joint, and a car (a chassis
+// on four wheels of one ray each) so that `drive` has one to drive. Few
+// numbers: every input builds it again, and reading a decimal costs.
+constexpr std::string_view capi_scene = R"({"format": "bitstep-scene", "version": 1,
+  "bodies": [
+    {"name": "ground", "type": "static", "position": [0, -1, 0], "shapes": [{"type": "box", "half_extents": [20, 1, 20]}]},
+    {"name": "box", "position": [0, 0.5, 0], "shapes": [{"type": "box", "half_extents": [0.5, 0.5, 0.5]}]},
+    {"name": "ball", "position": [0, 2, 0], "shapes": [{"type": "sphere", "radius": 0.5}]},
+    {"name": "chassis", "position": [5, 1, 0], "mass": 1200, "shapes": [{"type": "box", "half_extents": [0.9, 0.3, 2.1]}]}],
+  "joints": [{"type": "point", "name": "pin", "body_a": "box", "body_b": "ball", "anchor": [0, 1.25, 0]}],
+  "cars": [{"name": "car", "chassis": "chassis", "rays_per_wheel": 1, "wheels": [
+    {"attachment": [0.8, -0.3, 1.45], "steered": true}, {"attachment": [-0.8, -0.3, 1.45], "steered": true},
+    {"attachment": [0.8, -0.3, -1.45], "driven": true}, {"attachment": [-0.8, -0.3, -1.45], "driven": true}]}]})";
+
+// Body objects of the scene format; each `#` becomes a number's text the
+// bytes choose (capi_input::number_texts), in or out of range or not a
+// number at all.
+constexpr const char* body_fragments[] = {
+    R"({"shapes": [{"type": "sphere", "radius": 0.25}], "position": [#, #, #]})",
+    R"({"name": "crate", "position": [1, #, 0], "shapes": [{"type": "box", "half_extents": [#, 0.5, 0.5]}]})",
+    R"({"name": "pill", "type": "kinematic", "velocity": [#, 0, 0], "shapes": [{"type": "capsule", "radius": 0.2, "half_height": #}]})",
+    R"({"name": "wall", "type": "static", "position": [0, 0, #], "shapes": [{"type": "box", "half_extents": [5, 5, 0.1]}]})",
+    R"({"mass": #, "angular_velocity": [0, #, 0], "shapes": [{"type": "box", "half_extents": [0.01, 0.01, 0.01]}]})",
+    R"({"name": "pair", "orientation": {"axis": [#, 1, 0], "degrees": #}, "shapes": [{"type": "sphere", "radius": 0.3},
+       {"type": "sphere", "radius": 0.3, "position": [0.6, 0, 0]}]})",
+    R"({"name": "sensor", "sensor": true, "type": "static", "shapes": [{"type": "sphere", "radius": #}]})",
+    R"({"density": #, "position": [0, 10, 0], "shapes": [{"type": "box", "half_extents": [50, 0.01, 50]}]})",
+};
+// Joint objects, their bodies by name (the scene's, or bodies the fragments above name).
+constexpr const char* joint_fragments[] = {
+    R"({"type": "point", "body_a": "ground", "body_b": "crate", "anchor": [#, #, 0]})",
+    R"({"type": "hinge", "body_a": "box", "body_b": "pair", "anchor": [0, 1, 0], "axis": [0, 0, #], "limits": [-45, #]})",
+    R"({"type": "max_distance", "body_a": "ball", "body_b": "chassis", "anchor": [0, 2, 0], "anchor_b": [5, 1, 0], "length": #})",
+    R"({"type": "slider", "body_a": "ground", "body_b": "pill", "anchor": [0, 0, 0], "axis": [1, 0, 0], "limits": [#, 2]})",
+};
+constexpr const char* names[] = {"ground", "box", "ball", "chassis", "crate", "pill", "pair", "sensor", "wall", ""};
+constexpr const char* car_names[] = {"car", "van", ""};
+
+// A saved image: its bytes, the hash it was saved with, and for a rollback
+// state the load epoch it was saved in.
+struct Saved {
+  std::vector<uint8_t> bytes;
+  uint64_t hash = 0;
+  uint64_t epoch = 0;
+};
+
+std::vector<uint8_t> image_of(bitstep_simulation* sim) {
+  size_t size = 0;
+  require(bitstep_save(sim, nullptr, 0, &size) == BITSTEP_BUFFER_TOO_SMALL, "save asks for a buffer");
+  std::vector<uint8_t> image(size);
+  require(bitstep_save(sim, image.data(), image.size(), &size) == BITSTEP_OK && size == image.size(),
+          "save fills a buffer of the size it asked for");
+  return image;
+}
+
+// The rollback state of `sim` now.
+std::vector<uint8_t> state_of(bitstep_simulation* sim) {
+  size_t size = 0;
+  require(bitstep_save_state(sim, nullptr, 0, &size) == BITSTEP_BUFFER_TOO_SMALL, "save_state asks for a buffer");
+  std::vector<uint8_t> state(size);
+  require(bitstep_save_state(sim, state.data(), state.size(), &size) == BITSTEP_OK && size == state.size(),
+          "save_state fills a buffer of the size it asked for");
+  return state;
+}
+
+// Rewrites an image's payload-size field (at `size_at`, the payload after
+// `header` bytes) and its trailing XXH3-64 to fit its bytes, so that flips
+// reach the payload's reader instead of stopping at the checksum.
+void make_right(std::vector<uint8_t>& bytes, size_t header, size_t size_at) {
+  if (bytes.size() < header + 8) return;
+  const uint64_t payload = bytes.size() - header - 8;
+  for (size_t i = 0; i < 8; ++i) bytes[size_at + i] = static_cast<uint8_t>(payload >> (8 * i));
+  const size_t end = bytes.size() - 8;
+  const uint64_t checksum = XXH3_64bits(bytes.data(), end);
+  for (size_t i = 0; i < 8; ++i) bytes[end + i] = static_cast<uint8_t>(checksum >> (8 * i));
+}
+
+class Session {
+ public:
+  explicit Session(Reader& in) : in_(in) {
+    sim_ = created(0);
+    require(sim_ != nullptr, "the built-in scene makes a simulation");
+  }
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+  ~Session() { bitstep_destroy(sim_); }
+
+  // What a refused call must leave as it was: the state hash (every body's
+  // pose, velocities, sleep, contacts, joints, cars: the state the replays'
+  // chains hold), kept between calls that cannot have changed it.
+  uint64_t mark() {
+    if (!hash_known_) hash_ = bitstep_hash(sim_);
+    hash_known_ = true;
+    return hash_;
+  }
+
+  // The properties of one call's outcome, `before` the hash mark() gave
+  // just before it.
+  void check_outcome(bitstep_status status, uint64_t before) {
+    require(status >= BITSTEP_OK && status <= BITSTEP_OUT_OF_MEMORY, "a status is one of the enum's");
+    if (status == BITSTEP_OK) {
+      hash_known_ = false;  // it may have changed the world
+      return;
+    }
+    require(bitstep_hash(sim_) == before, "a refused call leaves the hash as it was");
+    if (status != BITSTEP_NULL_ARGUMENT) require_one_line_error(bitstep_last_error(sim_), "");
+  }
+
+  // A getter's, a ray's and a save's property: it changed nothing.
+  void check_unchanged(uint64_t before) { require(bitstep_hash(sim_) == before, "a getter leaves the hash as it was"); }
+
+  void run() {
+    for (int calls = 0; calls < capi_input::max_calls && !in_.empty(); ++calls) one(in_.call());
+  }
+
+ private:
+  // A simulation of the scene's text cut to `cut` bytes (0: whole), its
+  // message cut to an error buffer of 0..8 bytes.
+  bitstep_simulation* created(size_t cut) {
+    bitstep_simulation* sim = nullptr;
+    char error[8];
+    const size_t capacity = in_.byte() % (sizeof error + 1);
+    const size_t length = cut == 0 ? capi_scene.size() : std::min(cut, capi_scene.size());
+    const bitstep_status status =
+        bitstep_create_from_text(capi_scene.data(), length, "capi.json", &sim, error, capacity);
+    if (status == BITSTEP_OK) {
+      require(sim != nullptr, "a created simulation is there");
+    } else {
+      require(sim == nullptr, "a refused scene makes no simulation");
+      if (capacity > 0) require(std::strlen(error) < capacity, "a message is cut to the caller's buffer");
+    }
+    return sim;
+  }
+
+  bitstep_body body() {
+    const uint8_t how = in_.byte();
+    if (how < 0x80 && !bodies_.empty()) return bodies_[in_.byte() % bodies_.size()];
+    if (how < 0xc0) return {in_.byte(), in_.byte()};
+    return {in_.u32(), in_.u32()};
+  }
+
+  bitstep_vec3 vec3() { return {in_.number(), in_.number(), in_.number()}; }
+
+  std::string fragment(const char* const* table, size_t count) {
+    std::string text = table[in_.byte() % count];
+    for (size_t at = text.find('#'); at != std::string::npos; at = text.find('#', at)) {
+      const std::string number = in_.number_text();
+      text.replace(at, 1, number);
+      at += number.size();
+    }
+    const size_t cut = in_.byte();
+    if (cut != 0 && cut < text.size()) text.resize(cut);  // malformed: cut short
+    return text;
+  }
+
+  // The bytes as text, a NUL among them ending it as C would.
+  std::string raw_text() {
+    std::string text;
+    for (size_t n = in_.byte(); n > 0; --n) text.push_back(static_cast<char>(in_.byte()));
+    return text;
+  }
+
+  // add_body or add_joint of `json`; the handle made kept in `made`.
+  template <typename Handle>
+  void add(bitstep_status (*call)(bitstep_simulation*, const char*, Handle*), const std::string& json,
+           std::vector<Handle>& made) {
+    const uint64_t before = mark();
+    Handle added{};
+    const bitstep_status status = call(sim_, json.c_str(), &added);
+    check_outcome(status, before);
+    if (status == BITSTEP_OK) made.push_back(added);
+  }
+
+  // A load of a saved image, as saved or flipped, cut and made right.
+  template <typename Load>
+  void load(std::vector<Saved>& saved, size_t header, size_t size_at, bool rollback, Load&& load_image) {
+    if (saved.empty()) return;
+    const Saved& chosen = saved[in_.byte() % saved.size()];
+    std::vector<uint8_t> bytes = chosen.bytes;
+    const uint8_t flips = in_.byte() % 4;
+    for (uint8_t i = 0; i < flips && !bytes.empty(); ++i) bytes[in_.u16() % bytes.size()] ^= in_.byte();
+    const uint16_t cut = in_.u16();
+    if (cut != 0 && cut < bytes.size()) bytes.resize(bytes.size() - cut);
+    if (in_.byte() & 1) make_right(bytes, header, size_at);
+    const bool as_saved = bytes == chosen.bytes;
+    const uint64_t before = mark();
+    // The world as it is, to come back to after a changed image: the
+    // readers check ranges, not that a state is one a world could reach, and
+    // stepping a made-up state is not what this target tries (README.md,
+    // "Open findings").
+    const std::vector<uint8_t> backup = as_saved ? std::vector<uint8_t>{} : rollback ? state_of(sim_) : image_of(sim_);
+    const bitstep_status status = load_image(bytes);
+    check_outcome(status, before);
+    if (as_saved && (!rollback || chosen.epoch == epoch_)) {
+      require(status == BITSTEP_OK, "an image as saved loads");
+    }
+    if (status != BITSTEP_OK) return;
+    if (as_saved) require(bitstep_hash(sim_) == chosen.hash, "an image as saved loads with the hash it was saved with");
+    if (!rollback) {
+      require(image_of(sim_) == bytes, "a loaded snapshot snapshots to the same bytes");
+      ++epoch_;  // a new world: the rollback states saved so far are of another
+    }
+    if (!as_saved) {
+      require(load_image(backup) == BITSTEP_OK && bitstep_hash(sim_) == before,
+              "the state saved just before loads with its hash");
+    }
+  }
+
+  void save(std::vector<Saved>& saved, bool rollback) {
+    const uint64_t before = mark();
+    size_t size = 0;
+    const auto save_into = rollback ? bitstep_save_state : bitstep_save;
+    std::vector<uint8_t> small(in_.byte() % 16);
+    bitstep_status status = save_into(sim_, small.data(), small.size(), &size);
+    check_outcome(status, before);
+    if (status == BITSTEP_OK) {
+      small.resize(size);
+    } else {
+      require(status == BITSTEP_BUFFER_TOO_SMALL && size > small.size(), "a short buffer says the size it needs");
+      small.resize(size);
+      status = save_into(sim_, small.data(), small.size(), &size);
+      require(status == BITSTEP_OK && size == small.size(), "a save fills a buffer of the size it asked for");
+    }
+    check_unchanged(before);
+    if (saved.size() < 8) saved.push_back({std::move(small), before, epoch_});
+  }
+
+  // A call on a body (remove_body, wake), or with two vectors too
+  // (set_velocity, apply_impulse, apply_force).
+  void on_body(bitstep_status (*call)(bitstep_simulation*, bitstep_body)) {
+    const bitstep_body b = body();
+    const uint64_t before = mark();
+    check_outcome(call(sim_, b), before);
+  }
+  void on_body(bitstep_status (*call)(bitstep_simulation*, bitstep_body, bitstep_vec3, bitstep_vec3)) {
+    const bitstep_body b = body();
+    const bitstep_vec3 first = vec3(), second = vec3();
+    const uint64_t before = mark();
+    check_outcome(call(sim_, b, first, second), before);
+  }
+
+  void one(Call call) {
+    switch (call) {
+      case Call::add_body_fragment:
+        add(bitstep_add_body, fragment(body_fragments, std::size(body_fragments)), bodies_);
+        break;
+      case Call::add_body_text: add(bitstep_add_body, raw_text(), bodies_); break;
+      case Call::add_joint_fragment:
+        add(bitstep_add_joint, fragment(joint_fragments, std::size(joint_fragments)), joints_);
+        break;
+      case Call::add_joint_text: add(bitstep_add_joint, raw_text(), joints_); break;
+      case Call::remove_body: on_body(bitstep_remove_body); break;
+      case Call::remove_joint: {
+        const uint8_t how = in_.byte();
+        const bitstep_joint j = how < 0x80 && !joints_.empty() ? joints_[in_.byte() % joints_.size()]
+                                                               : bitstep_joint{in_.byte(), in_.byte()};
+        const uint64_t before = mark();
+        check_outcome(bitstep_remove_joint(sim_, j), before);
+        break;
+      }
+      case Call::set_velocity: on_body(bitstep_set_velocity); break;
+      case Call::apply_impulse: on_body(bitstep_apply_impulse); break;
+      case Call::apply_force: on_body(bitstep_apply_force); break;
+      case Call::drive: {
+        const char* car = car_names[in_.byte() % std::size(car_names)];
+        const bitstep_fixed throttle = in_.number(), brake = in_.number(), steer = in_.number();
+        const uint64_t before = mark();
+        check_outcome(bitstep_drive(sim_, car, throttle, brake, steer), before);
+        break;
+      }
+      case Call::wake: on_body(bitstep_wake); break;
+      case Call::step: {
+        const uint64_t tick = bitstep_tick(sim_);
+        for (int n = 1 + in_.byte() % 8; n > 0 && steps_ < capi_input::max_steps; --n, ++steps_) {
+          require(bitstep_step(sim_) == BITSTEP_OK, "a step steps");
+        }
+        require(bitstep_tick(sim_) >= tick, "the tick counts up");
+        hash_known_ = false;
+        break;
+      }
+      case Call::save: save(snapshots_, false); break;
+      case Call::load:
+        load(snapshots_, 8 + 4 + 8, 12, false,
+             [&](const std::vector<uint8_t>& b) { return bitstep_load(sim_, b.data(), b.size()); });
+        break;
+      case Call::save_state: save(states_, true); break;
+      case Call::load_state:
+        load(states_, 8 + 4 + 8 + 8 + 8, 28, true,
+             [&](const std::vector<uint8_t>& b) { return bitstep_load_state(sim_, b.data(), b.size()); });
+        break;
+      case Call::get: get(); break;
+      case Call::cast_ray: {
+        const bitstep_vec3 origin = vec3(), translation = vec3();
+        const uint64_t before = mark();
+        bitstep_ray_hit hit{};
+        const bitstep_status status = bitstep_cast_ray(sim_, origin, translation, &hit);
+        require(status == BITSTEP_OK || status == BITSTEP_NOT_FOUND, "a ray hits or meets nothing");
+        check_unchanged(before);
+        if (status == BITSTEP_OK)
+          require(hit.fraction >= 0 && hit.fraction <= (int64_t{1} << 32), "a hit's fraction is 0..1");
+        break;
+      }
+      case Call::find_body: {
+        const uint64_t before = mark();
+        bitstep_body found{};
+        const bitstep_status status = bitstep_find_body(sim_, names[in_.byte() % std::size(names)], &found);
+        check_outcome(status, before);
+        if (status == BITSTEP_OK) bodies_.push_back(found);
+        break;
+      }
+      case Call::null_arguments: null_arguments(); break;
+      case Call::recreate: {
+        bitstep_simulation* made = created(in_.u16());
+        if (made == nullptr) break;
+        bitstep_destroy(sim_);
+        sim_ = made;
+        hash_known_ = false;
+        ++epoch_;
+        break;
+      }
+    }
+  }
+
+  void get() {
+    const uint64_t before = mark();
+    const bitstep_body b = body();
+    bitstep_pose pose{};
+    const bitstep_status status = bitstep_get_pose(sim_, b, &pose);
+    require(status == BITSTEP_OK || status == BITSTEP_NOT_FOUND, "a pose or no body");
+    bitstep_render_pose from{}, to{}, between{};
+    require(bitstep_get_render_pose(sim_, b, &from) == status, "a render pose where there is a pose");
+    to = from;
+    for (float& p : to.position) p = in_.real();
+    for (float& q : to.orientation) q = in_.real();
+    bitstep_interpolate(&from, &to, in_.real(), &between);
+    const uint32_t slots = bitstep_slot_count(sim_);
+    bitstep_body in_slot{};
+    const uint32_t slot = in_.byte() < 0x80 && slots > 0 ? in_.byte() % slots : in_.u32();
+    const bitstep_status found = bitstep_body_in_slot(sim_, slot, &in_slot);
+    require(found == BITSTEP_OK || found == BITSTEP_NOT_FOUND, "a body or an empty slot");
+    if (found == BITSTEP_OK) {
+      require(in_slot.index == slot && bitstep_get_pose(sim_, in_slot, &pose) == BITSTEP_OK,
+              "a slot's body has a pose");
+      if (bodies_.size() < 64) bodies_.push_back(in_slot);
+    }
+    (void)bitstep_tick(sim_);
+    check_unchanged(before);
+  }
+
+  // Every call that takes a pointer, given none where it must have one.
+  void null_arguments() {
+    const uint64_t before = mark();
+    const bitstep_body b = body();
+    size_t size = 0;
+    const bitstep_status statuses[] = {bitstep_find_body(sim_, nullptr, nullptr),
+                                       bitstep_add_body(sim_, nullptr, nullptr),
+                                       bitstep_add_body(sim_, "{}", nullptr),
+                                       bitstep_add_joint(sim_, nullptr, nullptr),
+                                       bitstep_body_in_slot(sim_, 0, nullptr),
+                                       bitstep_drive(sim_, nullptr, 0, 0, 0),
+                                       bitstep_get_pose(sim_, b, nullptr),
+                                       bitstep_get_render_pose(sim_, b, nullptr),
+                                       bitstep_save(sim_, nullptr, 16, &size),
+                                       bitstep_save(sim_, nullptr, 0, nullptr),
+                                       bitstep_save_state(sim_, nullptr, 16, &size),
+                                       bitstep_load(sim_, nullptr, 16),
+                                       bitstep_load_state(sim_, nullptr, 0),
+                                       bitstep_cast_ray(sim_, {}, {}, nullptr),
+                                       bitstep_step(nullptr),
+                                       bitstep_remove_body(nullptr, b),
+                                       bitstep_set_velocity(nullptr, b, {}, {}),
+                                       bitstep_fixed_parse(nullptr, nullptr),
+                                       bitstep_create_from_text(nullptr, 0, "x", nullptr, nullptr, 0)};
+    for (const bitstep_status status : statuses) require(status == BITSTEP_NULL_ARGUMENT, "a null pointer is refused");
+    bitstep_interpolate(nullptr, nullptr, 0.5f, nullptr);
+    require(bitstep_hash(nullptr) == 0 && bitstep_tick(nullptr) == 0 && bitstep_slot_count(nullptr) == 0,
+            "a null simulation reads as empty");
+    require(*bitstep_last_error(nullptr) == '\0', "a null simulation has no message");
+    check_outcome(BITSTEP_NULL_ARGUMENT, before);
+  }
+
+  Reader& in_;
+  bitstep_simulation* sim_ = nullptr;
+  std::vector<bitstep_body> bodies_;
+  std::vector<bitstep_joint> joints_;
+  std::vector<Saved> snapshots_, states_;
+  uint64_t hash_ = 0;
+  bool hash_known_ = false;  // hash_ is the simulation's
+  uint64_t epoch_ = 0;       // loads and new simulations so far: a rollback state restores only in its own
+  int steps_ = 0;
+};
+
+}  // namespace
+
+Outcome capi_calls(std::span<const uint8_t> data) {
+  Reader in(data);
+  Session session(in);
+  session.run();
+  return {true, {}};
+}
+
+}  // namespace bitstep::fuzz
+
+#ifndef BITSTEP_FUZZ_NO_MAIN
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  bitstep::fuzz::capi_calls({data, size});
+  return 0;
+}
+#endif
