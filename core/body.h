@@ -76,6 +76,12 @@ struct BodyDef {
   bool sensor = false;
 };
 
+// Speed clamps (core/envelope.h, speed_limits).
+struct SpeedLimits {
+  Fixed linear;   // m/s (Settings::max_linear_speed)
+  Fixed angular;  // rad/s (Settings::max_angular_speed)
+};
+
 // What a body is made of, in dense per-slot arrays (structure of records).
 struct Body {
   BodyType type = BodyType::dynamic;
@@ -107,6 +113,14 @@ struct Body {
   // A rollback state (replay/rollback_state.h) keeps a body's static data
   // once per serial.
   uint64_t serial = 0;
+  // Not state: the envelope's clamps for this body's mass and shapes
+  // (speed_limits, at most the envelope's speeds), set by World when the
+  // body is created or read; the step clamps to the lower of these and the
+  // settings' (Body::limits_in).
+  SpeedLimits limits{envelope::max_linear_speed, envelope::max_angular_speed};
+  SpeedLimits limits_in(const Settings& settings) const {
+    return {min(limits.linear, settings.max_linear_speed), min(limits.angular, settings.max_angular_speed)};
+  }
 };
 
 // Moved by the integrator and the solver this step.

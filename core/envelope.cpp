@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 
+#include "core/aabb.h"
 #include "core/mass.h"
 #include "fixed/decimal.h"
 
@@ -167,6 +168,44 @@ int total_cap(int cap) { return std::min(cap, headroom + 1); }
 
 }  // namespace
 
+Fixed reach(const std::vector<Shape>& shapes) {
+  Fixed farthest;
+  for (const Shape& s : shapes) {
+    Fixed extent = s.radius;
+    if (s.type == ShapeType::box) extent = length(s.half_extents);
+    if (s.type == ShapeType::capsule) extent = s.half_height + s.radius;
+    farthest = max(farthest, length(s.local.position) + extent);
+  }
+  return farthest;
+}
+
+namespace {
+
+// min(cap, L / (m x)) = min(cap, L inverse_mass / x) for x > 0, without
+// forming L inverse_mass (up to 1.3e10 for 10 g): the cap stands unless
+// x cap m > L, i.e. x cap > L inverse_mass.
+Fixed momentum_limit(Fixed inverse_mass, Fixed x, Fixed cap) {
+  const Fixed at_cap = x * cap;  // <= 150^2 x 500 for the envelope's reach
+  if (product_exceeds(envelope::max_reach_momentum, inverse_mass, at_cap)) return cap;
+  return mul_div(envelope::max_reach_momentum, inverse_mass, x);
+}
+
+// A speed over its limit, as a reason ("faster than 12.5 m/s, ...").
+std::string over_limit(Fixed limit, Fixed cap, const char* unit) {
+  std::string reason = "faster than " + text(limit) + " " + unit;
+  if (limit < cap) reason += ", this body's limit for its mass and reach";
+  return reason;
+}
+
+}  // namespace
+
+SpeedLimits speed_limits(Fixed inverse_mass, const std::vector<Shape>& shapes, SpeedLimits world) {
+  if (inverse_mass == Fixed{}) return world;
+  const Fixed r = reach(shapes);
+  if (r == Fixed{}) return world;
+  return {momentum_limit(inverse_mass, r, world.linear), momentum_limit(inverse_mass, r * r, world.angular)};
+}
+
 EnvelopeError check_envelope(const BodyDef& def) {
   if (!position_inside(def.pose.position)) return {"position", -1, "outside +-16000 m"};
   if (def.shapes.empty()) return {"shapes", -1, "a body needs at least one shape"};
@@ -191,8 +230,21 @@ EnvelopeError check_envelope(const BodyDef& def) {
     if (abs(v.x) > limit || abs(v.y) > limit || abs(v.z) > limit) return true;
     return length(v) > limit;
   };
-  if (faster_than(def.linear_velocity, envelope::max_linear_speed)) return {"velocity", -1, "faster than 500 m/s"};
-  if (faster_than(def.angular_velocity, envelope::max_angular_speed)) return {"angular_velocity", -1, "faster than 100 rad/s"};
+  const SpeedLimits world{envelope::max_linear_speed, envelope::max_angular_speed};
+  SpeedLimits limits = world;
+  if (def.type == BodyType::dynamic) {
+    // The body as World::create_body makes it: its shapes about the centre of mass.
+    const MassProperties mass = mass_properties(def.shapes, def.density, def.mass);
+    std::vector<Shape> shapes = def.shapes;
+    for (Shape& s : shapes) s.local.position -= mass.center;
+    limits = speed_limits(Fixed::one() / mass.mass, shapes, world);
+  }
+  if (faster_than(def.linear_velocity, limits.linear)) {
+    return {"velocity", -1, over_limit(limits.linear, world.linear, "m/s")};
+  }
+  if (faster_than(def.angular_velocity, limits.angular)) {
+    return {"angular_velocity", -1, over_limit(limits.angular, world.angular, "rad/s")};
+  }
   if (def.asleep && def.type != BodyType::dynamic) return {"asleep", -1, "only a dynamic body sleeps"};
   if (def.asleep && (def.linear_velocity != Vec3{} || def.angular_velocity != Vec3{})) {
     return {"asleep", -1, "a sleeping body has no velocity"};

@@ -20,8 +20,9 @@ struct EnvelopeError {
 };
 
 // Positions within +-16 km, sizes 0.01..50 m, parts within 50 m of the body
-// origin, speeds within the clamps; a dynamic body's mass 0.01..1e5 kg and
-// density (given, or mass / volume) at most envelope::max_density.
+// origin, speeds within the body's limits (speed_limits); a dynamic body's
+// mass 0.01..1e5 kg and density (given, or mass / volume) at most
+// envelope::max_density.
 EnvelopeError check_envelope(const BodyDef& def);
 // One shape of a body: its size keys within 0.01..50 m (a capsule's
 // half_height 0..50 m) and its local position within 50 m of the body
@@ -42,10 +43,15 @@ const char* setting_outside_envelope(const Settings& settings);
 // cannot leave the range, and the result is clamped at once to the speeds
 // the step clamps to, keeping its direction. Within the clamps the result is
 // bit for bit the plain formula's.
-struct SpeedLimits {
-  Fixed linear;   // m/s (Settings::max_linear_speed)
-  Fixed angular;  // rad/s (Settings::max_angular_speed)
-};
+// A body's speed limits: the world's, lowered for a dynamic body whose
+// momentum about its reach would pass envelope::max_reach_momentum:
+// linear m v R <= L and angular m w R^2 <= L, R its reach. `shapes` about
+// the centre of mass, inverse_mass 0 for a static or kinematic body
+// (which keeps the world's). The step clamps to these (Body::limits).
+// The farthest any point of the shapes lies from the frame's origin (m):
+// a body's reach about its centre of mass.
+Fixed reach(const std::vector<Shape>& shapes);
+SpeedLimits speed_limits(Fixed inverse_mass, const std::vector<Shape>& shapes, SpeedLimits world);
 
 // v += J / m, w += I^-1 (r x J) with r = point - centre of mass, each
 // clamped to the limits. A dynamic body.

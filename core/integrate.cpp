@@ -104,8 +104,9 @@ void integrate_velocity(const Settings& settings, Body& body, InertiaCache::Entr
   if (body.angular_velocity != Vec3{}) body.angular_velocity = gyroscopic_step(body, dt);
   if (body.linear_damping > Fixed{}) body.linear_velocity *= damping_factor(dt, body.linear_damping);
   if (body.angular_damping > Fixed{}) body.angular_velocity *= damping_factor(dt, body.angular_damping);
-  body.linear_velocity = clamp_length(body.linear_velocity, settings.max_linear_speed);
-  body.angular_velocity = clamp_length(body.angular_velocity, settings.max_angular_speed);
+  const SpeedLimits limits = body.limits_in(settings);
+  body.linear_velocity = clamp_length(body.linear_velocity, limits.linear);
+  body.angular_velocity = clamp_length(body.angular_velocity, limits.angular);
   body.force = body.torque = Vec3{};
 }
 
@@ -134,8 +135,9 @@ void integrate_positions(const Settings& settings, std::vector<Body>& bodies, co
     Body& body = bodies[i];
     if (!body.alive || body.type == BodyType::static_body || body.asleep) continue;
     const bool pushed = i < push.linear.size();
-    const Vec3 v = clamp_length(body.linear_velocity, settings.max_linear_speed);
-    const Vec3 w = clamp_length(body.angular_velocity, settings.max_angular_speed);
+    const SpeedLimits limits = body.limits_in(settings);
+    const Vec3 v = clamp_length(body.linear_velocity, limits.linear);
+    const Vec3 w = clamp_length(body.angular_velocity, limits.angular);
     const Vec3 linear = pushed ? v + push.linear[i] : v;
     const Vec3 angular = pushed ? w + push.angular[i] : w;
     body.linear_velocity = v;

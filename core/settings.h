@@ -24,6 +24,19 @@ inline constexpr Fixed max_mass = 100000.0_fx;     // kg
 inline constexpr Fixed max_density = 100000000.0_fx;
 inline constexpr Fixed max_linear_speed = 500.0_fx;  // m/s
 inline constexpr Fixed max_angular_speed = 100.0_fx; // rad/s
+// A dynamic body's momentum about its reach R (the farthest point of its
+// shapes from its centre of mass), kg m^2/s: its speeds are clamped below
+// the world's where m v R or m w R^2 would pass this (speed_limits,
+// core/envelope.h), so that the angular impulses the solver forms from them
+// (a twist row's mu j_n r, a face's moment about its centroid, a joint's
+// I dw, two such bodies meeting) stay inside Q32.32. At the world's speeds
+// a 1e5 kg box 100 m wide formed ~1e10 (range 2.1e9): the checked build
+// aborted in its first contact. Every corner of the envelope ran at limits
+// from 2^30 (the range's largest power of two); 2^28 leaves 4x for two
+// bodies meeting. A 1e5 kg body 87 m in reach moves at most 31 m/s and
+// 0.36 rad/s; below m R = 537,000 kg m and m R^2 = 2.7e6 kg m^2 (a 1e5 kg
+// body within 5 m, a 1,000 kg one within 50 m) the world's clamps stand.
+inline constexpr Fixed max_reach_momentum = Fixed::from_raw(int64_t{1} << (28 + 32));  // 2.7e8
 // The step's own settings. dt from 100 us (10 kHz) to 0.1 s (a 10 Hz
 // lockstep tick): at 1000 s the first contact's dot products left Q32.32,
 // and 1 / dt must fit (dt of 1 raw unit divided 1 by 2^-32). Gravity per

@@ -1,5 +1,7 @@
 #include "core/shock_solve.h"
 
+#include "core/mass.h"
+
 namespace bitstep {
 
 // A copy of a row with body a (or b) immovable: its linear part and turn
@@ -58,6 +60,17 @@ namespace {
 bool longer_than(Vec3 v, Fixed limit) {
   if (abs(v.x) + abs(v.y) + abs(v.z) <= limit) return false;
   return length(v) > limit;
+}
+
+// Whether each pair's product (a0 b0, a1 b1, ...) stays below 2^30, so
+// that a sum of two of them is in range: decided on the exact products.
+template <size_t N>
+bool products_fit(const Fixed (&pairs)[N]) {
+  constexpr Fixed bound = Fixed::from_raw(int64_t{1} << 62);  // 2^30
+  for (size_t i = 0; i + 1 < N; i += 2) {
+    if (product_exceeds(abs(pairs[i]), abs(pairs[i + 1]), bound)) return false;
+  }
+  return true;
 }
 
 // glue's face: a face contact (3 or more points, both rocking rows) with no
@@ -139,13 +152,19 @@ bool glue(SolverBody& mover, const SolverBody& support, const Body& body, bool m
     total += jn;
     moment += faces.points[face.first_point + i].lever * jn;
   }
+  // A face too small for the moment it must carry (a 1e5 kg box spinning
+  // on a 1 cm die) asks point impulses past the range: it cannot deliver
+  // them, and the rows take it one by one.
   const Vec3 u0 = m.rocking[0].row.axis, u1 = m.rocking[1].row.axis;
   const Fixed b0 = dot(u0, moment), b1 = dot(u1, moment);
-  const Fixed lambda0 = (b0 * face.g11 - b1 * face.g01) * face.inverse_det;
-  const Fixed lambda1 = (b1 * face.g00 - b0 * face.g01) * face.inverse_det;
+  if (!products_fit({b0, face.g11, b1, face.g01, b1, face.g00, b0, face.g01})) return false;
+  const Fixed n0 = b0 * face.g11 - b1 * face.g01, n1 = b1 * face.g00 - b0 * face.g01;
+  if (!products_fit({n0, face.inverse_det, n1, face.inverse_det})) return false;
+  const Fixed lambda0 = n0 * face.inverse_det, lambda1 = n1 * face.inverse_det;
   const Fixed share = total / Fixed::from_int(static_cast<int32_t>(m.count));
   Fixed point_impulse[max_manifold_points];
   for (size_t i = 0; i < m.count; ++i) {
+    if (!products_fit({lambda0, m.rocking[0].alpha[i], lambda1, m.rocking[1].alpha[i]})) return false;
     point_impulse[i] = share + lambda0 * m.rocking[0].alpha[i] + lambda1 * m.rocking[1].alpha[i];
     if (point_impulse[i] < Fixed{}) return false;
   }

@@ -26,16 +26,10 @@ Aabb body_bounds(const Body& body) {
   return bounds;
 }
 
-// The farthest any point of the body's shapes lies from its centre of mass (m).
-Fixed body_radius(const Body& body) {
-  Fixed radius;
-  for (const Shape& s : body.shapes) {
-    Fixed extent = s.radius;
-    if (s.type == ShapeType::box) extent = length(s.half_extents);
-    if (s.type == ShapeType::capsule) extent = s.half_height + s.radius;
-    radius = max(radius, length(s.local.position) + extent);
-  }
-  return radius;
+// The envelope's clamps for its mass and shapes (Body::limits).
+void set_speed_limits(Body& body) {
+  const Fixed inverse_mass = body.type == BodyType::dynamic ? body.inverse_mass : Fixed{};
+  body.limits = speed_limits(inverse_mass, body.shapes, {envelope::max_linear_speed, envelope::max_angular_speed});
 }
 
 // a + b for non-negative a, b, at most Fixed::max() (2^31 J): a report,
@@ -99,7 +93,9 @@ uint64_t World::held_manifold_rows() const { return scratch_->solver_scratch.hel
 void World::after_in_place_restore() {
   special_bodies_ = sensor_bodies_ = 0;
   for (Body& body : bodies_) {
-    if (body.alive) count_special(body, +1);
+    if (!body.alive) continue;
+    count_special(body, +1);
+    set_speed_limits(body);
   }
   events_.clear();
   // A world built from a state has no caches: the scratch is made anew in
@@ -128,7 +124,9 @@ World World::from_state(const Settings& settings, uint64_t step_count, std::vect
   world.cars_ = std::move(cars);
   for (Body& body : world.bodies_) {
     body.serial = body.alive ? ++world.last_serial_ : 0;
-    if (body.alive) world.count_special(body, +1);
+    if (!body.alive) continue;
+    world.count_special(body, +1);
+    set_speed_limits(body);
   }
   return world;
 }
@@ -165,6 +163,7 @@ CreateResult World::create_body(const BodyDef& def) {
     const Mat33 r = rotation(body.pose.orientation);
     body.inverse_inertia_world = r * body.inverse_inertia_local * transpose(r);
   }
+  set_speed_limits(body);
 
   uint32_t index;
   if (!free_slots_.empty()) {
@@ -263,7 +262,7 @@ JointResult World::create_joint(const JointDef& def) {
     // Within twice the body's reach and 1 m more: a joint's arms then stay
     // within the envelope's arms, which bound every solver product.
     const Body& b = bodies_[body.index];
-    if (length(anchor - b.pose.position) > 2.0_fx * body_radius(b) + 1.0_fx) {
+    if (length(anchor - b.pose.position) > 2.0_fx * reach(b.shapes) + 1.0_fx) {
       return std::string(field) + ": farther from the body than twice its reach and 1 m";
     }
     return {};
@@ -366,7 +365,8 @@ void World::apply_impulse(BodyId id, Vec3 impulse, Vec3 world_point) {
   if (!is_alive(id)) return;
   if (bodies_[id.index].type != BodyType::dynamic) return;
   wake_if_asleep(id.index);
-  add_impulse(bodies_[id.index], impulse, world_point, {settings_.max_linear_speed, settings_.max_angular_speed});
+  Body& body = bodies_[id.index];
+  add_impulse(body, impulse, world_point, body.limits_in(settings_));
 }
 
 void World::apply_force(BodyId id, Vec3 force, Vec3 world_point) {
@@ -401,8 +401,9 @@ void World::set_velocity(BodyId id, Vec3 linear, Vec3 angular) {
   wake_if_asleep(id.index);
   // Clamped now, as the step would: the free-flight step averages the
   // velocity it starts with, which must not be beyond the clamp.
-  body.linear_velocity = clamp_speed(linear, settings_.max_linear_speed);
-  body.angular_velocity = clamp_speed(angular, settings_.max_angular_speed);
+  const SpeedLimits limits = body.limits_in(settings_);
+  body.linear_velocity = clamp_speed(linear, limits.linear);
+  body.angular_velocity = clamp_speed(angular, limits.angular);
 }
 
 void World::wake(BodyId id) {
@@ -586,10 +587,10 @@ void World::step_guendelman(const Settings& s) {
 // it may meet (0.02 m thick), where the nearest separating axis points the
 // wrong way.
 bool World::moves_far(const Body& body, Fixed dt) const {
-  const Fixed reach = envelope::min_size;
+  const Fixed thinnest = envelope::min_size;
   const Vec3 v = body.linear_velocity, w = body.angular_velocity;
-  const Fixed step_speed = length(v) + length(w) * body_radius(body);
-  return step_speed * dt > reach;
+  const Fixed step_speed = length(v) + length(w) * reach(body.shapes);
+  return step_speed * dt > thinnest;
 }
 
 // The contact points and depths were found at the predicted poses; the
@@ -648,7 +649,7 @@ void World::find_contacts(const Settings& s) {
     // bounds again only where the pose moved by a bit).
     WorldScratch::ShapeExtent& extent = scratch_->shape_extents[i];
     if (!extent.known || extent.generation != body.generation) {
-      extent = {true, body.generation, body_radius(body), body.pose, body_bounds(body)};
+      extent = {true, body.generation, reach(body.shapes), body.pose, body_bounds(body)};
     } else if (!(extent.pose == body.pose)) {
       extent.pose = body.pose;
       extent.bounds = body_bounds(body);

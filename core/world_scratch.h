@@ -43,7 +43,7 @@ struct WorldScratch {
   struct ShapeExtent {
     bool known = false;
     uint32_t generation = 0;
-    Fixed radius;  // body_radius
+    Fixed radius;  // reach (core/envelope.h)
     Pose pose;
     Aabb bounds;   // body_bounds at `pose`
   };

@@ -219,29 +219,74 @@ TEST_CASE("an impulse beyond the clamp ends at the clamp in its own direction", 
   CHECK(to_double(w.z) == Approx(-100.0 / std::sqrt(2.0)).epsilon(1e-6));
 }
 
-// Every extreme body at the heaviest mass, spinning at the clamp (100 rad/s)
-// about an axis off its principal ones, in free flight for a second. Before,
-// the gyroscopic step's I w and skew(w) I left the number range for the
-// 1e5 kg, 100 m box at ~13 rad/s (checked build: abort in step 1; Release
-// saturated). This asserts that it computes and stays within the clamp; how
-// well such extreme bodies keep their angular momentum at 60 Hz is not
-// asserted (see core/README.md).
-TEST_CASE("the heaviest extreme bodies spinning at the clamp compute their gyroscopic step", "[envelope][spin]") {
+// Every extreme body at the heaviest mass, spinning at its clamp (100 rad/s,
+// or its own limit where m w R^2 would leave the envelope's momentum:
+// speed_limits) about an axis off its principal ones, in free flight for a
+// second. Before, the gyroscopic step's I w and skew(w) I left the number
+// range for the 1e5 kg, 100 m box at ~13 rad/s (checked build: abort in
+// step 1; Release saturated). This asserts that it computes and stays
+// within the clamp; how well such extreme bodies keep their angular
+// momentum at 60 Hz is not asserted (see core/README.md).
+TEST_CASE("the heaviest extreme bodies spinning at their clamp compute their gyroscopic step", "[envelope][spin]") {
   for (const Extreme& e : extremes()) {
     INFO(e.name);
     Settings settings;
     settings.gravity = Vec3{};
     World world(settings);
+    const BodyId probe = world.create_body(body_of(e.shapes, e.heaviest)).id;
+    const Fixed limit = world.body(probe).limits.angular;
+    world.remove_body(probe);
     BodyDef def = body_of(e.shapes, e.heaviest);
-    def.angular_velocity = {60.0_fx, 80.0_fx, Fixed{}};
+    const Fixed spin = limit * 0.999_fx;  // 0.6 and 0.8 are not exact in Q32.32
+    def.angular_velocity = {spin * 0.6_fx, spin * 0.8_fx, Fixed{}};
     const CreateResult created = world.create_body(def);
     REQUIRE(created.ok());
     for (int step = 0; step < 60; ++step) world.step();
     const Body& body = world.body(created.id);
-    CHECK(to_double(length(body.angular_velocity)) <= 100.0 + 1e-6);
-    CHECK(to_double(length(body.angular_velocity)) > 1.0);  // still spinning: nothing zeroed it
-    CHECK(body.pose.position == Vec3{});                     // no linear motion from a spin
+    CHECK(length(body.angular_velocity) <= limit + Fixed::from_raw(4));
+    CHECK(length(body.angular_velocity) > limit / 100.0_fx);  // still spinning: nothing zeroed it
+    CHECK(body.pose.position == Vec3{});                       // no linear motion from a spin
   }
+}
+
+// A body's clamps: the world's (500 m/s, 100 rad/s) while m v R and m w R^2
+// stay within the envelope's momentum (2^28 kg m^2/s), lowered beyond: a
+// 1e5 kg box 100 m wide (R = 86.6 m) moves at most 31 m/s and 0.358 rad/s.
+// A definition faster than them is refused naming the limit; gravity,
+// impulses and set_velocity end at them.
+TEST_CASE("a heavy large body's speed limits hold in creation, free fall and inputs", "[envelope][limits]") {
+  World world;
+  const Body& small = world.body(world.create_body(body_of({box(0.5_fx)}, 100000.0_fx)).id);
+  CHECK(small.limits.linear == envelope::max_linear_speed);
+  CHECK(small.limits.angular == envelope::max_angular_speed);
+  const BodyId big = world.create_body(body_of({box(50.0_fx)}, 100000.0_fx, {100.0_fx, Fixed{}, Fixed{}})).id;
+  const SpeedLimits limits = world.body(big).limits;
+  // 1 / 1e5 kg rounds to Q32.32 within 8e-6 of itself.
+  const double reach = 50.0 * std::sqrt(3.0), momentum = 268435456.0;
+  CHECK(to_double(limits.linear) == Approx(momentum / (1e5 * reach)).epsilon(2e-5));
+  CHECK(to_double(limits.angular) == Approx(momentum / (1e5 * reach * reach)).epsilon(2e-5));
+
+  BodyDef fast = body_of({box(50.0_fx)}, 100000.0_fx, {300.0_fx, Fixed{}, Fixed{}});
+  fast.linear_velocity = {Fixed{}, -(limits.linear + Fixed::from_raw(1 << 20)), Fixed{}};
+  EnvelopeError refused = World().create_body(fast).error;
+  CHECK(std::string(refused.field) == "velocity");
+  CHECK(refused.reason.find("this body's limit for its mass and reach") != std::string::npos);
+  fast.linear_velocity = {};
+  fast.angular_velocity = {Fixed{}, limits.angular + Fixed::from_raw(1 << 20), Fixed{}};
+  refused = World().create_body(fast).error;
+  CHECK(std::string(refused.field) == "angular_velocity");
+
+  // Ten seconds of free fall end at the limit, not at 98 m/s.
+  for (int step = 0; step < 600; ++step) world.step();
+  CHECK(world.body(big).linear_velocity.y == -limits.linear);
+  // The largest impulse at the farthest point, and a velocity set far
+  // beyond, end at the clamps in their own directions.
+  world.apply_impulse(big, {1000000.0_fx, Fixed{}, Fixed{}}, {16000.0_fx, 16000.0_fx, 16000.0_fx});
+  CHECK(length(world.body(big).linear_velocity) <= limits.linear + Fixed::from_raw(4));
+  CHECK(length(world.body(big).angular_velocity) <= limits.angular + Fixed::from_raw(4));
+  world.set_velocity(big, {500.0_fx, Fixed{}, Fixed{}}, {Fixed{}, 100.0_fx, Fixed{}});
+  CHECK(world.body(big).linear_velocity == Vec3{limits.linear, Fixed{}, Fixed{}});
+  CHECK(world.body(big).angular_velocity == Vec3{Fixed{}, limits.angular, Fixed{}});
 }
 
 // run reports the kinetic energy every second: a 1e5 kg body at 500 m/s
@@ -261,7 +306,8 @@ Fixed energy_of(Fixed h, Fixed m, Fixed v, Vec3 w = {}) {
 }
 
 TEST_CASE("the kinetic energy report of the heaviest, fastest body is capped, not overflowed", "[envelope][stats]") {
-  CHECK(energy_of(50.0_fx, 100000.0_fx, 500.0_fx, {60.0_fx, 80.0_fx, Fixed{}}) == Fixed::max());
+  // The heaviest body that may reach 500 m/s and ~100 rad/s: R = 5.2 m.
+  CHECK(energy_of(3.0_fx, 100000.0_fx, 500.0_fx, {60.0_fx, 79.0_fx, Fixed{}}) == Fixed::max());
   CHECK(energy_of(0.5_fx, 2.0_fx, 3.0_fx) == 9.0_fx);  // 1/2 x 2 kg x (3 m/s)^2
 }
 
