@@ -1,5 +1,7 @@
 #include "core/integrate.h"
 
+#include "core/mass.h"
+
 namespace bitstep {
 
 namespace {
@@ -42,8 +44,19 @@ Vec3 gyroscopic_step(const Body& body, Fixed dt) {
   scale_inertia_down(inertia, &inverse_inertia);
   const Vec3 momentum = inertia * w;
   // dt first, so that I^-1 meets the small factors (its entries reach 1e4).
-  const Mat33 m = Mat33::identity() + inverse_inertia * ((skew(w) * inertia - skew(momentum)) * dt);
-  const Vec3 residual = inverse_inertia * (cross(w, momentum) * dt);
+  const Mat33 turning = (skew(w) * inertia - skew(momentum)) * dt;
+  const Vec3 gyration = cross(w, momentum) * dt;
+  // A product I^-1 X has entries within 3 max|I^-1| max|X|: past 2^30 the
+  // step is far stiffer than the bound below (a 10 g, 100 m rod spun across
+  // its axis: I^-1 to 2.5e6, X to 1e5) and the products could leave the
+  // range, so w is kept as for a stiff step.
+  constexpr Fixed product_bound = Fixed::from_raw(int64_t{1} << 60);  // 2^28
+  if (product_exceeds(largest_entry(inverse_inertia), max(largest_entry(turning), largest_component(gyration)),
+                      product_bound)) {
+    return body.angular_velocity;
+  }
+  const Mat33 m = Mat33::identity() + inverse_inertia * turning;
+  const Vec3 residual = inverse_inertia * gyration;
   constexpr Fixed stiff = 128.0_fx;
   if (largest_entry(m) > stiff || largest_component(residual) > stiff) return body.angular_velocity;
   // M^-1 = [c0 c1 c2] / det M with c0 = r1 x r2, c1 = r2 x r0, c2 = r0 x r1
@@ -101,10 +114,16 @@ void integrate_velocity(const Settings& settings, Body& body, InertiaCache::Entr
   }
   body.linear_velocity += (settings.gravity + body.force * body.inverse_mass) * dt;
   body.angular_velocity += body.inverse_inertia_world * body.torque * dt;
+  // A torque may take w far past the clamp (add_force bounds dt I^-1 tau by
+  // 2^28 rad/s only): clamped before the gyroscopic step, which is bounded
+  // for |w| <= 100 rad/s (a 1e5 kg needle pushed 16 km from its axis spun
+  // at 2e5 rad/s there and left the range). Without a torque w is within
+  // the clamp already (the last step's, or an input's).
+  const SpeedLimits limits = body.limits_in(settings);
+  if (body.torque != Vec3{}) body.angular_velocity = clamp_length(body.angular_velocity, limits.angular);
   if (body.angular_velocity != Vec3{}) body.angular_velocity = gyroscopic_step(body, dt);
   if (body.linear_damping > Fixed{}) body.linear_velocity *= damping_factor(dt, body.linear_damping);
   if (body.angular_damping > Fixed{}) body.angular_velocity *= damping_factor(dt, body.angular_damping);
-  const SpeedLimits limits = body.limits_in(settings);
   body.linear_velocity = clamp_length(body.linear_velocity, limits.linear);
   body.angular_velocity = clamp_length(body.angular_velocity, limits.angular);
   body.force = body.torque = Vec3{};

@@ -62,16 +62,21 @@ bool longer_than(Vec3 v, Fixed limit) {
   return length(v) > limit;
 }
 
-// Whether each pair's product (a0 b0, a1 b1, ...) stays below 2^30, so
-// that a sum of two of them is in range: decided on the exact products.
+// Whether each pair's product (a0 b0, a1 b1, ...) stays below `bound`:
+// decided on the exact products. glue's asks past the range (a 1e5 kg box
+// glued to a 10 g die thrown at 500 m/s, or spinning on it) cannot be
+// delivered by the face, and the rows take them one by one.
 template <size_t N>
-bool products_fit(const Fixed (&pairs)[N]) {
-  constexpr Fixed bound = Fixed::from_raw(int64_t{1} << 62);  // 2^30
+bool products_fit(const Fixed (&pairs)[N], Fixed bound) {
   for (size_t i = 0; i + 1 < N; i += 2) {
     if (product_exceeds(abs(pairs[i]), abs(pairs[i + 1]), bound)) return false;
   }
   return true;
 }
+constexpr Fixed sum_of_two_fits = Fixed::from_raw(int64_t{1} << 62);   // 2^30
+constexpr Fixed sum_of_four_fits = Fixed::from_raw(int64_t{1} << 60);  // 2^28
+Fixed largest(Vec3 v) { return max(max(abs(v.x), abs(v.y)), abs(v.z)); }
+Fixed largest(const Mat33& m) { return max(max(largest(m.rows[0]), largest(m.rows[1])), largest(m.rows[2])); }
 
 // glue's face: a face contact (3 or more points, both rocking rows) with no
 // row asking the surfaces apart (a bounce or a bias; a speculative gap's
@@ -126,7 +131,13 @@ bool glue(SolverBody& mover, const SolverBody& support, const Body& body, bool m
   const Vec3 dv = v - mover.velocity.linear, dw = w - mover.velocity.angular;
   // Impulse P through the centroid and angular impulse L about it:
   // m dv = P, I dw = r x P + L (I in world axes, applied through the body frame).
-  const Vec3 impulse = dv * (Fixed::one() / mover.inverse_mass);
+  const Fixed mass = Fixed::one() / mover.inverse_mass;
+  if (!products_fit({largest(dv), mass}, sum_of_four_fits)) return false;
+  const Vec3 impulse = dv * mass;
+  // I dw (three products) less r x P (two pairs), each product below 2^28.
+  if (!products_fit({largest(body.inertia_local), largest(dw), largest(r_mover), largest(impulse)}, sum_of_four_fits)) {
+    return false;
+  }
   const Quat q = body.pose.orientation;
   const Vec3 angular = rotate(q, body.inertia_local * rotate_inverse(q, dw)) - cross(r_mover, impulse);
   // In the rows' terms (an impulse lambda acts +d on b, -d on a).
@@ -152,19 +163,18 @@ bool glue(SolverBody& mover, const SolverBody& support, const Body& body, bool m
     total += jn;
     moment += faces.points[face.first_point + i].lever * jn;
   }
-  // A face too small for the moment it must carry (a 1e5 kg box spinning
-  // on a 1 cm die) asks point impulses past the range: it cannot deliver
-  // them, and the rows take it one by one.
+  // A face too small for the moment it must carry asks point impulses past
+  // the range (a 1e5 kg box spinning on a 1 cm die).
   const Vec3 u0 = m.rocking[0].row.axis, u1 = m.rocking[1].row.axis;
   const Fixed b0 = dot(u0, moment), b1 = dot(u1, moment);
-  if (!products_fit({b0, face.g11, b1, face.g01, b1, face.g00, b0, face.g01})) return false;
+  if (!products_fit({b0, face.g11, b1, face.g01, b1, face.g00, b0, face.g01}, sum_of_two_fits)) return false;
   const Fixed n0 = b0 * face.g11 - b1 * face.g01, n1 = b1 * face.g00 - b0 * face.g01;
-  if (!products_fit({n0, face.inverse_det, n1, face.inverse_det})) return false;
+  if (!products_fit({n0, face.inverse_det, n1, face.inverse_det}, sum_of_two_fits)) return false;
   const Fixed lambda0 = n0 * face.inverse_det, lambda1 = n1 * face.inverse_det;
   const Fixed share = total / Fixed::from_int(static_cast<int32_t>(m.count));
   Fixed point_impulse[max_manifold_points];
   for (size_t i = 0; i < m.count; ++i) {
-    if (!products_fit({lambda0, m.rocking[0].alpha[i], lambda1, m.rocking[1].alpha[i]})) return false;
+    if (!products_fit({lambda0, m.rocking[0].alpha[i], lambda1, m.rocking[1].alpha[i]}, sum_of_two_fits)) return false;
     point_impulse[i] = share + lambda0 * m.rocking[0].alpha[i] + lambda1 * m.rocking[1].alpha[i];
     if (point_impulse[i] < Fixed{}) return false;
   }

@@ -1,5 +1,7 @@
 #include "core/solver_rows.h"
 
+#include "core/mass.h"
+
 namespace bitstep {
 
 namespace {
@@ -152,11 +154,32 @@ void solve_manifold_normal(SolverBody& a, SolverBody& b, const Row& m) {
 
 // Drives the relative rocking rate to zero, keeping every point's
 // accumulated normal impulse >= 0 (contacts push, never pull).
+namespace {
+
+// lambda held to what a face's points can take: |lambda alpha_i| <= 2^29
+// N s. A face too small for the moment it is asked (a 1e5 kg box spinning
+// on a 1 cm die: alpha ~ 1 / 1 cm) would otherwise ask point impulses
+// past the range. Decided on the exact product; within it, lambda itself.
+// |alpha_i| <= 1 / sqrt(S) <= 100 (make_rocking keeps S >= 1e-4), so
+// below 2^22 lambda needs no check.
+Fixed within_points_range(Fixed lambda, const ManifoldRow::Rocking& r, size_t count) {
+  constexpr Fixed unchecked = Fixed::from_raw(int64_t{1} << 54);  // 2^22
+  if (abs(lambda) < unchecked) return lambda;
+  constexpr Fixed most = Fixed::from_raw(int64_t{1} << 61);  // 2^29
+  Fixed largest;
+  for (size_t i = 0; i < count; ++i) largest = max(largest, abs(r.alpha[i]));
+  if (!product_exceeds(abs(lambda), largest, most)) return lambda;
+  const Fixed cap = most / largest;
+  return lambda < Fixed{} ? -cap : cap;
+}
+
+}  // namespace
+
 template <class Row>
 void solve_rocking(SolverBody& a, SolverBody& b, const Row& m) {
   for (const ManifoldRow::Rocking& r : m.rocking) {
     if (!r.active) continue;
-    Fixed lambda = -mul_in_range(r.row.mass, relative_spin(a, b, r.row));
+    Fixed lambda = within_points_range(-mul_in_range(r.row.mass, relative_spin(a, b, r.row)), r, m.count);
     // lambda = 0 changes nothing (each lambda alpha_i rounds to 0) unless a
     // point pulls already, which the bound below would correct.
     if (lambda == Fixed{} && none_pull(m)) continue;
