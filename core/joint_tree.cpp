@@ -256,15 +256,23 @@ Mat33 inverse_spd(const Mat33& k) {
 
 Block inverse_spd(const Block& k, int n) {
   if (n == 3) return block_of(inverse_spd(mat33(k)));  // a point block: the 3x3 form
+  return inverse_spd(k, n, Column{});
+}
+
+Block inverse_spd(const Block& k, int n, const Column& floor) {
   // K = L D L^T, L unit lower triangular: d_j = k_jj - sum_{m<j} l_jm^2 d_m,
   // l_ij = (k_ij - sum_{m<j} l_im l_jm d_m) / d_j (i > j).
   Fixed l[max_tree_axes][max_tree_axes] = {};
   Fixed d[max_tree_axes] = {}, e[max_tree_axes] = {};
+  bool dropped = false;
   for (int j = 0; j < n; ++j) {
     Fixed dj = k.at[j][j];
     for (int m = 0; m < j; ++m) dj -= l[j][m] * l[j][m] * d[m];
     d[j] = dj;
-    if (dj <= Fixed{}) continue;  // a dependent row: dropped (its l column stays 0)
+    if (dj <= floor.at[j]) {  // a dependent row: dropped (its l column stays 0)
+      dropped = true;
+      continue;
+    }
     e[j] = Fixed::one() / dj;
     for (int i = j + 1; i < n; ++i) {
       Fixed kij = k.at[i][j];
@@ -272,6 +280,8 @@ Block inverse_spd(const Block& k, int n) {
       l[i][j] = kij / dj;
     }
   }
+  // A point block of independent rows: the 3x3 form (its bits as before).
+  if (n == 3 && !dropped) return block_of(inverse_spd(mat33(k)));
   // L^-1, unit lower triangular: a_ij = -sum_{m=j}^{i-1} l_im a_mj.
   Fixed a[max_tree_axes][max_tree_axes] = {};
   for (int i = 0; i < n; ++i) {
@@ -347,6 +357,13 @@ void factor_positions(const std::vector<SolverBody>& bodies, const std::vector<J
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < 3; ++j) pivot.at[i][j] = point.at[i][j];
     }
+    // Each row's floor: what its pivot may keep of its K_ii diagonal and
+    // still be a row of its own, 2^-24 of it and 64 raw units (rounding
+    // leaves a dependent row's pivot a few raw units from 0; a light link
+    // holding a 1e7 times heavier body keeps ~2^-23).
+    for (int i = 0; i < row.tree_size; ++i) {
+      tree.floor[p].at[i] = Fixed::from_raw((pivot.at[i][i].raw() >> 24) + 64);
+    }
     if (!recouple) continue;
     for (uint32_t c = tree.couplings_begin[p]; c < tree.couplings_begin[p + 1]; ++c) {
       JointTree::Coupling& k = tree.couplings[c];
@@ -361,7 +378,7 @@ void factor_positions(const std::vector<SolverBody>& bodies, const std::vector<J
   for (uint32_t k = 0; k < n; ++k) {
     if (!dirty[k]) continue;
     const int nk = tree.size[k];
-    tree.pivot_inverse[k] = inverse_spd(tree.pivot[k], nk);
+    tree.pivot_inverse[k] = inverse_spd(tree.pivot[k], nk, tree.floor[k]);
     const uint32_t begin = tree.couplings_begin[k], end = tree.couplings_begin[k + 1];
     for (uint32_t x = begin; x < end; ++x) {
       const JointTree::Coupling& ci = tree.couplings[x];
@@ -410,6 +427,7 @@ void factor_joint_tree(const std::vector<SolverBody>& bodies, const std::vector<
   tree.size.resize(n);
   tree.pivot.resize(n);
   tree.pivot_inverse.resize(n);
+  tree.floor.resize(n);
   tree.dirty.assign(n, 1);
   tree.exact = true;
   factor_positions(bodies, rows, tree, tree.dirty, false);
