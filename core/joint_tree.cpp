@@ -330,6 +330,20 @@ void label_components(JointTree& tree) {
   for (uint32_t p = 0; p < n; ++p) tree.component[p] = find_root(parent, p);
 }
 
+// Per tree, how many of its joints hold a movable body to an immovable one.
+// Only a tree held so at least twice closes a loop through the immovable
+// world (a door's two pins, a plank held at both ends, the same joint
+// twice), where its rows may depend on each other's; in a tree held once
+// or not at all each joint's rows are independent of the others'.
+void count_holds_to_immovable(const std::vector<SolverBody>& bodies, const std::vector<JointRow>& rows, JointTree& tree) {
+  const size_t n = tree.row_of.size();
+  tree.holds_to_immovable.assign(n, 0);
+  for (size_t p = 0; p < n; ++p) {
+    const JointRow& row = rows[tree.row_of[p]];
+    if (immovable(bodies[row.a]) || immovable(bodies[row.b])) ++tree.holds_to_immovable[tree.component[p]];
+  }
+}
+
 // The numbers of the factorisation at the positions marked in `dirty` (all
 // of some trees), their couplings' K blocks formed as `recouple` says:
 // each pivot K_ii, then K = L D L^T in position order, leaves first.
@@ -357,12 +371,16 @@ void factor_positions(const std::vector<SolverBody>& bodies, const std::vector<J
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < 3; ++j) pivot.at[i][j] = point.at[i][j];
     }
-    // Each row's floor: what its pivot may keep of its K_ii diagonal and
-    // still be a row of its own, 2^-24 of it and 64 raw units (rounding
-    // leaves a dependent row's pivot a few raw units from 0; a light link
-    // holding a 1e7 times heavier body keeps ~2^-23).
+    // Each row's floor: in a tree that may have dependent rows, what its
+    // pivot may keep of its K_ii diagonal and still be a row of its own,
+    // 2^-24 of it and 64 raw units (rounding leaves a dependent row's
+    // pivot within ~2^-25 of its diagonal of 0: 11 raw units for a 128 kg
+    // box, 3,000 for a 0.05 kg one); elsewhere 0, as before. (A 0.01 kg
+    // link holding 1e5 kg keeps 2^-36 of its diagonal: exact, as a tree
+    // held once is, but under any floor that catches rounding.)
+    const bool may_depend = tree.holds_to_immovable[tree.component[p]] >= 2;
     for (int i = 0; i < row.tree_size; ++i) {
-      tree.floor[p].at[i] = Fixed::from_raw((pivot.at[i][i].raw() >> 24) + 64);
+      tree.floor[p].at[i] = may_depend ? Fixed::from_raw((pivot.at[i][i].raw() >> 24) + 64) : Fixed{};
     }
     if (!recouple) continue;
     for (uint32_t c = tree.couplings_begin[p]; c < tree.couplings_begin[p + 1]; ++c) {
@@ -430,9 +448,10 @@ void factor_joint_tree(const std::vector<SolverBody>& bodies, const std::vector<
   tree.floor.resize(n);
   tree.dirty.assign(n, 1);
   tree.exact = true;
+  label_components(tree);
+  count_holds_to_immovable(bodies, rows, tree);
   factor_positions(bodies, rows, tree, tree.dirty, false);
   if (!tree.exact) return;
-  label_components(tree);
   tree.rhs.resize(n);
 }
 

@@ -74,6 +74,7 @@ struct JointTree {
   // movable bodies); per joint row, its swing and limit rows in the tree
   // (bit 1, bit 2) when last factorised.
   std::vector<uint32_t> component;
+  std::vector<uint32_t> holds_to_immovable;  // per tree (at its lowest position): its joints to immovable bodies
   std::vector<uint8_t> holds;
   // Workspace, kept from step to step.
   std::vector<Block> pivot;

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "tests/core/test_world.h"
@@ -77,8 +78,9 @@ TEST_CASE("two joints between the same two bodies hold a swinging box without ab
       {"two hinges 0.6 m apart on one axis", JointType::hinge, JointType::hinge, on_axis, other_pin},
   };
   for (const Pair& pair : pairs) {
-    for (const bool sideways : {false, true}) {
-      INFO(pair.what << (sideways ? ", flung sideways too" : ""));
+    for (const auto& [sideways, mass] : {std::pair{false, Fixed{}}, std::pair{true, Fixed{}}, std::pair{false, 0.05_fx},
+                                         std::pair{true, 0.05_fx}, std::pair{true, 10000.0_fx}}) {
+      INFO(pair.what << (sideways ? ", flung sideways too" : "") << ", box of " << to_double(mass) << " kg (0: 128 kg)");
       TestWorld t;
       BodyDef bar_def;
       bar_def.type = BodyType::static_body;
@@ -88,6 +90,7 @@ TEST_CASE("two joints between the same two bodies hold a swinging box without ab
       BodyDef box_def;
       box_def.pose.position = {Fixed{}, 4.5_fx, Fixed{}};
       box_def.shapes.push_back({ShapeType::box, {0.4_fx, 0.4_fx, 0.1_fx}, {}, {}, {}});
+      box_def.mass = mass;
       // Swung about the pins' line (x) at 2 m/s, and (sideways) across it,
       // which the pins must stop.
       box_def.linear_velocity = {sideways ? 1.5_fx : Fixed{}, Fixed{}, 2.0_fx};
@@ -129,5 +132,50 @@ TEST_CASE("two joints between the same two bodies hold a swinging box without ab
       CHECK(end <= start);
       CHECK(swing > 0.5);  // still swinging about the pins' line: held, not locked
     }
+  }
+}
+
+TEST_CASE("a light link holding a heavy ball keeps its rows: only a tree held twice may drop one",
+          "[joint][tree][redundant]") {
+  // A chain from one static anchor: no loop through the immovable world,
+  // so no floor. The 0.01 kg link's pivot after the ball's joint is
+  // eliminated keeps 2^-36 of its diagonal (m / (M + m) and its spin's
+  // terms), under any floor that catches rounding: dropped, the 1e5 kg
+  // ball fell away.
+  const std::tuple<Fixed, Fixed, Fixed> cases[] = {{0.01_fx, 0.05_fx, 100000.0_fx},  // link kg, link radius m, ball kg
+                                                   {0.1_fx, 0.05_fx, 100000.0_fx},
+                                                   {1.0_fx, 0.1_fx, 1000.0_fx},
+                                                   {0.01_fx, 0.1_fx, 1000.0_fx}};
+  for (const auto& [link_mass, link_radius, ball_mass] : cases) {
+    INFO("link " << to_double(link_mass) << " kg, radius " << to_double(link_radius) << " m; ball "
+                 << to_double(ball_mass) << " kg");
+    TestWorld t;
+    const BodyId anchor = t.add_anchor({Fixed{}, 10.0_fx, Fixed{}});
+    BodyDef link_def;
+    link_def.pose.position = {0.1_fx, 9.9_fx, Fixed{}};
+    link_def.shapes.push_back({ShapeType::sphere, {}, link_radius, {}, {}});
+    link_def.mass = link_mass;
+    const BodyId link = t.world.create_body(link_def).id;
+    BodyDef ball_def;
+    ball_def.pose.position = {1.0_fx, 9.0_fx, Fixed{}};
+    ball_def.shapes.push_back({ShapeType::sphere, {}, 1.0_fx, {}, {}});
+    ball_def.mass = ball_mass;
+    const BodyId ball = t.world.create_body(ball_def).id;
+    for (const auto& [a, b, at] : {std::tuple{anchor, link, Vec3{Fixed{}, 10.0_fx, Fixed{}}},
+                                   std::tuple{link, ball, Vec3{0.2_fx, 9.8_fx, Fixed{}}}}) {
+      JointDef def;
+      def.type = JointType::point;
+      def.body_a = a;
+      def.body_b = b;
+      def.anchor_a = at;
+      REQUIRE(t.world.create_joint(def).ok());
+    }
+    double gap = 0;
+    for (int i = 0; i < 300; ++i) {
+      t.world.step();
+      gap = std::max(gap, largest_gap(t.world));
+    }
+    INFO("largest pivot gap " << gap * 1000 << " mm, ball at y " << to_double(t.body(ball).pose.position.y) << " m");
+    CHECK(gap < 0.01);
   }
 }
