@@ -117,4 +117,17 @@ struct Joint {
   Fixed motor_impulse;
 };
 
+// The most a joint keeps of any accumulated impulse, per component (N s;
+// the angular rows' N m s alike): 2^27, above the largest a step gives
+// at the envelope's bounds (1e5 kg stopped from twice the speed clamp,
+// 2 x 500 m/s: 1e8 N s) and far from the range.
+inline constexpr Fixed max_joint_impulse = Fixed::from_raw(int64_t{1} << 59);
+
+// Why a joint as a world keeps it is not one World::create_joint makes
+// between bodies a and b ("<field>: <reason>"), or null: create_joint's
+// own checks of the numbers, unit axes, anchors within its reach, the
+// impulses within max_joint_impulse. The state readers' check of a joint
+// read back (replay/state_description.h).
+const char* joint_state_error(const Joint& joint, const Body& a, const Body& b);
+
 }  // namespace bitstep

@@ -256,15 +256,23 @@ Mat33 inverse_spd(const Mat33& k) {
 
 Block inverse_spd(const Block& k, int n) {
   if (n == 3) return block_of(inverse_spd(mat33(k)));  // a point block: the 3x3 form
+  return inverse_spd(k, n, Column{});
+}
+
+Block inverse_spd(const Block& k, int n, const Column& floor) {
   // K = L D L^T, L unit lower triangular: d_j = k_jj - sum_{m<j} l_jm^2 d_m,
   // l_ij = (k_ij - sum_{m<j} l_im l_jm d_m) / d_j (i > j).
   Fixed l[max_tree_axes][max_tree_axes] = {};
   Fixed d[max_tree_axes] = {}, e[max_tree_axes] = {};
+  bool dropped = false;
   for (int j = 0; j < n; ++j) {
     Fixed dj = k.at[j][j];
     for (int m = 0; m < j; ++m) dj -= l[j][m] * l[j][m] * d[m];
     d[j] = dj;
-    if (dj <= Fixed{}) continue;  // a dependent row: dropped (its l column stays 0)
+    if (dj <= floor.at[j]) {  // a dependent row: dropped (its l column stays 0)
+      dropped = true;
+      continue;
+    }
     e[j] = Fixed::one() / dj;
     for (int i = j + 1; i < n; ++i) {
       Fixed kij = k.at[i][j];
@@ -272,6 +280,8 @@ Block inverse_spd(const Block& k, int n) {
       l[i][j] = kij / dj;
     }
   }
+  // A point block of independent rows: the 3x3 form (its bits as before).
+  if (n == 3 && !dropped) return block_of(inverse_spd(mat33(k)));
   // L^-1, unit lower triangular: a_ij = -sum_{m=j}^{i-1} l_im a_mj.
   Fixed a[max_tree_axes][max_tree_axes] = {};
   for (int i = 0; i < n; ++i) {
@@ -320,6 +330,20 @@ void label_components(JointTree& tree) {
   for (uint32_t p = 0; p < n; ++p) tree.component[p] = find_root(parent, p);
 }
 
+// Per tree, how many of its joints hold a movable body to an immovable one.
+// Only a tree held so at least twice closes a loop through the immovable
+// world (a door's two pins, a plank held at both ends, the same joint
+// twice), where its rows may depend on each other's; in a tree held once
+// or not at all each joint's rows are independent of the others'.
+void count_holds_to_immovable(const std::vector<SolverBody>& bodies, const std::vector<JointRow>& rows, JointTree& tree) {
+  const size_t n = tree.row_of.size();
+  tree.holds_to_immovable.assign(n, 0);
+  for (size_t p = 0; p < n; ++p) {
+    const JointRow& row = rows[tree.row_of[p]];
+    if (immovable(bodies[row.a]) || immovable(bodies[row.b])) ++tree.holds_to_immovable[tree.component[p]];
+  }
+}
+
 // The numbers of the factorisation at the positions marked in `dirty` (all
 // of some trees), their couplings' K blocks formed as `recouple` says:
 // each pivot K_ii, then K = L D L^T in position order, leaves first.
@@ -347,6 +371,17 @@ void factor_positions(const std::vector<SolverBody>& bodies, const std::vector<J
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < 3; ++j) pivot.at[i][j] = point.at[i][j];
     }
+    // Each row's floor: in a tree that may have dependent rows, what its
+    // pivot may keep of its K_ii diagonal and still be a row of its own,
+    // 2^-24 of it and 64 raw units (rounding leaves a dependent row's
+    // pivot within ~2^-25 of its diagonal of 0: 11 raw units for a 128 kg
+    // box, 3,000 for a 0.05 kg one); elsewhere 0, as before. (A 0.01 kg
+    // link holding 1e5 kg keeps 2^-36 of its diagonal: exact, as a tree
+    // held once is, but under any floor that catches rounding.)
+    const bool may_depend = tree.holds_to_immovable[tree.component[p]] >= 2;
+    for (int i = 0; i < row.tree_size; ++i) {
+      tree.floor[p].at[i] = may_depend ? Fixed::from_raw((pivot.at[i][i].raw() >> 24) + 64) : Fixed{};
+    }
     if (!recouple) continue;
     for (uint32_t c = tree.couplings_begin[p]; c < tree.couplings_begin[p + 1]; ++c) {
       JointTree::Coupling& k = tree.couplings[c];
@@ -361,7 +396,7 @@ void factor_positions(const std::vector<SolverBody>& bodies, const std::vector<J
   for (uint32_t k = 0; k < n; ++k) {
     if (!dirty[k]) continue;
     const int nk = tree.size[k];
-    tree.pivot_inverse[k] = inverse_spd(tree.pivot[k], nk);
+    tree.pivot_inverse[k] = inverse_spd(tree.pivot[k], nk, tree.floor[k]);
     const uint32_t begin = tree.couplings_begin[k], end = tree.couplings_begin[k + 1];
     for (uint32_t x = begin; x < end; ++x) {
       const JointTree::Coupling& ci = tree.couplings[x];
@@ -410,11 +445,13 @@ void factor_joint_tree(const std::vector<SolverBody>& bodies, const std::vector<
   tree.size.resize(n);
   tree.pivot.resize(n);
   tree.pivot_inverse.resize(n);
+  tree.floor.resize(n);
   tree.dirty.assign(n, 1);
   tree.exact = true;
+  label_components(tree);
+  count_holds_to_immovable(bodies, rows, tree);
   factor_positions(bodies, rows, tree, tree.dirty, false);
   if (!tree.exact) return;
-  label_components(tree);
   tree.rhs.resize(n);
 }
 

@@ -66,6 +66,7 @@ struct JointTree {
   std::vector<uint32_t> row_of;            // position -> joint row
   std::vector<uint8_t> size;               // position -> its rows
   std::vector<Block> pivot_inverse;        // D_k^-1
+  std::vector<Column> floor;               // per row of D_k: the pivot at or below which it is dependent
   std::vector<uint32_t> couplings_begin;   // position -> its couplings; one past the last at the end
   std::vector<Coupling> couplings;
   bool exact = false;                      // false: loops, or no joints with a point block
@@ -73,6 +74,7 @@ struct JointTree {
   // movable bodies); per joint row, its swing and limit rows in the tree
   // (bit 1, bit 2) when last factorised.
   std::vector<uint32_t> component;
+  std::vector<uint32_t> holds_to_immovable;  // per tree (at its lowest position): its joints to immovable bodies
   std::vector<uint8_t> holds;
   // Workspace, kept from step to step.
   std::vector<Block> pivot;
@@ -95,6 +97,14 @@ Mat33 inverse_spd(const Mat33& k);
 // that depend on the others, as rounding may leave them) drops its row: it
 // gets no impulse.
 Block inverse_spd(const Block& k, int n);
+
+// The same where row j's pivot at or below floor.at[j] drops it: the tree's
+// pivots, whose rows may depend on other joints' (two joints between the
+// same two bodies: two pins of a door, a pin on a hinge's axis, the same
+// joint twice), their dependence left a few raw units from 0 by rounding
+// (inverted, such a pivot aborted the checked build). Its rows then hold
+// with the other joints' impulses alone.
+Block inverse_spd(const Block& k, int n, const Column& floor);
 
 // Orders and factorises the joints of `rows` (the bodies' inverse masses
 // and inertias, and the rows' axes, as prepare_joint_rows left them).

@@ -249,6 +249,35 @@ bool World::remove_body(BodyId id) {
   return true;
 }
 
+namespace {
+
+// Within twice the body's reach and 1 m more (an anchor's distance from
+// the body's centre of mass): a joint's arms then stay within the
+// envelope's arms, which bound every solver product.
+bool within_joint_reach(Fixed arm, const Body& body) { return arm <= 2.0_fx * reach(body.shapes) + 1.0_fx; }
+constexpr const char* reach_reason = ": farther from the body than twice its reach and 1 m";
+
+// The checks of a JointDef that need no world (World::create_joint's, and
+// joint_state_error's of a joint read back): the type's own, then those
+// every type shares.
+const char* joint_def_error(const JointDef& def) {
+  if (const char* error = with_joint_type(def.type, [&](auto type) {
+        const char* invalid = decltype(type)::validate(def);
+        return invalid != nullptr ? invalid : decltype(type)::motor_error(def.motor_speed, def.motor_max);
+      })) {
+    return error;  // the type's own checks (core/joint_types.h)
+  }
+  if (def.length < Fixed{} || def.length > 1000.0_fx) return "length: outside 0..1000 m";
+  if (def.break_impulse < Fixed{}) return "break_impulse: negative";
+  if (def.friction_torque < Fixed{} || def.friction_torque > 1000000.0_fx) return "friction_torque: outside 0..1000000 N m";
+  if (def.velocity_iterations > max_joint_iterations || def.position_iterations > max_joint_iterations) {
+    return "iterations: outside 0..1000";
+  }
+  return nullptr;
+}
+
+}  // namespace
+
 JointResult World::create_joint(const JointDef& def) {
   JointResult result;
   if (!is_joint_type(def.type)) {
@@ -259,13 +288,8 @@ JointResult World::create_joint(const JointDef& def) {
   const Vec3& anchor_b = with_joint_type(def.type, [&](auto type) -> const Vec3& { return decltype(type)::anchor_b(def); });
   const char* anchor_b_name = &anchor_b == &def.anchor_b ? "anchor_b" : "anchor_a";
   const auto reach_error = [&](const char* field, BodyId body, Vec3 anchor) -> std::string {
-    // Within twice the body's reach and 1 m more: a joint's arms then stay
-    // within the envelope's arms, which bound every solver product.
     const Body& b = bodies_[body.index];
-    if (length(anchor - b.pose.position) > 2.0_fx * reach(b.shapes) + 1.0_fx) {
-      return std::string(field) + ": farther from the body than twice its reach and 1 m";
-    }
-    return {};
+    return within_joint_reach(length(anchor - b.pose.position), b) ? std::string() : field + std::string(reach_reason);
   };
   if (!is_alive(def.body_a)) {
     result.error = "body_a: not a live body";
@@ -275,19 +299,8 @@ JointResult World::create_joint(const JointDef& def) {
     result.error = "body_b: the same body as body_a";
   } else if (bodies_[def.body_a.index].type != BodyType::dynamic && bodies_[def.body_b.index].type != BodyType::dynamic) {
     result.error = "body_b: neither body is dynamic";
-  } else if (const char* error = with_joint_type(def.type, [&](auto type) {
-               const char* invalid = decltype(type)::validate(def);
-               return invalid != nullptr ? invalid : decltype(type)::motor_error(def.motor_speed, def.motor_max);
-             })) {
-    result.error = error;  // the type's own checks (core/joint_types.h)
-  } else if (def.length < Fixed{} || def.length > 1000.0_fx) {
-    result.error = "length: outside 0..1000 m";
-  } else if (def.break_impulse < Fixed{}) {
-    result.error = "break_impulse: negative";
-  } else if (def.friction_torque < Fixed{} || def.friction_torque > 1000000.0_fx) {
-    result.error = "friction_torque: outside 0..1000000 N m";
-  } else if (def.velocity_iterations > max_joint_iterations || def.position_iterations > max_joint_iterations) {
-    result.error = "iterations: outside 0..1000";
+  } else if (const char* error = joint_def_error(def)) {
+    result.error = error;
   } else {
     result.error = reach_error("anchor_a", def.body_a, def.anchor_a);
     if (result.error.empty()) result.error = reach_error(anchor_b_name, def.body_b, anchor_b);
@@ -327,6 +340,89 @@ JointResult World::create_joint(const JointDef& def) {
     wake_islands_of({def.body_a.index, def.body_b.index});
   }
   return result;
+}
+
+namespace {
+
+// Raw comparisons: a corrupt value reaches no product that saturates.
+bool within(Fixed f, Fixed limit) { return f >= -limit && f <= limit; }
+bool within(Vec3 v, Fixed limit) { return within(v.x, limit) && within(v.y, limit) && within(v.z, limit); }
+
+// A unit vector as set_axis_frames keeps one: each component within +-2,
+// its length squared within 2^-10 of 1.
+bool unit_axis(Vec3 v) {
+  return within(v, 2.0_fx) && within(length_sq(v) - Fixed::one(), Fixed::from_raw(int64_t{1} << 22));
+}
+
+}  // namespace
+
+const char* joint_state_error(const Joint& joint, const Body& a, const Body& b) {
+  // The fields a type does not keep are zero, as create_joint leaves them.
+  const bool axes = joint.type == JointType::hinge || joint.type == JointType::cone || joint.type == JointType::slider;
+  const bool angles = joint.type == JointType::hinge || joint.type == JointType::cone;
+  const struct {
+    const Vec3& value;
+    const char* without;  // the error where the type keeps none
+    const char* not_unit;
+  } frames[] = {
+      {joint.local_axis_a, "local_axis_a: not zero on a joint type without axes", "local_axis_a: not a unit vector"},
+      {joint.local_axis_b, "local_axis_b: not zero on a joint type without axes", "local_axis_b: not a unit vector"},
+      {joint.local_reference_a, "local_reference_a: not zero on a joint type without axes",
+       "local_reference_a: not a unit vector"},
+      {joint.local_reference_b, "local_reference_b: not zero on a joint type without axes",
+       "local_reference_b: not a unit vector"},
+  };
+  for (const auto& frame : frames) {
+    if (!axes && frame.value != Vec3{}) return frame.without;
+    if (axes && !unit_axis(frame.value)) return frame.not_unit;
+  }
+  if (!angles && joint.lower_angle != Fixed{}) return "lower_angle: not zero on a joint type without angle limits";
+  if (!angles && joint.upper_angle != Fixed{}) return "upper_angle: not zero on a joint type without angle limits";
+  if (joint.type != JointType::cone && joint.swing_angle != Fixed{}) return "swing_angle: not zero on a joint type without a cone";
+  if (axes) {
+    const Fixed normal = Fixed::from_raw(int64_t{1} << 22);  // |cos| within 2^-10 of right angles
+    if (!within(dot(joint.local_axis_a, joint.local_reference_a), normal)) return "local_reference_a: not normal to local_axis_a";
+    if (!within(dot(joint.local_axis_b, joint.local_reference_b), normal)) return "local_reference_b: not normal to local_axis_b";
+  }
+  // The numbers create_joint checks, as a definition again: limits checked
+  // whether the joint is limited or not (unlimited, they are zero).
+  JointDef def;
+  def.type = joint.type;
+  def.axis = joint.local_axis_a;
+  def.limited = true;
+  def.lower_angle = joint.lower_angle;
+  def.upper_angle = joint.upper_angle;
+  def.swing_angle = joint.swing_angle;
+  def.lower_translation = joint.lower_translation;
+  def.upper_translation = joint.upper_translation;
+  def.motor_speed = joint.motor_speed;
+  def.motor_max = joint.motor_max;
+  def.break_impulse = joint.break_impulse;
+  def.friction_torque = joint.friction_torque;
+  def.velocity_iterations = joint.velocity_iterations;
+  def.position_iterations = joint.position_iterations;
+  if (const char* error = joint_def_error(def)) return error;
+  // A rope of length 0 took its anchors' distance then: within the
+  // envelope's positions and reaches, under 2^16 m.
+  if (joint.length < Fixed{} || joint.length > 65536.0_fx) return "length: outside 0..65536 m";
+  // The anchors within create_joint's reach of their bodies (less 1 mm:
+  // the rounding of turning them into the body's frame).
+  const Fixed rounding = 0.001_fx;
+  if (!within(joint.local_anchor_a, 1024.0_fx) || !within_joint_reach(length(joint.local_anchor_a) - rounding, a)) {
+    return "local_anchor_a: farther from the body than twice its reach and 1 m";
+  }
+  if (!within(joint.local_anchor_b, 1024.0_fx) || !within_joint_reach(length(joint.local_anchor_b) - rounding, b)) {
+    return "local_anchor_b: farther from the body than twice its reach and 1 m";
+  }
+  // The impulses, each component within max_joint_impulse.
+  const Fixed m = max_joint_impulse;
+  if (!within(joint.point_impulse, m)) return "point_impulse: outside +-2^27 N s";
+  if (!within(joint.distance_impulse, m)) return "distance_impulse: outside +-2^27 N s";
+  if (!within(joint.hinge_impulse[0], m) || !within(joint.hinge_impulse[1], m)) return "hinge_impulse: outside +-2^27 N m s";
+  if (!within(joint.limit_impulse, m)) return "limit_impulse: outside +-2^27";
+  if (!within(joint.angular_impulse, m)) return "angular_impulse: outside +-2^27 N m s";
+  if (!within(joint.motor_impulse, m)) return "motor_impulse: outside +-2^27";
+  return nullptr;
 }
 
 bool World::is_alive(JointId id) const {

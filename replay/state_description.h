@@ -423,6 +423,13 @@ void describe_joint(V& v, J& joint, const Bodies& bodies) {
     v.require([&] { return joint.motor_max > Fixed{} && joint_motor_error(joint.type, joint.motor_speed, joint.motor_max) == nullptr; },
               [] { return std::string("a joint's motor outside its type's range"); });
   }
+  // Every field within what World::create_joint makes (its own checks,
+  // core/joint.h): a forged frame or impulse would saturate the step.
+  if constexpr (V::reading) {
+    const char* error = nullptr;
+    v.require([&] { return (error = joint_state_error(joint, bodies[joint.body_a], bodies[joint.body_b])) == nullptr; },
+              [&] { return std::string("a joint's ") + error; });
+  }
 }
 
 // A list of the dead slots of `items`, each once (free_slots, free_joint_slots).

@@ -124,8 +124,10 @@ TEST_CASE("every byte of the state is in the dump: flipped, it is restored and d
     // Most flips land in a value (a coordinate, an impulse) and restore;
     // those refused broke a count, a flag or an order, or put a value
     // where no world holds one (a high bit of a position, a velocity, a
-    // quaternion or a shape size: about 6 accepted for 1 refused).
-    CHECK(accepted > 5 * refused);
+    // quaternion or a shape size, a joint's axis, anchor or limit, or a
+    // field its type does not have, e.g. a rope's axes: about 4.4 accepted
+    // for 1 refused, 6 before joints were checked as create_joint makes them).
+    CHECK(accepted > 4 * refused);
     // Among them, every field the dump used to leave out.
     for (const char* field : {"$.settings.dt", "$.settings.flags", "$.settings.shock_iterations", "$.bodies[].inertia_local[][]",
                               "$.bodies[].inverse_inertia_local[][]", "$.bodies[].material.rolling_resistance",
