@@ -27,6 +27,9 @@ struct GlueFace {
   Vec3 n, centroid;
   Vec3 e0, e1;  // glue_all: the face's in-plane axes
   Fixed mu, radius, inverse_radius, g00, g01, g11, inverse_det;
+  // glue: the bit lengths of the Gram matrix's entries, of inverse_det and
+  // of the rocking rows' point shares alpha (the least e with |x| < 2^e).
+  int8_t gram_bits = 0, inverse_det_bits = 0, alpha_bits = 0;
   int32_t point_count = 0;
   uint32_t first_point = 0, first_middle = 0;  // into GlueFaces::points and ::middles
 };

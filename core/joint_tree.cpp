@@ -260,6 +260,11 @@ Block inverse_spd(const Block& k, int n) {
 }
 
 Block inverse_spd(const Block& k, int n, const Column& floor) {
+  // A point block outside a tree that may hold dependent rows: the 3x3
+  // form at once (most of them: a chain's, a ragdoll's).
+  if (n == 3 && floor.at[0] == Fixed{} && floor.at[1] == Fixed{} && floor.at[2] == Fixed{}) {
+    return block_of(inverse_spd(mat33(k)));
+  }
   // K = L D L^T, L unit lower triangular: d_j = k_jj - sum_{m<j} l_jm^2 d_m,
   // l_ij = (k_ij - sum_{m<j} l_im l_jm d_m) / d_j (i > j).
   Fixed l[max_tree_axes][max_tree_axes] = {};

@@ -1,6 +1,6 @@
 #include "core/shock_solve.h"
 
-#include "core/mass.h"
+#include <bit>
 
 namespace bitstep {
 
@@ -53,6 +53,22 @@ void make_one_sided(ManifoldRow& m, std::vector<PointRow>& rows, const SolverBod
 
 namespace {
 
+// glue's asks past the range (a 1e5 kg box glued to a 10 g die thrown at
+// 500 m/s, or spinning on it) cannot be delivered by the face, and the rows
+// take them one by one. Decided from bit lengths, cheaply (glue runs in
+// every shock pass): `bits` of a value x is the least e with |x| < 2^e, so
+// a product of values of e_a and e_b bits is below 2^(e_a + e_b).
+int bits(uint64_t raw_magnitudes) { return static_cast<int>(std::bit_width(raw_magnitudes)) - raw::fraction_bits; }
+uint64_t magnitude_of(Fixed x) { return magnitude(x.raw()); }
+int bits(Fixed x) { return bits(magnitude_of(x)); }
+int bits(Vec3 v) { return bits(magnitude_of(v.x) | magnitude_of(v.y) | magnitude_of(v.z)); }
+int bits(Fixed a, Fixed b) { return bits(magnitude_of(a) | magnitude_of(b)); }
+int bits(const Mat33& m) {
+  uint64_t all = 0;
+  for (const Vec3& row : m.rows) all |= magnitude_of(row.x) | magnitude_of(row.y) | magnitude_of(row.z);
+  return bits(all);
+}
+
 // |v| > limit, without the square root where |x| + |y| + |z| <= limit:
 // the correctly rounded length of v is at most that sum, which is exact
 // (a wrap of it faults in the checked build; the envelope keeps impulses
@@ -61,22 +77,6 @@ bool longer_than(Vec3 v, Fixed limit) {
   if (abs(v.x) + abs(v.y) + abs(v.z) <= limit) return false;
   return length(v) > limit;
 }
-
-// Whether each pair's product (a0 b0, a1 b1, ...) stays below `bound`:
-// decided on the exact products. glue's asks past the range (a 1e5 kg box
-// glued to a 10 g die thrown at 500 m/s, or spinning on it) cannot be
-// delivered by the face, and the rows take them one by one.
-template <size_t N>
-bool products_fit(const Fixed (&pairs)[N], Fixed bound) {
-  for (size_t i = 0; i + 1 < N; i += 2) {
-    if (product_exceeds(abs(pairs[i]), abs(pairs[i + 1]), bound)) return false;
-  }
-  return true;
-}
-constexpr Fixed sum_of_two_fits = Fixed::from_raw(int64_t{1} << 62);   // 2^30
-constexpr Fixed sum_of_four_fits = Fixed::from_raw(int64_t{1} << 60);  // 2^28
-Fixed largest(Vec3 v) { return max(max(abs(v.x), abs(v.y)), abs(v.z)); }
-Fixed largest(const Mat33& m) { return max(max(largest(m.rows[0]), largest(m.rows[1])), largest(m.rows[2])); }
 
 // glue's face: a face contact (3 or more points, both rocking rows) with no
 // row asking the surfaces apart (a bounce or a bias; a speculative gap's
@@ -99,6 +99,11 @@ void measure_face(const ManifoldRow& m, const std::vector<PointRow>& rows, GlueF
   const Fixed det = face.g00 * face.g11 - face.g01 * face.g01;
   if (det < 0.000001_fx) return;
   face.inverse_det = Fixed::one() / det;
+  face.gram_bits = static_cast<int8_t>(bits(Vec3{face.g00, face.g01, face.g11}));
+  face.inverse_det_bits = static_cast<int8_t>(bits(face.inverse_det));
+  uint64_t alphas = 0;
+  for (size_t i = 0; i < m.count; ++i) alphas |= magnitude_of(m.rocking[0].alpha[i]) | magnitude_of(m.rocking[1].alpha[i]);
+  face.alpha_bits = static_cast<int8_t>(bits(alphas));
   face.n = n;
   face.centroid = centroid;
   face.first_point = faces.take_points(m.count);
@@ -132,12 +137,19 @@ bool glue(SolverBody& mover, const SolverBody& support, const Body& body, bool m
   // Impulse P through the centroid and angular impulse L about it:
   // m dv = P, I dw = r x P + L (I in world axes, applied through the body frame).
   const Fixed mass = Fixed::one() / mover.inverse_mass;
-  if (!products_fit({largest(dv), mass}, sum_of_four_fits)) return false;
-  const Vec3 impulse = dv * mass;
-  // I dw (three products) less r x P (two pairs), each product below 2^28.
-  if (!products_fit({largest(body.inertia_local), largest(dw), largest(r_mover), largest(impulse)}, sum_of_four_fits)) {
-    return false;
+  // m dv below 2^29; I dw (three products below 2^27, rotated: under
+  // 0.65 2^30) less r x P (two products below 2^29): under 2^31. A body at
+  // the world's clamps has m R <= 5.4e5 kg m < 2^20 and I <= m R^2 <= 2.7e6
+  // kg m^2 < 2^22 (speed_limits), so dv under 2^9 m/s and dw under 2^5
+  // rad/s need no further look (r lies within R of the centre).
+  const int dv_bits = bits(dv), dw_bits = bits(dw);
+  const bool within_clamps =
+      body.limits.linear == envelope::max_linear_speed && body.limits.angular == envelope::max_angular_speed;
+  if (!(within_clamps && dv_bits <= 9 && dw_bits <= 5)) {
+    if (dv_bits + bits(mass) > 29 || bits(body.inertia_local) + dw_bits > 27) return false;
+    if (bits(r_mover) + bits(mass) + dv_bits > 29) return false;  // r x P with P = m dv
   }
+  const Vec3 impulse = dv * mass;
   const Quat q = body.pose.orientation;
   const Vec3 angular = rotate(q, body.inertia_local * rotate_inverse(q, dw)) - cross(r_mover, impulse);
   // In the rows' terms (an impulse lambda acts +d on b, -d on a).
@@ -167,14 +179,14 @@ bool glue(SolverBody& mover, const SolverBody& support, const Body& body, bool m
   // the range (a 1e5 kg box spinning on a 1 cm die).
   const Vec3 u0 = m.rocking[0].row.axis, u1 = m.rocking[1].row.axis;
   const Fixed b0 = dot(u0, moment), b1 = dot(u1, moment);
-  if (!products_fit({b0, face.g11, b1, face.g01, b1, face.g00, b0, face.g01}, sum_of_two_fits)) return false;
+  if (bits(b0, b1) + face.gram_bits > 29) return false;
   const Fixed n0 = b0 * face.g11 - b1 * face.g01, n1 = b1 * face.g00 - b0 * face.g01;
-  if (!products_fit({n0, face.inverse_det, n1, face.inverse_det}, sum_of_two_fits)) return false;
+  if (bits(n0, n1) + face.inverse_det_bits > 29) return false;
   const Fixed lambda0 = n0 * face.inverse_det, lambda1 = n1 * face.inverse_det;
+  if (bits(lambda0, lambda1) + face.alpha_bits > 29) return false;
   const Fixed share = total / Fixed::from_int(static_cast<int32_t>(m.count));
   Fixed point_impulse[max_manifold_points];
   for (size_t i = 0; i < m.count; ++i) {
-    if (!products_fit({lambda0, m.rocking[0].alpha[i], lambda1, m.rocking[1].alpha[i]}, sum_of_two_fits)) return false;
     point_impulse[i] = share + lambda0 * m.rocking[0].alpha[i] + lambda1 * m.rocking[1].alpha[i];
     if (point_impulse[i] < Fixed{}) return false;
   }

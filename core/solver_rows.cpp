@@ -162,9 +162,9 @@ namespace {
 // past the range. Decided on the exact product; within it, lambda itself.
 // |alpha_i| <= 1 / sqrt(S) <= 100 (make_rocking keeps S >= 1e-4), so
 // below 2^22 lambda needs no check.
-Fixed within_points_range(Fixed lambda, const ManifoldRow::Rocking& r, size_t count) {
-  constexpr Fixed unchecked = Fixed::from_raw(int64_t{1} << 54);  // 2^22
-  if (abs(lambda) < unchecked) return lambda;
+constexpr Fixed unchecked_rocking = Fixed::from_raw(int64_t{1} << 54);  // 2^22
+
+[[gnu::noinline]] Fixed within_points_range(Fixed lambda, const ManifoldRow::Rocking& r, size_t count) {
   constexpr Fixed most = Fixed::from_raw(int64_t{1} << 61);  // 2^29
   Fixed largest;
   for (size_t i = 0; i < count; ++i) largest = max(largest, abs(r.alpha[i]));
@@ -179,7 +179,8 @@ template <class Row>
 void solve_rocking(SolverBody& a, SolverBody& b, const Row& m) {
   for (const ManifoldRow::Rocking& r : m.rocking) {
     if (!r.active) continue;
-    Fixed lambda = within_points_range(-mul_in_range(r.row.mass, relative_spin(a, b, r.row)), r, m.count);
+    Fixed lambda = -mul_in_range(r.row.mass, relative_spin(a, b, r.row));
+    if (abs(lambda) >= unchecked_rocking) lambda = within_points_range(lambda, r, m.count);
     // lambda = 0 changes nothing (each lambda alpha_i rounds to 0) unless a
     // point pulls already, which the bound below would correct.
     if (lambda == Fixed{} && none_pull(m)) continue;
