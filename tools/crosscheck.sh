@@ -3,7 +3,8 @@
 # tools/known_answer.cpp) and the golden-replay verifier (fixed/, core/,
 # replay/ + tools/verify_replays_main.cpp; xxhash inlined, nlohmann
 # header-only) with every compiler, option set, 128-bit backend and CPU
-# below, runs each (foreign CPUs under qemu-user, statically linked) and fails
+# below, runs each (foreign CPUs under qemu-user, statically linked; Windows
+# under wine, tools/wine_run.sh) and fails
 # unless every build prints the frozen known-answer hash and reproduces every
 # golden replay's hash chain at every step. Prints two tables.
 set -euo pipefail
@@ -22,12 +23,13 @@ ln -sf /usr/include/xxhash.h "$out/include/xxhash.h"
 replay_flags=(-isystem "$out/include" -DXXH_INLINE_ALL -DXXH_VECTOR=0)
 
 # Golden replays: every build verifies them all (wasm under node too, in
-# ~12 s), except that the builds run under qemu, and the unoptimised and
-# checked ones, take the short versions of the four heaviest scenes
+# ~12 s; Windows under wine in ~30 s), except that the builds run under qemu,
+# and the unoptimised and checked ones, take the short versions of the four
+# heaviest scenes
 # (<scene>.short.replay.json: 2 to 20 steps) instead of their full replays
 # (minutes each when emulated; ragdolls' 8 substeps alone took 38 s at -O0);
 # so every scene runs in every build, and every full replay in the
-# optimised native builds and wasm.
+# optimised native builds, wasm and Windows.
 replays=(scenes/*.replay.json)
 short_replays=()
 for r in "${replays[@]}"; do
@@ -38,12 +40,15 @@ done
 # silences GCC's notes that the ABI of some std::vector iterator arguments
 # changed in GCC 7.1 (nothing here crosses that boundary). wasm: CMake with
 # emscripten's toolchain file (tools/build_wasm.sh, -O3), run under node.
+# Windows: mingw-w64 (posix threads: std::thread), without __int128 as MSVC
+# would be, linked -static so that wine needs no DLL of the toolchain.
 builds=(
   "gcc -O0|g++|-O0|-"
   "gcc -O2|g++|-O2|-"
   "gcc -O3 -march=native -ffast-math|g++|-O3 -march=native -ffast-math|-"
   "clang -O2|clang++|-O2|-"
   "clang -O3 -ffast-math LTO|clang++|-O3 -ffast-math -flto|-"
+  "clang-16 -O3|clang++-16|-O3|-"
   "gcc -O2 portable 128-bit|g++|-O2 -DBITSTEP_PORTABLE_128=1|-"
   "gcc -O1 checked + UBSan|g++|-O1 -DBITSTEP_CHECKED=1 -fsanitize=undefined -fno-sanitize-recover=all|-"
   "i686 gcc -O2 (no __int128)|i686-linux-gnu-g++|-O2 -static|qemu-i386"
@@ -53,14 +58,23 @@ builds=(
   "riscv64 gcc -O2|riscv64-linux-gnu-g++|-O2 -static|qemu-riscv64"
   "ppc64le gcc -O2|powerpc64le-linux-gnu-g++|-O2 -static|qemu-ppc64le"
   "wasm32 emscripten -O3 (node)|wasm|-|tools/node_wasm.sh"
+  "Windows x86-64 mingw-w64 gcc -O2 portable 128-bit (wine)|x86_64-w64-mingw32-g++-posix|-O2 -static -DBITSTEP_PORTABLE_128=1|tools/wine_run.sh"
 )
 
 slug() { echo "$1" | tr -c 'A-Za-z0-9\n' '_'; }
+# A build's program ("kat" or "replays"): mingw-w64 names it .exe.
+program() {
+  local suffix=
+  case "$3" in *mingw32*) suffix=.exe ;; esac
+  echo "$out/$1_$(slug "$2")$suffix"
+}
 
 # Compiles one build's two programs.
 compile() {
   IFS='|' read -r name compiler flags _ <<<"$1"
-  local exe="$out/kat_$(slug "$name")" verifier="$out/replays_$(slug "$name")"
+  local exe verifier
+  exe=$(program kat "$name" "$compiler")
+  verifier=$(program replays "$name" "$compiler")
   if [ "$compiler" = wasm ]; then
     # node finds each program's .wasm beside the link's target.
     if ! tools/build_wasm.sh build/wasm >"$exe.log" 2>&1; then
@@ -100,14 +114,18 @@ for_each_build() {
   for p in "${pids[@]}"; do wait "$p" || status=1; done
   return $status
 }
+# wine's prefix, made once per run beside the compiles (~10 s).
+timeout 300 tools/wine_run.sh wineboot --init >"$out/wineboot.log" 2>&1 &
+wineboot=$!
 for_each_build compile || exit 1
+wait "$wineboot" || { echo "crosscheck: wine's prefix failed:" >&2; cat "$out/wineboot.log" >&2; exit 1; }
 
 expected=$(sed -n 's/.*expected_known_answer_hash = 0x\([0-9a-f]*\);.*/\1/p' tools/known_answer.h)
 printf '| build | 128-bit backend | byte order | known-answer hash | result |\n|---|---|---|---|---|\n'
 failed=0
 for b in "${builds[@]}"; do
-  IFS='|' read -r name _ _ runner <<<"$b"
-  exe="$out/kat_$(slug "$name")"
+  IFS='|' read -r name compiler _ runner <<<"$b"
+  exe=$(program kat "$name" "$compiler")
   if [ "$runner" = "-" ]; then
     line=$("$exe" || true)
   else
@@ -144,12 +162,13 @@ set_of() {
 }
 # A verifier's failure shows in its results (the table below), not here.
 verify() {
-  IFS='|' read -r name _ _ runner <<<"$1"
-  local verifier="$out/replays_$(slug "$name")" set_ run
+  IFS='|' read -r name compiler _ runner <<<"$1"
+  local verifier set_ run
+  verifier=$(program replays "$name" "$compiler")
   mapfile -t set_ < <(set_of "$name" "$runner")
   run=("$verifier")
   [ "$runner" = "-" ] || run=("$runner" "$verifier")
-  "${run[@]}" "${set_[@]}" >"$verifier.results" || true
+  "${run[@]}" "${set_[@]}" >"$out/replays_$(slug "$name").results" || true
 }
 for_each_build verify
 for b in "${builds[@]}"; do
@@ -178,4 +197,4 @@ for b in "${builds[@]}"; do
   echo "$row"
 done
 [ $failed -eq 0 ] || { echo "crosscheck: a golden replay differs" >&2; exit 1; }
-echo "crosscheck: every build reproduces every golden replay it runs (- = the full replay of a heavy scene, replaced by its short one under qemu, -O0 and checked; wasm runs every full replay)"
+echo "crosscheck: every build reproduces every golden replay it runs (- = the full replay of a heavy scene, replaced by its short one under qemu, -O0 and checked; wasm and Windows run every full replay)"
