@@ -36,11 +36,10 @@ step "Release build"
 cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release -DBITSTEP_TESTS=ON >/dev/null
 cmake --build build/release -j"$jobs"
 
-# The cross-build check runs beside the Release tests (its 16 compiles are
-# the longest part of the run: ~12 minutes of the ~15 that this part takes on
-# 2 cores, measured with 14; clang-16 and Windows add ~1.5 minutes). The golden replays on 2, 3 and 8 workers (~3.5 minutes here) are
-# left to the ThreadSanitizer build at the end, which runs the same test on
-# every full replay, optimised. Its tables print after.
+# The cross-build check runs beside the Release tests (~3.5 minutes): its
+# 16 compiles make this the longest part, ~16 minutes on 2 cores. The golden replays on 2, 3 and 8 workers (~3.5 minutes here)
+# are left to the ThreadSanitizer build at the end, which runs the same test
+# on every full replay, optimised. Its tables print after.
 step "Release tests, and the cross-build check beside them"
 mkdir -p build
 tools/crosscheck.sh >build/crosscheck.log 2>&1 &
