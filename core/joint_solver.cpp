@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/joint_parts.h"
+#include "core/mass.h"
 #include "core/joint_types.h"
 
 namespace bitstep {
@@ -259,10 +260,82 @@ void prepare_joint_rows(const Settings& settings, const std::vector<Body>& bodie
   factor_joint_tree(solver_bodies, rows, tree);
 }
 
+namespace {
+
+// The most one joint's warm start may change a body's rates: 2^28 m/s or
+// rad/s per component, so that the warm starts of up to seven joints on one
+// body sum inside the range (2^31).
+constexpr Fixed most_warm_response = Fixed::from_raw(int64_t{1} << 60);
+constexpr Fixed impulse_sum_cap = Fixed::from_raw(int64_t{1} << 62);  // 2^30 N s
+
+Fixed saturating_sum(Fixed sum, Fixed x) { return sum > impulse_sum_cap - x ? impulse_sum_cap : sum + x; }
+
+// A bound on any component of I^-1 v per unit of v's largest: 3 max|I^-1_ij|.
+Fixed inertia_bound(const Mat33& inverse_inertia) {
+  Fixed largest;
+  for (const Vec3& row : inverse_inertia.rows) largest = max(largest, max(abs(row.x), max(abs(row.y), abs(row.z))));
+  return largest * 3.0_fx;
+}
+
+// How much one N s at the anchor r can change a body's rates, per
+// component, at most: 1/m + 3 max|I^-1_ij| 2 max|r_k| (through I^-1 (r x
+// lambda)); saturated at 2^30 for a far anchor on a tiny body.
+Fixed anchor_response(const SolverBody& body, Vec3 r, Fixed inertia) {
+  const Fixed lever = max(abs(r.x), max(abs(r.y), abs(r.z))) * 2.0_fx;
+  if (product_exceeds(inertia, lever, impulse_sum_cap)) return impulse_sum_cap;
+  return saturating_sum(body.inverse_mass, inertia * lever);
+}
+
+// Last step's impulses, halved until their warm start stays inside the
+// number range. Two heavy bodies joined through a light one and swung
+// apart (two 1,000 kg boxes through a 10 g die at 250 m/s) leave joint
+// impulses of ~1e5 N s on the die's faces: they nearly cancel in sum, but
+// applied one joint at a time each turns the die by ~1e9 rad/s, and two
+// of them pass 2^31. A warm start is a guess that the solve corrects, so
+// a joint's is scaled down (all its impulses alike, by a power of two)
+// until the bound on its change to either body's rates, linear impulses
+// times anchor_response plus angular ones times 3 max|I^-1_ij|, is at
+// most most_warm_response. Far from it (a ragdoll's hand under its
+// torso's pull: ~2^20) the impulses keep their bits.
+void keep_warm_start_in_range(const SolverBody& a, const SolverBody& b, const JointRow& row) {
+  Joint& joint = *row.joint;
+  Fixed* const linear[] = {&joint.point_impulse.x, &joint.point_impulse.y, &joint.point_impulse.z,
+                           &joint.distance_impulse, &joint.limit_impulse, &joint.motor_impulse};
+  Fixed* const angular[] = {&joint.hinge_impulse[0], &joint.hinge_impulse[1], &joint.angular_impulse.x,
+                            &joint.angular_impulse.y, &joint.angular_impulse.z, &joint.limit_impulse,
+                            &joint.motor_impulse};
+  Fixed linear_sum, angular_sum;
+  for (const Fixed* x : linear) linear_sum = saturating_sum(linear_sum, abs(*x));
+  for (const Fixed* x : angular) angular_sum = saturating_sum(angular_sum, abs(*x));
+  if (linear_sum == Fixed{} && angular_sum == Fixed{}) return;
+  const Fixed inertia = max(inertia_bound(a.inverse_inertia), inertia_bound(b.inverse_inertia));
+  const Fixed response = max(anchor_response(a, row.ra, inertia), anchor_response(b, row.rb, inertia));
+  // A limit's and a motor's impulse is linear on a slider, angular on a
+  // hinge: each is counted on both sides, which only raises the bound.
+  // Each of the two products is held to half of most_warm_response.
+  int halvings = 0;
+  const Fixed half_cap = Fixed::from_raw(most_warm_response.raw() >> 1);
+  while (halvings < 62 && (product_exceeds(response, linear_sum, half_cap) || product_exceeds(inertia, angular_sum, half_cap))) {
+    ++halvings;
+    linear_sum = Fixed::from_raw(linear_sum.raw() >> 1);
+    angular_sum = Fixed::from_raw(angular_sum.raw() >> 1);
+  }
+  if (halvings == 0) return;
+  const int64_t divisor = int64_t{1} << halvings;
+  for (Fixed* x : {&joint.point_impulse.x, &joint.point_impulse.y, &joint.point_impulse.z, &joint.distance_impulse,
+                   &joint.hinge_impulse[0], &joint.hinge_impulse[1], &joint.limit_impulse, &joint.angular_impulse.x,
+                   &joint.angular_impulse.y, &joint.angular_impulse.z, &joint.motor_impulse}) {
+    *x = Fixed::from_raw(x->raw() / divisor);  // toward zero: the same for either sign
+  }
+}
+
+}  // namespace
+
 void warm_start_joints(std::vector<SolverBody>& bodies, const std::vector<JointRow>& rows) {
   for (const JointRow& row : rows) {
     SolverBody& a = bodies[row.a];
     SolverBody& b = bodies[row.b];
+    keep_warm_start_in_range(a, b, row);
     with_joint_type(row.joint->type, [&](auto type) { decltype(type)::warm_start(a, b, row); });
   }
 }

@@ -31,13 +31,7 @@ BodyId add_ball(TestWorld& t, Vec3 position, Fixed radius, Fixed mass) {
 }
 
 JointId join(TestWorld& t, JointType type, BodyId a, BodyId b, Vec3 anchor) {
-  JointDef def;
-  def.type = type;
-  def.body_a = a;
-  def.body_b = b;
-  def.anchor_a = anchor;
-  def.axis = {Fixed{}, Fixed{}, Fixed::one()};
-  const JointResult made = t.world.create_joint(def);
+  const JointResult made = t.join(type, a, b, anchor);
   REQUIRE(made.ok());
   return made.id;
 }

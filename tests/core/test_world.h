@@ -70,6 +70,18 @@ struct TestWorld {
     return world.create_body(def).id;
   }
 
+  // A joint of `type` between a and b at the world point `anchor`, about
+  // z where the type has an axis.
+  JointResult join(JointType type, BodyId a, BodyId b, Vec3 anchor) {
+    JointDef def;
+    def.type = type;
+    def.body_a = a;
+    def.body_b = b;
+    def.anchor_a = anchor;
+    def.axis = {Fixed{}, Fixed{}, Fixed::one()};
+    return world.create_joint(def);
+  }
+
   void simulate_steps(int steps) {
     for (int i = 0; i < steps; ++i) world.step();
   }

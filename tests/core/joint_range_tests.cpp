@@ -1,0 +1,95 @@
+// Joints between bodies about 1e4 to 1e7 apart in mass, swung fast: two
+// heavy boxes joined through a light die and flung apart. The joint
+// impulses on the die's faces nearly cancel in sum, but last step's, applied
+// one joint at a time in the warm start, turned the die past 2^31 rad/s and
+// the checked build aborted (issue 48's sweep: 24 of 32 such point-joint
+// cases). The warm start is now scaled into range (core/joint_solver.cpp,
+// keep_warm_start_in_range). These run in both builds; in the checked one
+// any overflow aborts. Still open (core/README.md): hinges and sliders at
+// these ratios, and a die anchored 50 of its sizes away.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+#include "tests/core/test_world.h"
+#include "tests/test_support.h"
+
+using namespace bitstep;
+using bitstep::test::TestWorld;
+using bitstep::test::to_double;
+
+namespace {
+
+constexpr double g = 9.81;
+
+// x rounded to the nearest Q32.32 value (a test's own numbers).
+Fixed fixed_of(double x) { return Fixed::from_raw(std::llround(std::ldexp(x, 32))); }
+
+double energy(const Body& body) {
+  if (body.inverse_mass == Fixed{}) return 0;
+  const double m = 1.0 / to_double(body.inverse_mass);
+  const Vec3 v = body.linear_velocity;
+  const Vec3 w = rotate_inverse(body.pose.orientation, body.angular_velocity);
+  return 0.5 * m * to_double(dot(v, v)) + 0.5 * to_double(dot(w, body.inertia_local * w)) +
+         m * g * to_double(body.pose.position.y);
+}
+
+double total_energy(const World& world) {
+  double sum = 0;
+  for (const Body& body : world.bodies()) sum += energy(body);
+  return sum;
+}
+
+}  // namespace
+
+TEST_CASE("two heavy boxes joined through a light die and flung apart run in range and gain no energy",
+          "[joint][range]") {
+  for (const double die_mass : {0.01, 0.1}) {
+    for (const double die_half : {0.01, 0.05}) {
+      for (const double heavy_mass : {1000.0, 100000.0}) {
+        for (const double speed_share : {0.5, 0.99}) {
+          // 10 m boxes: reach 8.66 m; the speed of each within its limit
+          // min(500, 2^28 / (m R)) (core/envelope.h).
+          const double speed = speed_share * std::min(500.0, std::ldexp(1.0, 28) / (heavy_mass * 8.67));
+          INFO("die " << die_mass << " kg, " << 2 * die_half << " m; boxes " << heavy_mass << " kg at " << speed
+                      << " m/s");
+          TestWorld t;
+          BodyDef post;
+          post.type = BodyType::static_body;
+          post.pose.position = {Fixed{}, 20.0_fx, Fixed{}};
+          post.shapes.push_back({ShapeType::box, {0.5_fx, 0.5_fx, 0.5_fx}, {}, {}, {}});
+          const BodyId post_id = t.world.create_body(post).id;
+          const Fixed half = fixed_of(die_half);
+          const auto box = [&](Fixed y, Fixed h, double mass, Vec3 velocity) {
+            BodyDef def;
+            def.pose.position = {Fixed{}, y, Fixed{}};
+            def.shapes.push_back({ShapeType::box, {h, h, h}, {}, {}, {}});
+            def.mass = fixed_of(mass);
+            def.linear_velocity = velocity;
+            return t.world.create_body(def).id;
+          };
+          const Fixed v = fixed_of(speed);
+          const BodyId upper = box(14.5_fx, 5.0_fx, heavy_mass, {v * 0.9487_fx, Fixed{}, v * 0.3162_fx});
+          const BodyId die = box(9.5_fx - half, half, die_mass, {});
+          const BodyId lower = box(4.5_fx - half * 2.0_fx, 5.0_fx, heavy_mass, {-v * 0.9806_fx, v * 0.1961_fx, Fixed{}});
+          REQUIRE(t.join(JointType::hinge, post_id, upper, {Fixed{}, 19.5_fx, Fixed{}}).ok());
+          REQUIRE(t.join(JointType::point, upper, die, {Fixed{}, 9.5_fx, Fixed{}}).ok());
+          REQUIRE(t.join(JointType::point, die, lower, {Fixed{}, 9.5_fx - half * 2.0_fx, Fixed{}}).ok());
+          // The first step takes the blow the joints cannot allow (the
+          // boxes' speeds across their joints); from then on the energy
+          // may only fall (gravity's work is in it).
+          t.world.step();
+          const double start = total_energy(t.world);
+          double peak = start;
+          for (int i = 0; i < 90; ++i) {
+            t.world.step();
+            peak = std::max(peak, total_energy(t.world));
+          }
+          INFO("energy after the first step " << start << " J, largest after " << peak << " J");
+          CHECK(peak <= start * 1.01);
+        }
+      }
+    }
+  }
+}
