@@ -1,6 +1,8 @@
 #include "core/joint_tree.h"
 
 #include <algorithm>
+#include <bit>
+#include <limits>
 
 #include "core/islands.h"
 #include "core/joint_solver.h"
@@ -82,6 +84,33 @@ void subtract(Block& a, const Block& b, int n, int m) {
     for (int j = 0; j < m; ++j) a.at[i][j] -= b.at[i][j];
   }
 }
+// x 2^e, rounded to nearest (ties up) where e < 0: exact where e >= 0,
+// saturated past the range (the checked build aborts).
+inline Fixed times_power_of_two(Fixed x, int e) {
+  if (e < 0) return Fixed::from_raw((x.raw() >> -e) + ((x.raw() >> (-e - 1)) & 1));
+  const int64_t room = std::numeric_limits<int64_t>::max() >> e;
+  const bool saturated = x.raw() > room || x.raw() < -room;
+  BITSTEP_FAULT_IF(saturated, "times_power_of_two", "result out of range, saturated", x.raw(), e);
+  if (saturated) return x > Fixed{} ? Fixed::max() : -Fixed::max();
+  return Fixed::from_raw(x.raw() * (int64_t{1} << e));
+}
+// The exponent e that brings a diagonal entry d > 0 to d 4^e in 0.5..4
+// (0 where d <= 0: a row of nothing movable).
+int8_t scale_exponent(Fixed diagonal) {
+  if (diagonal <= Fixed{}) return 0;
+  const int width = static_cast<int>(std::bit_width(static_cast<uint64_t>(diagonal.raw())));  // d in [2^(w-33), 2^(w-32))
+  return static_cast<int8_t>(std::clamp((33 - width) >> 1, -24, 24));
+}
+// S_a K S_b of an n x m block: row i times 2^a_i, column j times 2^b_j.
+void scale_block(Block& k, int n, int m, const JointTree::RowScales& a, const JointTree::RowScales& b) {
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < m; ++j) k.at[i][j] = times_power_of_two(k.at[i][j], a.exponent[i] + b.exponent[j]);
+  }
+}
+void scale_column(Column& x, int n, const JointTree::RowScales& s) {
+  for (int i = 0; i < n; ++i) x.at[i] = times_power_of_two(x.at[i], s.exponent[i]);
+}
+
 // (n x m) times a column of m, into y (its first n).
 inline void product(const Block& a, const Column& x, int n, int m, Column& y) {
   const auto row = [&a](int i) { return Vec3{a.at[i][0], a.at[i][1], a.at[i][2]}; };
@@ -256,7 +285,16 @@ Mat33 inverse_spd(const Mat33& k) {
 
 Block inverse_spd(const Block& k, int n) {
   if (n == 3) return block_of(inverse_spd(mat33(k)));  // a point block: the 3x3 form
-  return inverse_spd(k, n, Column{});
+  // K^-1 = S (S K S)^-1 S, S = diag(2^e) bringing each K_ii to 0.5..4 (as
+  // the tree does, JointTree::scale): a slider between bodies 1e3 apart in
+  // mass has linear and angular rows 1e7 apart.
+  JointTree::RowScales s{};
+  for (int i = 0; i < n; ++i) s.exponent[i] = scale_exponent(k.at[i][i]);
+  Block scaled = k;
+  scale_block(scaled, n, n, s, s);
+  Block inverse = inverse_spd(scaled, n, Column{});
+  scale_block(inverse, n, n, s, s);
+  return inverse;
 }
 
 Block inverse_spd(const Block& k, int n, const Column& floor) {
@@ -376,6 +414,10 @@ void factor_positions(const std::vector<SolverBody>& bodies, const std::vector<J
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < 3; ++j) pivot.at[i][j] = point.at[i][j];
     }
+    for (int i = 0; i < max_tree_axes; ++i) {
+      tree.scale[p].exponent[i] = i < row.tree_size ? scale_exponent(pivot.at[i][i]) : int8_t{0};
+    }
+    scale_block(pivot, row.tree_size, row.tree_size, tree.scale[p], tree.scale[p]);
     // Each row's floor: in a tree that may have dependent rows, what its
     // pivot may keep of its K_ii diagonal and still be a row of its own,
     // 2^-24 of it and 64 raw units (rounding leaves a dependent row's
@@ -394,6 +436,14 @@ void factor_positions(const std::vector<SolverBody>& bodies, const std::vector<J
       const JointRow& second = rows[k.second];
       k.block = coupling(bodies[k.body], first, second, k.body);
       if (k.swapped) k.block = transposed(k.block, first.tree_size, second.tree_size);
+    }
+  }
+  // The couplings as S K S, once every scale of their trees is known.
+  for (size_t p = 0; p < n; ++p) {
+    if (!dirty[p]) continue;
+    for (uint32_t c = tree.couplings_begin[p]; c < tree.couplings_begin[p + 1]; ++c) {
+      JointTree::Coupling& k = tree.couplings[c];
+      scale_block(k.block, tree.size[p], tree.size[k.other], tree.scale[p], tree.scale[k.other]);
     }
   }
   // K = L D L^T, leaves first: eliminating k subtracts K_ik D_k^-1 K_kj
@@ -451,6 +501,7 @@ void factor_joint_tree(const std::vector<SolverBody>& bodies, const std::vector<
   tree.pivot.resize(n);
   tree.pivot_inverse.resize(n);
   tree.floor.resize(n);
+  tree.scale.resize(n);
   tree.dirty.assign(n, 1);
   tree.exact = true;
   label_components(tree);
@@ -480,6 +531,7 @@ void refactor_joint_tree(const std::vector<SolverBody>& bodies, const std::vecto
 
 void solve_joint_tree(JointTree& tree, std::vector<Column>& b) {
   const size_t n = tree.row_of.size();
+  for (size_t k = 0; k < n; ++k) scale_column(b[k], tree.size[k], tree.scale[k]);  // S b
   Column scaled, change;
   // Forward: b_i -= K_ik D_k^-1 b_k for each later neighbour i of k.
   for (uint32_t k = 0; k < n; ++k) {
@@ -505,6 +557,7 @@ void solve_joint_tree(JointTree& tree, std::vector<Column>& b) {
     product(tree.pivot_inverse[k], rest, nk, nk, scaled);
     rest = scaled;
   }
+  for (size_t k = 0; k < n; ++k) scale_column(b[k], tree.size[k], tree.scale[k]);  // lambda = S y
 }
 
 }  // namespace bitstep

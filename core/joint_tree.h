@@ -67,6 +67,18 @@ struct JointTree {
   std::vector<uint8_t> size;               // position -> its rows
   std::vector<Block> pivot_inverse;        // D_k^-1
   std::vector<Column> floor;               // per row of D_k: the pivot at or below which it is dependent
+  // Per position, each row's scale: the tree factorises S K S (S =
+  // diag(2^exponent), K_ii of every row brought to 0.5..4) and solves S K S
+  // y = S b, lambda = S y. Unscaled, a 1 kg, 10 cm link hinged between two
+  // 1,000 kg, 10 m boxes (I^-1 600 against 6e-5) left its Schur complements
+  // ~6e-5 as differences of ~600-sized products, within rounding of 0: a
+  // pivot came out negative, its row was dropped and the chain flew apart
+  // at 2 m/s. Powers of two scale exactly, and every pivot is then formed
+  // to ~2^-30 of its size.
+  struct RowScales {
+    int8_t exponent[max_tree_axes];
+  };
+  std::vector<RowScales> scale;
   std::vector<uint32_t> couplings_begin;   // position -> its couplings; one past the last at the end
   std::vector<Coupling> couplings;
   bool exact = false;                      // false: loops, or no joints with a point block
