@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "replay/snapshot.h"
+#include "replay/state_hash.h"
 #include "replay/state_dump.h"
 
 namespace bitstep {
@@ -21,6 +22,9 @@ int64_t window(const SessionConfig& c) {
 constexpr size_t remembered_hashes = 1024;
 // States at checksum ticks kept until every peer's checksum agreed.
 constexpr size_t remembered_states = 8;
+// Frames between the host's sends of a joiner's state while it has not
+// acknowledged its first tick, and between every peer's join checks.
+constexpr int64_t join_state_every = 30, join_check_every = 4;
 
 template <class Map>
 void erase_before(Map& map, int64_t tick) {
@@ -35,6 +39,8 @@ std::string config_error(const SessionConfig& c) {
   if (c.input_delay < 0 || c.input_delay > 32) return "input delay: outside 0..32 ticks";
   if (c.max_prediction < 1 || c.max_prediction > 64) return "max prediction: outside 1..64 ticks";
   if (c.checksum_interval < 1 || c.checksum_interval > 3600) return "checksum interval: outside 1..3600 ticks";
+  if (c.leave_after != 0 && (c.leave_after < 10 || c.leave_after > 100000)) return "leave after: 0 or 10..100000 frames";
+  if (c.joining && c.local_player == 0) return "joining: the host (player 0) cannot join, it starts the match";
   return {};
 }
 
@@ -43,7 +49,14 @@ Session::Session(Simulation sim, SessionConfig config, ApplyInput apply)
       config_(config),
       apply_(std::move(apply)),
       inputs_(static_cast<size_t>(config.players)),
-      acked_(static_cast<size_t>(config.players), 0) {
+      acked_(static_cast<size_t>(config.players), 0),
+      roster_(config.players),
+      start_hash_(sim_.hash()),
+      joined_(!config.joining),
+      heard_at_(static_cast<size_t>(config.players), 0),
+      wants_in_(static_cast<size_t>(config.players), false),
+      join_tick_(static_cast<size_t>(config.players), 0),
+      join_state_(static_cast<size_t>(config.players)) {
   // Ticks 1..input_delay have no input, for every player.
   for (auto& known_inputs : inputs_) {
     for (int64_t t = 1; t <= config_.input_delay; ++t) known_inputs[t] = empty_;
@@ -73,12 +86,17 @@ void Session::save_state(int64_t tick) {
   }
 }
 
+// An absent player's input is known: empty.
 bool Session::known(int player, int64_t tick) const {
-  return inputs_[static_cast<size_t>(player)].count(tick) != 0;
+  return !roster_.present(player, tick) || inputs_[static_cast<size_t>(player)].count(tick) != 0;
 }
 
 // The player's input for the tick, or its last one before (the prediction).
 const PlayerInput& Session::input_for(int player, int64_t tick, bool& predicted) const {
+  if (!roster_.present(player, tick)) {
+    predicted = false;
+    return empty_;
+  }
   const auto& known_inputs = inputs_[static_cast<size_t>(player)];
   const auto at = known_inputs.lower_bound(tick);
   predicted = at == known_inputs.end() || at->first != tick;
@@ -87,20 +105,148 @@ const PlayerInput& Session::input_for(int player, int64_t tick, bool& predicted)
 }
 
 void Session::add_local_input(PlayerInput input) {
-  inputs_[static_cast<size_t>(config_.local_player)][next_local_++] = std::move(input);
+  if (!joined_) return;  // a joiner plays from its state's next tick
+  const int64_t t = next_local_++;
+  inputs_[static_cast<size_t>(config_.local_player)][t] = std::move(input);
+  // The host's roster changes ride with this input: every peer applies
+  // them when it learns the host's input for t.
+  for (RosterEvent e : std::exchange(next_roster_, {})) {
+    e.at = t;
+    e.from = t;
+    // A leaver's inputs count up to the first one the host never got
+    // (its peers relayed to it what they held).
+    if (!e.present) {
+      e.from = confirmed_ + 1;
+      while (known(e.player, e.from)) ++e.from;
+    }
+    roster_at_[t].push_back(e);
+    apply_roster(e);
+  }
   send_inputs();
 }
 
 void Session::heartbeat() { send_inputs(true); }
 
+// The lowest ack of the other players who play now (but `except`), or
+// INT64_MAX when there is none.
+int64_t Session::acked_by_all(int except) const {
+  int64_t acked = INT64_MAX;
+  for (int p = 0; p < config_.players; ++p) {
+    if (p != config_.local_player && p != except && roster_.present_now(p)) {
+      acked = std::min(acked, acked_[static_cast<size_t>(p)]);
+    }
+  }
+  return acked;
+}
+
+bool Session::admit(int player) {
+  if (config_.local_player != 0 || player <= 0 || player >= config_.players) return false;
+  // A slot whose player is still heard from is not free.
+  const bool heard = frames_ - heard_at_[static_cast<size_t>(player)] < std::max(1, config_.leave_after / 2);
+  if (roster_.present_now(player) && (config_.leave_after == 0 || heard)) return false;
+  wants_in_[static_cast<size_t>(player)] = true;
+  return true;
+}
+
+// A roster change from the host's input: from `from` on, the player plays
+// or not. A leaver's inputs from then on are void (a rollback mends the
+// ticks run with them); a joiner's peers resend their inputs from `from` on.
+void Session::apply_roster(const RosterEvent& e) {
+  roster_log_.push_back(e);
+  const size_t p = static_cast<size_t>(e.player);
+  if (e.from <= confirmed_) {  // a leaver's input reached this peer but never the host, nor any relay
+    if (!desync_) {
+      desync_ = Desync{e.from, 0, 0, 0,
+                       "roster: player " + std::to_string(e.player) + " changes from tick " + std::to_string(e.from) +
+                           ", confirmed here already"};
+    }
+    return;
+  }
+  roster_.set(e.player, e.from, e.present);
+  if (e.present) {
+    wants_in_[p] = false;
+    heard_at_[p] = frames_;
+    if (e.player != config_.local_player) {
+      join_tick_[p] = e.from;
+      acked_[p] = e.from - 1;
+    }
+    return;
+  }
+  join_tick_[p] = 0;
+  join_state_[p].reset();
+  auto& theirs = inputs_[p];
+  theirs.erase(theirs.lower_bound(e.from), theirs.end());
+  for (auto ran = used_.lower_bound(e.from); ran != used_.end(); ++ran) {
+    if (ran->second[p] != empty_) {
+      rollback_from_ = std::min(rollback_from_, ran->first);
+      break;
+    }
+  }
+}
+
+// Once a frame: the host's roster decisions; a silent player's inputs
+// relayed; a joiner's state (the host) and checks (everyone).
+void Session::run_roster() {
+  const bool host = config_.local_player == 0;
+  const auto queued = [&](int p) {
+    return std::any_of(next_roster_.begin(), next_roster_.end(), [&](const RosterEvent& e) { return e.player == p; });
+  };
+  for (int p = 0; p < config_.players; ++p) {
+    const size_t k = static_cast<size_t>(p);
+    if (p == config_.local_player) continue;
+    const int64_t silent = frames_ - heard_at_[k];
+    // A joiner is silent until its state reaches it: counted from the state on.
+    const bool awaits_state = join_tick_[k] != 0 && !join_state_[k];
+    if (host && config_.leave_after > 0 && roster_.present_now(p) && silent >= config_.leave_after && !awaits_state &&
+        !queued(p)) {
+      next_roster_.push_back({0, 0, p, false});
+    }
+    if (host && wants_in_[k] && !roster_.present_now(p) && !queued(p)) next_roster_.push_back({0, 0, p, true});
+    // What a silent player sent to us and maybe not to others (the host
+    // above all: it decides where its inputs end).
+    if (config_.leave_after > 0 && silent >= std::max(1, config_.leave_after / 2)) {
+      const int64_t acked = acked_by_all(p);
+      SessionMessage m;
+      m.kind = SessionMessage::Kind::relay;
+      m.player = config_.local_player;
+      m.subject = p;
+      m.ack = confirmed_;
+      m.tick = acked == INT64_MAX ? confirmed_ + 1 : std::max<int64_t>(acked + 1, 1);
+      const auto& theirs = inputs_[k];
+      for (auto at = theirs.lower_bound(m.tick); at != theirs.end() && m.inputs.size() < max_inputs_per_message; ++at) {
+        if (at->first != m.tick + static_cast<int64_t>(m.inputs.size())) break;
+        m.inputs.push_back(at->second);
+      }
+      if (!m.inputs.empty()) outgoing_.push_back(std::move(m));
+    }
+    const int64_t joins = join_tick_[k];
+    if (joins == 0) continue;
+    if (acked_[k] >= joins) {  // the joiner runs
+      join_tick_[k] = 0;
+      join_state_[k].reset();
+      continue;
+    }
+    if (host && join_state_[k] && frames_ % join_state_every == 0) outgoing_.push_back(*join_state_[k]);
+    const auto checked = confirmed_hash(joins - 1);
+    if (checked && frames_ % join_check_every == 0) {
+      SessionMessage m;
+      m.kind = SessionMessage::Kind::join_check;
+      m.player = config_.local_player;
+      m.subject = p;
+      m.ack = confirmed_;
+      m.tick = joins - 1;
+      m.checksum = *checked;
+      outgoing_.push_back(std::move(m));
+    }
+  }
+}
+
 // The local inputs no peer has acknowledged (at most a message of them);
 // with `always`, a message even when there are none (it carries the ack).
 void Session::send_inputs(bool always) {
-  if (config_.players < 2) return;
-  int64_t acked = INT64_MAX;
-  for (int p = 0; p < config_.players; ++p) {
-    if (p != config_.local_player) acked = std::min(acked, acked_[static_cast<size_t>(p)]);
-  }
+  if (config_.players < 2 || !joined_) return;
+  int64_t acked = acked_by_all();
+  if (acked == INT64_MAX) acked = next_local_ - 1;  // nobody else plays now: an ack alone
   SessionMessage m;
   m.kind = SessionMessage::Kind::inputs;
   m.player = config_.local_player;
@@ -110,6 +256,10 @@ void Session::send_inputs(bool always) {
   for (auto at = local.lower_bound(m.tick); at != local.end() && m.inputs.size() < max_inputs_per_message; ++at) {
     if (at->first != m.tick + static_cast<int64_t>(m.inputs.size())) break;
     m.inputs.push_back(at->second);
+  }
+  for (auto at = roster_at_.lower_bound(m.tick);
+       at != roster_at_.end() && at->first < m.tick + static_cast<int64_t>(m.inputs.size()); ++at) {
+    m.roster.insert(m.roster.end(), at->second.begin(), at->second.end());
   }
   if (always || !m.inputs.empty()) outgoing_.push_back(std::move(m));
 }
@@ -141,6 +291,9 @@ void Session::roll_back() {
 }
 
 bool Session::advance() {
+  ++frames_;
+  if (!joined_) return false;
+  run_roster();
   const int64_t next = tick_ + 1;
   if (config_.mode == SessionMode::rollback && rollback_from_ <= tick_) roll_back();
   bool ready = known(config_.local_player, next);
@@ -168,11 +321,10 @@ void Session::confirm() {
     if (!all) break;
     confirmed_ = c;
     confirmed_hashes_[c] = hashes_.at(c);
+    keep_join_state(c);
     if (c % config_.checksum_interval != 0) continue;
     // The state after c, kept (as a rollback state) until the peers' checksums agree.
-    const size_t k = static_cast<size_t>(c) % ring_.size();
-    if (ring_tick_[k] != c) save_state(c);  // c is the tick just run
-    checked_states_[c] = ring_[k];
+    checked_states_[c] = state_after(c);
     if (checked_states_.size() > remembered_states) checked_states_.erase(checked_states_.begin());
     SessionMessage m;
     m.kind = SessionMessage::Kind::checksum;
@@ -188,17 +340,44 @@ void Session::confirm() {
   }
   // Forget what no rollback or peer can need any more (a rollback starts
   // after the confirmed tick; the prediction base is the input at it).
-  int64_t acked = confirmed_;
-  for (int p = 0; p < config_.players; ++p) {
-    if (p != config_.local_player) acked = std::min(acked, acked_[static_cast<size_t>(p)]);
-  }
+  // Inputs stay until every player who plays acknowledged them: ours to
+  // resend, a silent player's to relay.
+  const int64_t acked = std::min(confirmed_, acked_by_all());
   erase_before(used_, confirmed_);
   erase_before(hashes_, confirmed_);
-  for (int p = 0; p < config_.players; ++p) {
-    erase_before(inputs_[static_cast<size_t>(p)], p == config_.local_player ? std::min(acked + 1, confirmed_) : confirmed_);
-  }
+  for (auto& known_inputs : inputs_) erase_before(known_inputs, std::min(acked + 1, confirmed_));
+  erase_before(roster_at_, std::min(acked + 1, confirmed_));
+  roster_.forget_before(confirmed_ - static_cast<int64_t>(remembered_hashes));
   while (confirmed_hashes_.size() > remembered_hashes) confirmed_hashes_.erase(confirmed_hashes_.begin());
   erase_before(remote_checksums_, confirmed_ - static_cast<int64_t>(remembered_hashes));
+}
+
+// The state after a tick just confirmed (the world's now, or its rollback
+// state in the ring), as a rollback state.
+const std::vector<uint8_t>& Session::state_after(int64_t c) {
+  const size_t k = static_cast<size_t>(c) % ring_.size();
+  if (ring_tick_[k] != c) save_state(c);  // c is the tick just run
+  return ring_[k];
+}
+
+// The host, at the tick before a joiner's first: its snapshot, for the joiner.
+void Session::keep_join_state(int64_t c) {
+  if (config_.local_player != 0) return;
+  for (int p = 1; p < config_.players; ++p) {
+    if (join_tick_[static_cast<size_t>(p)] != c + 1) continue;
+    SessionMessage m;
+    m.kind = SessionMessage::Kind::join_state;
+    m.player = 0;
+    m.subject = p;
+    m.ack = c;
+    m.tick = c;
+    m.present = roster_.mask_at(c);
+    m.start_hash = start_hash_;
+    m.state = snapshot_of(state_after(c));
+    outgoing_.push_back(m);
+    join_state_[static_cast<size_t>(p)] = std::move(m);
+    heard_at_[static_cast<size_t>(p)] = frames_;
+  }
 }
 
 void Session::check_checksum(int64_t tick, int player) {
@@ -235,32 +414,30 @@ bool Session::receive(const SessionMessage& m) {
     ++stats_.refused_messages;
     return false;
   };
-  const int64_t horizon = std::max(tick_, next_local_ - 1) + window(config_);
   if (m.player < 0 || m.player >= config_.players || m.player == config_.local_player) return refuse();
+  if (!joined_) {  // the match's traffic is not ours until our state is in
+    if (m.subject != config_.local_player) return true;
+    if (m.kind == SessionMessage::Kind::join_check) {
+      join_checks_[m.player] = {m.tick, m.checksum};
+      try_join();
+    } else if (m.kind == SessionMessage::Kind::join_state) {
+      return receive_join_state(m);
+    }
+    return true;
+  }
+  const int64_t horizon = std::max(tick_, next_local_ - 1) + window(config_);
   if (m.ack < 0 || m.ack > next_local_ - 1 + window(config_) || m.tick < 1 || m.tick > horizon) return refuse();
   switch (m.kind) {
-    case SessionMessage::Kind::inputs: {
-      if (m.inputs.size() > max_inputs_per_message) return refuse();  // none: an ack alone
-      if (m.tick + static_cast<int64_t>(m.inputs.size()) - 1 > horizon) return refuse();
-      auto& theirs = inputs_[static_cast<size_t>(m.player)];
-      // All checked before any is kept: a contradiction refuses the message.
-      for (size_t i = 0; i < m.inputs.size(); ++i) {
-        if (m.inputs[i].size() > max_input_bytes) return refuse();
-        const auto at = theirs.find(m.tick + static_cast<int64_t>(i));
-        if (at != theirs.end() && at->second != m.inputs[i]) return refuse();
-      }
-      for (size_t i = 0; i < m.inputs.size(); ++i) {
-        const int64_t t = m.tick + static_cast<int64_t>(i);
-        if (t <= confirmed_ || known(m.player, t)) continue;  // known already (or long confirmed)
-        theirs[t] = m.inputs[i];
-        const auto ran = used_.find(t);
-        if (ran != used_.end() && ran->second[static_cast<size_t>(m.player)] != m.inputs[i]) {
-          ++stats_.mispredicted_inputs;
-          rollback_from_ = std::min(rollback_from_, t);
-        }
-      }
+    case SessionMessage::Kind::inputs:
+      if (!m.roster.empty() && m.player != 0) return refuse();  // only the host changes the roster
+      if (!receive_inputs(m, m.player)) return refuse();
       break;
-    }
+    case SessionMessage::Kind::relay:
+      if (m.subject < 0 || m.subject >= config_.players || m.subject == config_.local_player || !m.roster.empty()) {
+        return refuse();
+      }
+      if (!receive_inputs(m, m.subject)) return refuse();
+      break;
     case SessionMessage::Kind::checksum:
       remote_checksums_[m.tick][m.player] = m.checksum;
       check_checksum(m.tick, m.player);
@@ -276,10 +453,132 @@ bool Session::receive(const SessionMessage& m) {
       }
       break;
     }
+    case SessionMessage::Kind::join_state:
+      // We run already: the one we started from again (the host repeats it
+      // until we acknowledge our first tick) is nothing new, any other is stale.
+      if (m.subject == config_.local_player && m.tick != first_tick_) {
+        ++stats_.refused_states;
+        return refuse();
+      }
+      break;  // another joiner's
+    case SessionMessage::Kind::join_check: break;
   }
   acked_[static_cast<size_t>(m.player)] = std::max(acked_[static_cast<size_t>(m.player)], m.ack);
+  heard_at_[static_cast<size_t>(m.player)] = frames_;
   confirm();
   return true;
+}
+
+// A player's inputs (its own, or relayed); false, with nothing changed,
+// when any is out of the window, contradicts one known, or falls where
+// the player does not play; the host's roster changes are checked with them.
+bool Session::receive_inputs(const SessionMessage& m, int player) {
+  const int64_t horizon = std::max(tick_, next_local_ - 1) + window(config_);
+  const int64_t count = static_cast<int64_t>(m.inputs.size());
+  if (m.inputs.size() > max_inputs_per_message) return false;  // none: an ack alone
+  if (m.tick + count - 1 > horizon) return false;
+  if (m.roster.size() > max_roster_events) return false;
+  for (const RosterEvent& e : m.roster) {
+    if (e.at < m.tick || e.at >= m.tick + count || e.player <= 0 || e.player >= config_.players || e.from < 1 ||
+        e.from > e.at + window(config_)) {
+      return false;
+    }
+  }
+  auto& theirs = inputs_[static_cast<size_t>(player)];
+  // All checked before any is kept: a contradiction refuses the message.
+  for (int64_t i = 0; i < count; ++i) {
+    const PlayerInput& input = m.inputs[static_cast<size_t>(i)];
+    const int64_t t = m.tick + i;
+    if (input.size() > max_input_bytes) return false;
+    if (!roster_.present(player, t)) return false;  // a leaver's, for a tick it is absent
+    const auto at = theirs.find(t);
+    if (at != theirs.end() && at->second != input) return false;
+  }
+  for (int64_t i = 0; i < count; ++i) {
+    const int64_t t = m.tick + i;
+    const PlayerInput& input = m.inputs[static_cast<size_t>(i)];
+    if (t <= confirmed_ || known(player, t)) continue;  // known already (or long confirmed)
+    theirs[t] = input;
+    heard_at_[static_cast<size_t>(player)] = frames_;  // news of it, if relayed
+    const auto ran = used_.find(t);
+    if (ran != used_.end() && ran->second[static_cast<size_t>(player)] != input) {
+      ++stats_.mispredicted_inputs;
+      rollback_from_ = std::min(rollback_from_, t);
+    }
+    if (player != 0) continue;
+    for (const RosterEvent& e : m.roster) {
+      if (e.at == t) apply_roster(e);
+    }
+  }
+  return true;
+}
+
+// A joiner's state from the host: for our match, not older than the one
+// waiting or than the host's checks; used once every check is in.
+bool Session::receive_join_state(const SessionMessage& m) {
+  const uint32_t everyone = config_.players >= 32 ? ~0u : (1u << config_.players) - 1;
+  const auto host_check = join_checks_.find(0);
+  const bool stale = (candidate_ && candidate_->tick > m.tick) ||
+                     (host_check != join_checks_.end() && host_check->second.first > m.tick);
+  const bool fits = m.player == 0 && m.start_hash == start_hash_ && m.tick >= 1 && (m.present & ~everyone) == 0 &&
+                    (m.present & 1u) != 0 && (m.present & (1u << config_.local_player)) == 0;
+  if (!fits || stale) {
+    ++stats_.refused_states;
+    ++stats_.refused_messages;
+    return false;
+  }
+  candidate_ = m;
+  try_join();
+  return true;
+}
+
+// The waiting state, once every player present at its tick sent its check:
+// used when its hash is theirs, refused when not.
+void Session::try_join() {
+  if (!candidate_) return;
+  const SessionMessage& m = *candidate_;
+  const auto refuse = [&] {
+    ++stats_.refused_states;
+    ++stats_.refused_messages;
+    candidate_.reset();
+  };
+  for (int q = 0; q < config_.players; ++q) {
+    if ((m.present & (1u << q)) == 0) continue;
+    const auto check = join_checks_.find(q);
+    if (check == join_checks_.end() || check->second.first < m.tick) return;  // wait for it
+    if (check->second.first > m.tick) return refuse();  // a newer join: this state is stale
+  }
+  World candidate;
+  if (restore(m.state, candidate) || candidate.step_count() != static_cast<uint64_t>(m.tick)) return refuse();
+  const uint64_t hash = state_hash(candidate);
+  for (const auto& [q, check] : join_checks_) {
+    if ((m.present & (1u << q)) != 0 && check.second != hash) return refuse();  // not the state they confirmed
+  }
+  if (sim_.load(m.state)) return refuse();
+  // From the state on, as if the match had started there.
+  const int64_t c = m.tick;
+  roster_ = Roster(config_.players, m.present);
+  roster_.set(config_.local_player, c + 1, true);
+  for (size_t p = 0; p < inputs_.size(); ++p) {
+    inputs_[p].clear();
+    acked_[p] = c;
+    heard_at_[p] = frames_;
+  }
+  for (int64_t t = c + 1; t <= c + config_.input_delay; ++t) inputs_[static_cast<size_t>(config_.local_player)][t] = empty_;
+  next_local_ = c + 1 + config_.input_delay;
+  tick_ = confirmed_ = first_tick_ = c;
+  used_.clear();
+  hashes_ = {{c, hash}};
+  confirmed_hashes_ = {{c, hash}};
+  checked_states_.clear();
+  remote_checksums_.clear();
+  rollback_from_ = INT64_MAX;
+  states_ = RollbackStates{};  // a new world: no state of the old one restores into it
+  ring_tick_.assign(ring_.size(), -1);
+  if (config_.mode == SessionMode::rollback) save_state(c);
+  joined_ = true;
+  candidate_.reset();
+  join_checks_.clear();
 }
 
 std::vector<SessionMessage> Session::take_outgoing() { return std::exchange(outgoing_, {}); }

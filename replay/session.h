@@ -22,6 +22,21 @@
 // but time; a message that makes no sense (a player out of range, a tick
 // out of the window, an input that contradicts one already known) is
 // refused and counted, never applied.
+//
+// Leaving and joining (replay/session_roster.h): the host (player 0)
+// decides who plays, and its decisions travel in its own input stream, so
+// every peer applies them at the same tick. A player the host has heard
+// nothing from for `leave_after` frames is marked absent from the first
+// tick whose input the host never got (the others first relay to it every
+// input of the silent player they hold); its inputs from then on are
+// empty, and its own inputs for those ticks are refused. A player may join
+// (or rejoin) a slot that is absent: the host announces it present from
+// its next input's tick T, and once it has confirmed T - 1 sends the joiner
+// its snapshot after T - 1; every peer sends the joiner the hash it
+// confirmed for T - 1 (a join check). The joiner uses the snapshot only
+// when its hash is the one every player present at T - 1 checked, for its
+// own match (the start hash): a forged or stale state is refused and
+// counted. The host must stay for the whole match (no host migration).
 #pragma once
 
 #include <cstdint>
@@ -32,6 +47,7 @@
 #include <vector>
 
 #include "replay/rollback_state.h"
+#include "replay/session_roster.h"
 #include "replay/simulation.h"
 
 namespace bitstep {
@@ -47,21 +63,29 @@ struct SessionConfig {
   int input_delay = 0;         // ticks, 0..32
   int max_prediction = 8;      // ticks ahead of the last confirmed one (rollback), 1..64
   int checksum_interval = 1;   // every k-th confirmed tick, 1..3600
+  int leave_after = 0;         // frames of silence before the host marks a player absent, 0 (never) or 10..100000
+  bool joining = false;        // joins a match in progress: waits for the host's state
 };
 
 // A sentence about what is wrong with a config, or empty.
 std::string config_error(const SessionConfig& config);
 
 struct SessionMessage {
-  enum class Kind : uint8_t { inputs, checksum, state };
+  enum class Kind : uint8_t { inputs, checksum, state, relay, join_state, join_check };
   Kind kind = Kind::inputs;
   int player = 0;                   // the sender
+  int subject = 0;                  // relay: whose inputs; join_state, join_check: the joiner
   int64_t ack = 0;                  // the sender has every player's input up to this tick
   int64_t tick = 0;                 // inputs: of inputs[0]; checksum, state: the tick
   std::vector<PlayerInput> inputs;  // inputs: the sender's for ticks tick, tick + 1, ...
   uint64_t checksum = 0;            // checksum: the state hash after `tick`
-  std::vector<uint8_t> state;       // state: the snapshot after `tick` (after a mismatch)
+  std::vector<uint8_t> state;       // state: the snapshot after `tick` (after a mismatch); join_state: the joiner's start
+  std::vector<RosterEvent> roster;  // inputs (the host's only): the roster changes its inputs carry
+  uint32_t present = 0;             // join_state: who plays at `tick` (bit p: player p)
+  uint64_t start_hash = 0;          // join_state: the match's (the state hash before tick 1)
 };
+
+inline constexpr size_t max_roster_events = 16;
 
 inline constexpr size_t max_input_bytes = 1024;
 inline constexpr size_t max_inputs_per_message = 128;
@@ -77,6 +101,7 @@ struct SessionStats {
   int64_t rollbacks = 0, resimulated_ticks = 0, stalls = 0;
   int64_t predicted_inputs = 0, mispredicted_inputs = 0;
   int64_t refused_messages = 0;
+  int64_t refused_states = 0;  // join states refused (another match, stale, or not the checked hash)
 };
 
 // Applies one player's input to the simulation, before a tick.
@@ -99,6 +124,21 @@ class Session {
   // carries this peer's ack (call it now and then once the match is over,
   // so peers still waiting learn that their last inputs arrived).
   void heartbeat();
+  // The host: let `player` (an absent slot, or one the host will mark
+  // absent) play again from the host's next input on; false for any other
+  // peer or slot.
+  bool admit(int player);
+  // The host has roster changes for its next input: a game that gives its
+  // inputs no further ahead than the simulation gives one more now.
+  bool roster_waits() const { return !next_roster_.empty(); }
+  // False while a joining session waits for its state.
+  bool joined() const { return joined_; }
+  // The tick this session started from (0, or the joiner's state's).
+  int64_t first_tick() const { return first_tick_; }
+  const Roster& roster() const { return roster_; }
+  // The roster changes this peer applied, in order (for a game's record).
+  const std::vector<RosterEvent>& roster_log() const { return roster_log_; }
+  uint64_t start_hash() const { return start_hash_; }
   // What to send to every peer since the last call.
   std::vector<SessionMessage> take_outgoing();
 
@@ -125,6 +165,14 @@ class Session {
   void confirm();
   void check_checksum(int64_t tick, int player);
   void send_inputs(bool always = false);
+  int64_t acked_by_all(int except = -1) const;
+  void apply_roster(const RosterEvent& event);
+  void run_roster();
+  bool receive_inputs(const SessionMessage& m, int player);
+  void try_join();
+  void keep_join_state(int64_t tick);
+  const std::vector<uint8_t>& state_after(int64_t tick);
+  bool receive_join_state(const SessionMessage& m);
 
   Simulation sim_;
   SessionConfig config_;
@@ -147,6 +195,22 @@ class Session {
   std::optional<Desync> desync_;
   SessionStats stats_;
   const PlayerInput empty_;
+
+  // Leaving and joining.
+  Roster roster_;
+  std::vector<RosterEvent> roster_log_;
+  uint64_t start_hash_ = 0;
+  bool joined_ = true;
+  int64_t first_tick_ = 0;
+  int64_t frames_ = 0;                                   // advance calls
+  std::vector<int64_t> heard_at_;                        // per player: the frame it was last heard (or relayed)
+  std::vector<RosterEvent> next_roster_;                 // the host's: for its next input
+  std::map<int64_t, std::vector<RosterEvent>> roster_at_;  // the host's: by the tick of the input carrying them
+  std::vector<bool> wants_in_;                           // the host's: slots asked for
+  std::vector<int64_t> join_tick_;                       // per player: the tick it joins at, until it acked it
+  std::vector<std::optional<SessionMessage>> join_state_;  // the host's: the state sent to each joiner
+  std::optional<SessionMessage> candidate_;              // a joiner's: the state waiting for its checks
+  std::map<int, std::pair<int64_t, uint64_t>> join_checks_;  // a joiner's: per player, (tick, hash) checked
 };
 
 }  // namespace bitstep
