@@ -6,7 +6,9 @@
 # one process computes from every script (--reference). Then a peer that
 # flips one bit of a body's velocity before tick 200 must be reported by
 # both at tick 200 with the body and field; an intruder that does not fit
-# the match is refused while the match plays on; and the sync test rolls
+# the match is refused while the match plays on; a peer killed mid-match is
+# marked absent and a new process rejoins its slot, all on the reference
+# chain of that roster, under a flood of random datagrams; and the sync test rolls
 # the playground's golden replay back 8 ticks after every tick. Each run is
 # bounded by `timeout`. Usage: tools/peer_test.sh [BITSTEP]
 set -euo pipefail
@@ -112,6 +114,94 @@ if [ "$intruder_status" -eq 0 ] || ! grep -q "packets refused" "$out/i0.err" ||
   status=1
 else
   echo "intruder refused ($(cat "$out/i0.err")); the match finished alike"
+fi
+
+# Late join over ENet with 10% loss and 50-150 ms of jitter, at 100 frames a
+# second: player 2 of 3 (a busy script: a push every 10 ticks, so its
+# absence shows in the chain) is killed; the host marks it absent after 60
+# frames of silence; a new process rejoins its slot (--join) from the host's
+# state. Meanwhile a raw UDP sender fires 3000 random datagrams at the host.
+# Every peer, the joiner from its first tick, must end on the chain of the
+# reference given the host's roster changes, which must differ from the
+# chain without them.
+offset=$((offset + 10))
+{
+  printf '{"inputs": [\n'
+  for t in $(seq 20 10 590); do
+    printf '  {"step": %d, "type": "impulse", "body": "ball.3", "impulse": [0, 2, %d], "point": [30, 1, 25]}%s\n' \
+      "$t" $(((t / 10) % 7 - 3)) "$([ "$t" -lt 590 ] && echo ,)"
+  done
+  printf ']}\n'
+} >"$out/busy2.inputs.json"
+join_script() { [ "$1" -eq 2 ] && echo "$out/busy2.inputs.json" || echo "$match/player$1.inputs.json"; }
+join_options=(--scene "$scene" --players 3 --mode rollback --hz 100 --leave-after 60 --loss 10 --jitter 50-150
+  --timeout 60 --json)
+pids=()
+for p in 0 1 2; do
+  connect=()
+  for q in $(seq 0 $((p - 1))); do connect+=(--connect "127.0.0.1:$((base + offset + q))"); done
+  timeout 90 "$bitstep" peer "${join_options[@]}" --player "$p" --port $((base + offset + p)) "${connect[@]}" \
+    --inputs "$(join_script "$p")" --seed $((p + 1)) >"$out/join$p.json" 2>"$out/join$p.err" &
+  pids+=($!)
+done
+sleep 3
+kill "${pids[2]}"  # timeout passes the signal on: the peer dies without a word
+python3 - "$((base + offset))" <<'PY' &
+import os, random, socket, sys, time
+random.seed(7)
+sender = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+for i in range(3000):
+    sender.sendto(os.urandom(random.randint(1, 1400)), ("127.0.0.1", int(sys.argv[1])))
+    if i % 100 == 0:
+        time.sleep(0.01)
+PY
+flood=$!
+sleep 1
+timeout 90 "$bitstep" peer "${join_options[@]}" --player 2 --join --port $((base + offset + 3)) \
+  --connect "127.0.0.1:$((base + offset))" --connect "127.0.0.1:$((base + offset + 1))" \
+  --inputs "$(join_script 2)" --seed 9 >"$out/join3.json" 2>"$out/join3.err" &
+pids[2]=$!
+failed=0
+for pid in "${pids[@]}"; do wait "$pid" || failed=1; done
+wait "$flood" || failed=1
+roster=$(sed -n 's/.*"roster": "\([^"]*\)".*/\1/p' "$out/join0.json")
+first=$(sed -n 's/.*"first_tick": \([0-9]*\).*/\1/p' "$out/join3.json")
+stray=$(sed -n 's/.*"stray_datagrams": \([0-9]*\).*/\1/p' "$out/join0.json")
+join_reference() {  # the chain after tick $1, with the host's roster changes (word-split on purpose)
+  # shellcheck disable=SC2086
+  "$bitstep" peer --reference --scene "$scene" --players 3 --inputs "$match/player0.inputs.json" \
+    --inputs "$match/player1.inputs.json" --inputs "$(join_script 2)" --chain-from "$1" $2 --json >"$out/jref.json"
+  chain_of "$out/jref.json"
+}
+if [ "$failed" -ne 0 ] || [ -z "$first" ] || [ "$first" -eq 0 ]; then
+  echo "peer_test.sh: late join: a peer failed, or the joiner never joined:" >&2
+  cat "$out"/join*.err >&2
+  status=1
+elif [[ "$roster" != "--absent 2@"*" --present 2@"* ]]; then
+  echo "peer_test.sh: late join: the host's roster is '$roster', not an absence and a return of player 2" >&2
+  status=1
+else
+  expected=$(join_reference 0 "$roster")
+  for p in 0 1; do
+    if [ "$(chain_of "$out/join$p.json")" != "$expected" ]; then
+      echo "peer_test.sh: late join: peer $p's chain is not the reference's with '$roster'" >&2
+      status=1
+    fi
+  done
+  if [ "$(chain_of "$out/join3.json")" != "$(join_reference "$first" "$roster")" ]; then
+    echo "peer_test.sh: late join: the joiner's chain from tick $first is not the reference's" >&2
+    status=1
+  fi
+  if [ "$expected" = "$(join_reference 0 "")" ]; then
+    echo "peer_test.sh: late join: the absence left the chain as it was: the test proves nothing" >&2
+    status=1
+  fi
+  if [ "${stray:-0}" -lt 1000 ]; then
+    echo "peer_test.sh: late join: the host counted ${stray:-0} stray datagrams of the 3000 sent" >&2
+    status=1
+  fi
+  echo "late join: $roster; the joiner from tick $first and both others on the reference chain ($expected);" \
+    "the host counted $stray stray datagrams of 3000"
 fi
 
 # GGPO's sync test on the playground's golden inputs: the golden chain.
