@@ -41,6 +41,7 @@ std::string config_error(const SessionConfig& c) {
   if (c.checksum_interval < 1 || c.checksum_interval > 3600) return "checksum interval: outside 1..3600 ticks";
   if (c.leave_after != 0 && (c.leave_after < 10 || c.leave_after > 100000)) return "leave after: 0 or 10..100000 frames";
   if (c.joining && c.local_player == 0) return "joining: the host (player 0) cannot join, it starts the match";
+  if (c.watching && !c.joining) return "watching: a spectator joins a match in progress (joining)";
   return {};
 }
 
@@ -54,7 +55,7 @@ Session::Session(Simulation sim, SessionConfig config, ApplyInput apply)
       start_hash_(sim_.hash()),
       joined_(!config.joining),
       heard_at_(static_cast<size_t>(config.players), 0),
-      wants_in_(static_cast<size_t>(config.players), false),
+      wants_in_(static_cast<size_t>(config.players), Presence::absent),
       join_tick_(static_cast<size_t>(config.players), 0),
       join_state_(static_cast<size_t>(config.players)) {
   // Ticks 1..input_delay have no input, for every player.
@@ -86,14 +87,14 @@ void Session::save_state(int64_t tick) {
   }
 }
 
-// An absent player's input is known: empty.
+// The input of a player who does not play (absent, watching) is known: empty.
 bool Session::known(int player, int64_t tick) const {
-  return !roster_.present(player, tick) || inputs_[static_cast<size_t>(player)].count(tick) != 0;
+  return !roster_.plays(player, tick) || inputs_[static_cast<size_t>(player)].count(tick) != 0;
 }
 
 // The player's input for the tick, or its last one before (the prediction).
 const PlayerInput& Session::input_for(int player, int64_t tick, bool& predicted) const {
-  if (!roster_.present(player, tick)) {
+  if (!roster_.plays(player, tick)) {
     predicted = false;
     return empty_;
   }
@@ -105,7 +106,7 @@ const PlayerInput& Session::input_for(int player, int64_t tick, bool& predicted)
 }
 
 void Session::add_local_input(PlayerInput input) {
-  if (!joined_) return;  // a joiner plays from its state's next tick
+  if (!joined_ || config_.watching) return;  // a joiner plays from its state's next tick; a spectator never
   const int64_t t = next_local_++;
   inputs_[static_cast<size_t>(config_.local_player)][t] = std::move(input);
   // The host's roster changes ride with this input: every peer applies
@@ -114,10 +115,12 @@ void Session::add_local_input(PlayerInput input) {
     e.at = t;
     e.from = t;
     // A leaver's inputs count up to the first one the host never got
-    // (its peers relayed to it what they held).
-    if (!e.present) {
+    // (its peers relayed to it what they held); over ticks where it does
+    // not play (a spectator, a joiner not yet in) no further than t.
+    if (e.presence == Presence::absent) {
+      const auto& theirs = inputs_[static_cast<size_t>(e.player)];
       e.from = confirmed_ + 1;
-      while (known(e.player, e.from)) ++e.from;
+      while (roster_.plays(e.player, e.from) ? theirs.count(e.from) != 0 : e.from < t) ++e.from;
     }
     roster_at_[t].push_back(e);
     apply_roster(e);
@@ -127,24 +130,24 @@ void Session::add_local_input(PlayerInput input) {
 
 void Session::heartbeat() { send_inputs(true); }
 
-// The lowest ack of the other players who play now (but `except`), or
-// INT64_MAX when there is none.
+// The lowest ack of the other players who follow the match now (present
+// or watching; but `except`), or INT64_MAX when there is none.
 int64_t Session::acked_by_all(int except) const {
   int64_t acked = INT64_MAX;
   for (int p = 0; p < config_.players; ++p) {
-    if (p != config_.local_player && p != except && roster_.present_now(p)) {
+    if (p != config_.local_player && p != except && roster_.follows(p)) {
       acked = std::min(acked, acked_[static_cast<size_t>(p)]);
     }
   }
   return acked;
 }
 
-bool Session::admit(int player) {
+bool Session::admit(int player, bool watching) {
   if (config_.local_player != 0 || player <= 0 || player >= config_.players) return false;
   // A slot whose player is still heard from is not free.
   const bool heard = frames_ - heard_at_[static_cast<size_t>(player)] < std::max(1, config_.leave_after / 2);
-  if (roster_.present_now(player) && (config_.leave_after == 0 || heard)) return false;
-  wants_in_[static_cast<size_t>(player)] = true;
+  if (roster_.follows(player) && (config_.leave_after == 0 || heard)) return false;
+  wants_in_[static_cast<size_t>(player)] = watching ? Presence::watching : Presence::present;
   return true;
 }
 
@@ -162,9 +165,9 @@ void Session::apply_roster(const RosterEvent& e) {
     }
     return;
   }
-  roster_.set(e.player, e.from, e.present);
-  if (e.present) {
-    wants_in_[p] = false;
+  roster_.set(e.player, e.from, e.presence);
+  if (e.presence != Presence::absent) {
+    wants_in_[p] = Presence::absent;
     heard_at_[p] = frames_;
     if (e.player != config_.local_player) {
       join_tick_[p] = e.from;
@@ -197,11 +200,13 @@ void Session::run_roster() {
     const int64_t silent = frames_ - heard_at_[k];
     // A joiner is silent until its state reaches it: counted from the state on.
     const bool awaits_state = join_tick_[k] != 0 && !join_state_[k];
-    if (host && config_.leave_after > 0 && roster_.present_now(p) && silent >= config_.leave_after && !awaits_state &&
+    if (host && config_.leave_after > 0 && roster_.follows(p) && silent >= config_.leave_after && !awaits_state &&
         !queued(p)) {
-      next_roster_.push_back({0, 0, p, false});
+      next_roster_.push_back({0, 0, p, Presence::absent});
     }
-    if (host && wants_in_[k] && !roster_.present_now(p) && !queued(p)) next_roster_.push_back({0, 0, p, true});
+    if (host && wants_in_[k] != Presence::absent && !roster_.follows(p) && !queued(p)) {
+      next_roster_.push_back({0, 0, p, wants_in_[k]});
+    }
     // What a silent player sent to us and maybe not to others (the host
     // above all: it decides where its inputs end).
     if (config_.leave_after > 0 && silent >= std::max(1, config_.leave_after / 2)) {
@@ -294,6 +299,7 @@ bool Session::advance() {
   ++frames_;
   if (!joined_) return false;
   run_roster();
+  if (config_.watching) send_inputs(true);  // a spectator's ack: it has no inputs to carry it
   const int64_t next = tick_ + 1;
   if (config_.mode == SessionMode::rollback && rollback_from_ <= tick_) roll_back();
   bool ready = known(config_.local_player, next);
@@ -371,7 +377,8 @@ void Session::keep_join_state(int64_t c) {
     m.subject = p;
     m.ack = c;
     m.tick = c;
-    m.present = roster_.mask_at(c);
+    m.present = roster_.mask_at(c, Presence::present);
+    m.watching = roster_.mask_at(c, Presence::watching);
     m.start_hash = start_hash_;
     m.state = snapshot_of(state_after(c));
     outgoing_.push_back(m);
@@ -426,17 +433,16 @@ bool Session::receive(const SessionMessage& m) {
     return true;
   }
   const int64_t horizon = std::max(tick_, next_local_ - 1) + window(config_);
-  if (m.ack < 0 || m.ack > next_local_ - 1 + window(config_) || m.tick < 1 || m.tick > horizon) return refuse();
+  if (m.ack < 0 || m.ack > horizon || m.tick < 1 || m.tick > horizon) return refuse();
   switch (m.kind) {
     case SessionMessage::Kind::inputs:
       if (!m.roster.empty() && m.player != 0) return refuse();  // only the host changes the roster
       if (!receive_inputs(m, m.player)) return refuse();
       break;
     case SessionMessage::Kind::relay:
-      if (m.subject < 0 || m.subject >= config_.players || m.subject == config_.local_player || !m.roster.empty()) {
-        return refuse();
-      }
-      if (!receive_inputs(m, m.subject)) return refuse();
+      if (m.subject < 0 || m.subject >= config_.players || !m.roster.empty()) return refuse();
+      // Our own inputs, relayed by a peer that stopped hearing us: we have them.
+      if (m.subject != config_.local_player && !receive_inputs(m, m.subject)) return refuse();
       break;
     case SessionMessage::Kind::checksum:
       remote_checksums_[m.tick][m.player] = m.checksum;
@@ -490,7 +496,7 @@ bool Session::receive_inputs(const SessionMessage& m, int player) {
     const PlayerInput& input = m.inputs[static_cast<size_t>(i)];
     const int64_t t = m.tick + i;
     if (input.size() > max_input_bytes) return false;
-    if (!roster_.present(player, t)) return false;  // a leaver's, for a tick it is absent
+    if (!roster_.plays(player, t)) return false;  // a leaver's (a spectator's), for a tick it does not play
     const auto at = theirs.find(t);
     if (at != theirs.end() && at->second != input) return false;
   }
@@ -520,8 +526,10 @@ bool Session::receive_join_state(const SessionMessage& m) {
   const auto host_check = join_checks_.find(0);
   const bool stale = (candidate_ && candidate_->tick > m.tick) ||
                      (host_check != join_checks_.end() && host_check->second.first > m.tick);
-  const bool fits = m.player == 0 && m.start_hash == start_hash_ && m.tick >= 1 && (m.present & ~everyone) == 0 &&
-                    (m.present & 1u) != 0 && (m.present & (1u << config_.local_player)) == 0;
+  const uint32_t local = 1u << config_.local_player;
+  const bool fits = m.player == 0 && m.start_hash == start_hash_ && m.tick >= 1 &&
+                    ((m.present | m.watching) & ~everyone) == 0 && (m.present & m.watching) == 0 &&
+                    (m.present & 1u) != 0 && ((m.present | m.watching) & local) == 0;
   if (!fits || stale) {
     ++stats_.refused_states;
     ++stats_.refused_messages;
@@ -543,7 +551,7 @@ void Session::try_join() {
     candidate_.reset();
   };
   for (int q = 0; q < config_.players; ++q) {
-    if ((m.present & (1u << q)) == 0) continue;
+    if (((m.present | m.watching) & (1u << q)) == 0) continue;  // every peer that confirmed the tick checks it
     const auto check = join_checks_.find(q);
     if (check == join_checks_.end() || check->second.first < m.tick) return;  // wait for it
     if (check->second.first > m.tick) return refuse();  // a newer join: this state is stale
@@ -552,20 +560,22 @@ void Session::try_join() {
   if (restore(m.state, candidate) || candidate.step_count() != static_cast<uint64_t>(m.tick)) return refuse();
   const uint64_t hash = state_hash(candidate);
   for (const auto& [q, check] : join_checks_) {
-    if ((m.present & (1u << q)) != 0 && check.second != hash) return refuse();  // not the state they confirmed
+    if (((m.present | m.watching) & (1u << q)) != 0 && check.second != hash) return refuse();  // not what they confirmed
   }
   if (sim_.load(m.state)) return refuse();
   // From the state on, as if the match had started there.
   const int64_t c = m.tick;
-  roster_ = Roster(config_.players, m.present);
-  roster_.set(config_.local_player, c + 1, true);
+  roster_ = Roster(config_.players, m.present, m.watching);
+  roster_.set(config_.local_player, c + 1, config_.watching ? Presence::watching : Presence::present);
   for (size_t p = 0; p < inputs_.size(); ++p) {
     inputs_[p].clear();
     acked_[p] = c;
     heard_at_[p] = frames_;
   }
-  for (int64_t t = c + 1; t <= c + config_.input_delay; ++t) inputs_[static_cast<size_t>(config_.local_player)][t] = empty_;
-  next_local_ = c + 1 + config_.input_delay;
+  // A player's input for its first `input_delay` ticks is empty; a spectator gives none.
+  const int delay = config_.watching ? 0 : config_.input_delay;
+  for (int64_t t = c + 1; t <= c + delay; ++t) inputs_[static_cast<size_t>(config_.local_player)][t] = empty_;
+  next_local_ = c + 1 + delay;
   tick_ = confirmed_ = first_tick_ = c;
   used_.clear();
   hashes_ = {{c, hash}};

@@ -36,7 +36,9 @@
 // confirmed for T - 1 (a join check). The joiner uses the snapshot only
 // when its hash is the one every player present at T - 1 checked, for its
 // own match (the start hash): a forged or stale state is refused and
-// counted. The host must stay for the whole match (no host migration).
+// counted. A spectator joins the same way into a slot where it watches:
+// it acknowledges ticks (its peers resend to it) but gives no input. The
+// host must stay for the whole match (no host migration).
 #pragma once
 
 #include <cstdint>
@@ -65,6 +67,7 @@ struct SessionConfig {
   int checksum_interval = 1;   // every k-th confirmed tick, 1..3600
   int leave_after = 0;         // frames of silence before the host marks a player absent, 0 (never) or 10..100000
   bool joining = false;        // joins a match in progress: waits for the host's state
+  bool watching = false;       // joins as a spectator: follows the match, gives no input
 };
 
 // A sentence about what is wrong with a config, or empty.
@@ -82,6 +85,7 @@ struct SessionMessage {
   std::vector<uint8_t> state;       // state: the snapshot after `tick` (after a mismatch); join_state: the joiner's start
   std::vector<RosterEvent> roster;  // inputs (the host's only): the roster changes its inputs carry
   uint32_t present = 0;             // join_state: who plays at `tick` (bit p: player p)
+  uint32_t watching = 0;            // join_state: who watches at `tick`
   uint64_t start_hash = 0;          // join_state: the match's (the state hash before tick 1)
 };
 
@@ -125,9 +129,9 @@ class Session {
   // so peers still waiting learn that their last inputs arrived).
   void heartbeat();
   // The host: let `player` (an absent slot, or one the host will mark
-  // absent) play again from the host's next input on; false for any other
-  // peer or slot.
-  bool admit(int player);
+  // absent) play again, or watch, from the host's next input on; false for
+  // any other peer or slot.
+  bool admit(int player, bool watching = false);
   // The host has roster changes for its next input: a game that gives its
   // inputs no further ahead than the simulation gives one more now.
   bool roster_waits() const { return !next_roster_.empty(); }
@@ -206,7 +210,7 @@ class Session {
   std::vector<int64_t> heard_at_;                        // per player: the frame it was last heard (or relayed)
   std::vector<RosterEvent> next_roster_;                 // the host's: for its next input
   std::map<int64_t, std::vector<RosterEvent>> roster_at_;  // the host's: by the tick of the input carrying them
-  std::vector<bool> wants_in_;                           // the host's: slots asked for
+  std::vector<Presence> wants_in_;                       // the host's: slots asked for (absent: none)
   std::vector<int64_t> join_tick_;                       // per player: the tick it joins at, until it acked it
   std::vector<std::optional<SessionMessage>> join_state_;  // the host's: the state sent to each joiner
   std::optional<SessionMessage> candidate_;              // a joiner's: the state waiting for its checks

@@ -71,7 +71,7 @@ std::vector<uint8_t> encode(const SessionMessage& m) {
         put(out, static_cast<uint64_t>(e.at), 8);
         put(out, static_cast<uint64_t>(e.from), 8);
         put(out, static_cast<uint64_t>(e.player), 1);
-        put(out, e.present ? 1 : 0, 1);
+        put(out, static_cast<uint64_t>(e.presence), 1);
       }
       break;
     case SessionMessage::Kind::checksum: put(out, m.checksum, 8); break;
@@ -86,6 +86,7 @@ std::vector<uint8_t> encode(const SessionMessage& m) {
     case SessionMessage::Kind::join_state:
       put(out, static_cast<uint64_t>(m.subject), 1);
       put(out, m.present, 2);
+      put(out, m.watching, 2);
       put(out, m.start_hash, 8);
       put(out, m.state.size(), 4);
       out.insert(out.end(), m.state.begin(), m.state.end());
@@ -105,7 +106,7 @@ std::vector<uint8_t> encode(const Hello& h) {
   put(out, static_cast<uint64_t>(h.mode), 1);
   put(out, static_cast<uint64_t>(h.input_delay), 1);
   put(out, h.start_hash, 8);
-  put(out, h.joining ? 1 : 0, 1);
+  put(out, h.watching ? 2 : h.joining ? 1 : 0, 1);
   return out;
 }
 
@@ -123,8 +124,9 @@ std::variant<SessionMessage, Hello, PacketError> decode(std::span<const uint8_t>
     h.start_hash = r.take(8);
     const uint64_t joining = r.take(1);
     if (mode > 1) return PacketError{"hello: mode out of range"};
-    if (joining > 1) return PacketError{"hello: joining is not 0 or 1"};
-    h.joining = joining == 1;
+    if (joining > 2) return PacketError{"hello: joining is not 0, 1 or 2"};
+    h.joining = joining >= 1;
+    h.watching = joining == 2;
     h.mode = static_cast<SessionMode>(mode);
     if (!r.ok() || !r.done()) return PacketError{"hello: wrong length"};
     return h;
@@ -163,9 +165,9 @@ std::variant<SessionMessage, Hello, PacketError> decode(std::span<const uint8_t>
         e.at = static_cast<int64_t>(r.take(8));
         e.from = static_cast<int64_t>(r.take(8));
         e.player = static_cast<int>(r.take(1));
-        const uint64_t present = r.take(1);
-        if (present > 1) return PacketError{"inputs: a roster change's present is not 0 or 1"};
-        e.present = present == 1;
+        const uint64_t presence = r.take(1);
+        if (presence > 2) return PacketError{"inputs: a roster change's presence is not 0, 1 or 2"};
+        e.presence = static_cast<Presence>(presence);
         m.roster.push_back(e);
       }
       break;
@@ -181,6 +183,7 @@ std::variant<SessionMessage, Hello, PacketError> decode(std::span<const uint8_t>
     case SessionMessage::Kind::join_state:
       m.subject = static_cast<int>(r.take(1));
       m.present = static_cast<uint32_t>(r.take(2));
+      m.watching = static_cast<uint32_t>(r.take(2));
       m.start_hash = r.take(8);
       if (auto error = take_state()) return *error;
       break;

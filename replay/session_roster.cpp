@@ -4,38 +4,39 @@ namespace bitstep {
 
 Roster::Roster(int players) : players_(static_cast<std::size_t>(players)) {}
 
-Roster::Roster(int players, uint32_t present_mask) : Roster(players) {
-  for (std::size_t p = 0; p < players_.size(); ++p) players_[p].initially = ((present_mask >> p) & 1u) != 0;
+Roster::Roster(int players, uint32_t present, uint32_t watching) : Roster(players) {
+  for (std::size_t p = 0; p < players_.size(); ++p) {
+    players_[p].initially = ((present >> p) & 1u) != 0    ? Presence::present
+                            : ((watching >> p) & 1u) != 0 ? Presence::watching
+                                                          : Presence::absent;
+  }
 }
 
-bool Roster::present(int player, int64_t tick) const {
+Presence Roster::at(int player, int64_t tick) const {
   const Player& p = players_[static_cast<std::size_t>(player)];
-  for (auto at = p.changes.rbegin(); at != p.changes.rend(); ++at) {
-    if (at->first <= tick) return at->second;
+  for (auto change = p.changes.rbegin(); change != p.changes.rend(); ++change) {
+    if (change->first <= tick) return change->second;
   }
   return p.initially;
 }
 
-bool Roster::present_now(int player) const {
+Presence Roster::now(int player) const {
   const Player& p = players_[static_cast<std::size_t>(player)];
   return p.changes.empty() ? p.initially : p.changes.back().second;
 }
 
-int64_t Roster::last_change(int player) const {
-  const Player& p = players_[static_cast<std::size_t>(player)];
-  return p.changes.empty() ? 0 : p.changes.back().first;
-}
+bool Roster::follows(int player) const { return now(player) != Presence::absent; }
 
-void Roster::set(int player, int64_t from, bool present) {
+void Roster::set(int player, int64_t from, Presence presence) {
   auto& changes = players_[static_cast<std::size_t>(player)].changes;
   while (!changes.empty() && changes.back().first >= from) changes.pop_back();
-  changes.emplace_back(from, present);
+  changes.emplace_back(from, presence);
 }
 
-uint32_t Roster::mask_at(int64_t tick) const {
+uint32_t Roster::mask_at(int64_t tick, Presence presence) const {
   uint32_t mask = 0;
   for (std::size_t p = 0; p < players_.size(); ++p) {
-    if (present(static_cast<int>(p), tick)) mask |= 1u << p;
+    if (at(static_cast<int>(p), tick) == presence) mask |= 1u << p;
   }
   return mask;
 }

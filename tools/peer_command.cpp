@@ -33,7 +33,7 @@ struct Options {
   double timeout_s = 60;
   NetFaults faults;
   bool json = false, reference = false;
-  std::vector<RosterEvent> roster;  // --reference: --absent and --present, in order
+  std::vector<RosterEvent> roster;  // --reference: --absent, --present and --watching, in order
   int64_t chain_from = 0;           // --reference: the chain of the ticks after this one
   std::string corrupt_body;  // a test's cheat: flip a bit of this body's velocity ...
   int64_t corrupt_tick = 0;  // ... before this tick
@@ -117,7 +117,9 @@ std::string parse_options(int argc, char** argv, Options& o) {
         o.session.joining = true;
       } else if (arg == "--leave-after") {
         o.session.leave_after = static_cast<int>(integer(0, 100000));
-      } else if ((arg == "--absent" || arg == "--present") && has_value) {
+      } else if (arg == "--watch") {
+        o.session.joining = o.session.watching = true;
+      } else if ((arg == "--absent" || arg == "--present" || arg == "--watching") && has_value) {
         const std::string spec = argv[++i];  // PLAYER@TICK
         const size_t at = spec.find('@');
         long long player = 0, tick = 0;
@@ -125,7 +127,10 @@ std::string parse_options(int argc, char** argv, Options& o) {
             !parse_int(spec.substr(at + 1).c_str(), 1, 1000000, tick)) {
           return arg + " needs PLAYER@TICK (player 1..15, tick 1..1000000), got '" + spec + "'";
         }
-        o.roster.push_back({tick, tick, static_cast<int>(player), arg == "--present"});
+        const Presence presence = arg == "--present"    ? Presence::present
+                                  : arg == "--watching" ? Presence::watching
+                                                        : Presence::absent;
+        o.roster.push_back({tick, tick, static_cast<int>(player), presence});
       } else if (arg == "--chain-from") {
         o.chain_from = integer(0, 1000000);
       } else if (arg == "--json") {
@@ -144,10 +149,13 @@ std::string parse_options(int argc, char** argv, Options& o) {
   if (o.reference && o.inputs.size() > static_cast<size_t>(o.players)) return "--reference takes at most one --inputs per player";
   if (!o.reference && o.inputs.size() > 1) return "--inputs: one script, the local player's";
   if (!o.reference && o.players > 1 && o.port == 0) return "--port is required with more than one player";
-  if (!o.reference && (!o.roster.empty() || o.chain_from > 0)) return "--absent, --present and --chain-from go with --reference";
+  if (!o.reference && (!o.roster.empty() || o.chain_from > 0)) {
+    return "--absent, --present, --watching and --chain-from go with --reference";
+  }
+  if (o.session.watching && !o.inputs.empty()) return "--watch: a spectator gives no --inputs";
   if (o.chain_from >= o.ticks) return "--chain-from must be below --ticks";
   for (const RosterEvent& e : o.roster) {
-    if (e.player >= o.players) return "--absent, --present: player " + std::to_string(e.player) + " is not below --players";
+    if (e.player >= o.players) return "--absent, --present, --watching: player " + std::to_string(e.player) + " is not below --players";
   }
   o.session.players = o.players;
   o.session.local_player = o.player;
@@ -211,6 +219,18 @@ uint64_t chain_digest(const std::vector<uint64_t>& chain) {
   return digest;
 }
 
+// The roster changes a session applied, as the options that make
+// --reference apply them.
+std::string roster_options(const Session& session) {
+  static const char* const names[] = {"absent", "present", "watching"};
+  std::string changes;
+  for (const RosterEvent& e : session.roster_log()) {
+    changes += fmt::format("{}--{} {}@{}", changes.empty() ? "" : " ", names[static_cast<int>(e.presence)], e.player,
+                           e.from);
+  }
+  return changes;
+}
+
 // `chain` holds the hashes after ticks first + 1, first + 2, ...
 void report(const Options& o, int64_t first, const std::vector<uint64_t>& chain, const Session* session,
             const NetStats* net, double seconds) {
@@ -235,12 +255,7 @@ void report(const Options& o, int64_t first, const std::vector<uint64_t>& chain,
                "\"mispredicted_inputs\": {}, \"refused_messages\": {}",
                s.rollbacks, s.resimulated_ticks, s.stalls, s.predicted_inputs, s.mispredicted_inputs,
                s.refused_messages);
-    // The roster changes, as the options that make --reference apply them.
-    std::string changes;
-    for (const RosterEvent& e : session->roster_log()) {
-      changes += fmt::format("{}--{} {}@{}", changes.empty() ? "" : " ", e.present ? "present" : "absent", e.player, e.from);
-    }
-    fmt::print(", \"refused_states\": {}, \"roster\": \"{}\"", s.refused_states, changes);
+    fmt::print(", \"refused_states\": {}, \"roster\": \"{}\"", s.refused_states, roster_options(*session));
     if (const auto& d = session->desync()) {
       fmt::print(", \"desync\": {{\"tick\": {}, \"player\": {}, \"local\": \"{:016x}\", \"remote\": \"{:016x}\", "
                  "\"difference\": {}}}",
@@ -271,8 +286,8 @@ int run_reference(const Options& o, const Scene& scene, Simulation sim) {
   Roster roster(o.players);
   std::vector<int64_t> joined(static_cast<size_t>(o.players), 0);
   for (const RosterEvent& e : o.roster) {
-    roster.set(e.player, e.from, e.present);
-    if (e.present) joined[static_cast<size_t>(e.player)] = e.from;
+    roster.set(e.player, e.from, e.presence);
+    if (e.presence == Presence::present) joined[static_cast<size_t>(e.player)] = e.from;
   }
   const ApplyInput apply = scripted_game(scene);
   std::vector<uint64_t> chain;
@@ -280,7 +295,7 @@ int run_reference(const Options& o, const Scene& scene, Simulation sim) {
   for (int64_t t = 1; t <= o.ticks; ++t) {
     for (size_t p = 0; p < scripts.size(); ++p) {
       const int64_t since = joined[p];
-      if (!roster.present(static_cast<int>(p), t) || (since > 0 && t >= since && t < since + o.session.input_delay)) continue;
+      if (!roster.plays(static_cast<int>(p), t) || (since > 0 && t >= since && t < since + o.session.input_delay)) continue;
       const auto found = scripts[p].find(t);
       if (found != scripts[p].end()) apply(sim, static_cast<int>(p), found->second);
     }
@@ -318,14 +333,16 @@ int peer_command(int argc, char** argv) {
     }
     script = std::get<Script>(std::move(read));
   }
-  const Hello hello{o.player, o.players, o.session.mode, o.session.input_delay, sim->hash(), o.session.joining};
+  const Hello hello{o.player,      o.players, o.session.mode, o.session.input_delay, sim->hash(), o.session.joining,
+                    o.session.watching};
   Session session(std::move(*sim), o.session, scripted_game(scene));
 
   std::unique_ptr<EnetTransport> net;
   std::map<uint32_t, int> player_of;  // identified ENet peers
   std::vector<bool> present(static_cast<size_t>(o.players), false);
   present[static_cast<size_t>(o.player)] = true;
-  std::vector<bool> wants_in(static_cast<size_t>(o.players), false);  // the host: joiners not yet admitted
+  std::vector<bool> wants_in(static_cast<size_t>(o.players), false);  // the host: joiners not yet admitted ...
+  std::vector<bool> wants_to_watch(static_cast<size_t>(o.players), false);  // ... and whether to watch
   bool started = o.session.joining;  // a match starts once every player said hello; a joiner's runs already
   uint64_t refused_packets = 0;
   if (o.players > 1) {
@@ -360,6 +377,7 @@ int peer_command(int argc, char** argv) {
       player_of[peer] = theirs->player;
       present[static_cast<size_t>(theirs->player)] = true;
       if (theirs->joining) wants_in[static_cast<size_t>(theirs->player)] = true;
+      wants_to_watch[static_cast<size_t>(theirs->player)] = theirs->watching;
       return;
     }
     const auto* message = std::get_if<SessionMessage>(&packet);
@@ -379,14 +397,16 @@ int peer_command(int argc, char** argv) {
   double finished_at = -1;
   while (true) {
     if (elapsed() > o.timeout_s) {
-      fmt::print(stderr, "bitstep peer: player {}: timed out after {:.0f} s at tick {} (confirmed {})\n", o.player,
-                 o.timeout_s, session.tick(), session.confirmed_tick());
+      fmt::print(stderr, "bitstep peer: player {}: timed out after {:.0f} s at tick {} (confirmed {}, {} refused{}{})\n",
+                 o.player, o.timeout_s, session.tick(), session.confirmed_tick(), session.stats().refused_messages,
+                 session.roster_log().empty() ? "" : "; roster ", roster_options(session));
       return 1;
     }
     if (net) net->poll(1, handlers);
     started = started || std::all_of(present.begin(), present.end(), [](bool p) { return p; });
     for (int p = 0; p < o.players; ++p) {  // the host lets a joiner in once its slot is free
-      if (wants_in[static_cast<size_t>(p)] && session.admit(p)) wants_in[static_cast<size_t>(p)] = false;
+      const size_t k = static_cast<size_t>(p);
+      if (wants_in[k] && session.admit(p, wants_to_watch[k])) wants_in[k] = false;
     }
     if (started && std::chrono::steady_clock::now() >= next_frame) {
       next_frame += std::chrono::duration_cast<std::chrono::steady_clock::duration>(frame);
@@ -421,7 +441,7 @@ int peer_command(int argc, char** argv) {
     }
     bool acked = session.joined() && first + static_cast<int64_t>(chain.size()) >= o.ticks;
     for (int p = 0; p < o.players && acked; ++p) {
-      acked = p == o.player || !session.roster().present_now(p) || session.peer_ack(p) >= o.ticks;
+      acked = p == o.player || !session.roster().follows(p) || session.peer_ack(p) >= o.ticks;
     }
     const bool desync_named = session.desync() && !session.desync()->difference.empty();
     if ((acked || desync_named) && finished_at < 0) finished_at = elapsed();

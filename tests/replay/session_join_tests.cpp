@@ -20,10 +20,10 @@ namespace {
 constexpr int leave_after = 60;  // frames
 
 // The host's log: player's changes, as (from, present).
-std::vector<std::pair<int64_t, bool>> changes_of(const Session& host, int player) {
-  std::vector<std::pair<int64_t, bool>> out;
+std::vector<std::pair<int64_t, Presence>> changes_of(const Session& host, int player) {
+  std::vector<std::pair<int64_t, Presence>> out;
   for (const RosterEvent& e : host.roster_log()) {
-    if (e.player == player) out.emplace_back(e.from, e.present);
+    if (e.player == player) out.emplace_back(e.from, e.presence);
   }
   return out;
 }
@@ -62,10 +62,10 @@ TEST_CASE("a player who drops is marked absent and rejoins from the host's state
     const Session& joiner = *game.match.peers[2];
     const auto changes = changes_of(host, 2);
     REQUIRE(changes.size() == 2);
-    CHECK_FALSE(changes[0].second);  // absent from the first tick the host never had its input for
+    CHECK(changes[0].second == Presence::absent);  // from the first tick the host never had its input for
     CHECK(changes[0].first > 95);
     CHECK(changes[0].first < 140);
-    CHECK(changes[1].second);  // present again
+    CHECK(changes[1].second == Presence::present);  // again
     CHECK(changes[1].first > 300);
     REQUIRE(joiner.joined());
     CHECK(joiner.first_tick() == changes[1].first - 1);
@@ -83,6 +83,43 @@ TEST_CASE("a player who drops is marked absent and rejoins from the host's state
     CHECK(changes_of(*game.match.peers[1], 2) == changes);
     // Not the chain without the roster: the absence changed the match.
     CHECK(reference_chain(3, 1, ticks) != expected);
+  }
+}
+
+TEST_CASE("a spectator joins a free slot at tick 200 and follows the match on the reference chain", "[session][join]") {
+  constexpr int64_t ticks = 400;
+  for (const SessionMode mode : {SessionMode::lockstep, SessionMode::rollback}) {
+    INFO((mode == SessionMode::lockstep ? "lockstep" : "rollback"));
+    // Slot 2 is never taken: the host marks it absent, then a spectator takes it.
+    Match match(3, mode, 1, {10, 3, 9, 5}, 1, leave_after);
+    match.online[2] = false;
+    int64_t now = 0;
+    while (match.peers[0]->tick() < 200 && now < 20000) match.frame(++now, ticks);
+    match.rejoin(2, true);
+    REQUIRE(match.peers[0]->admit(2, true));
+    now = match.play(ticks, now);
+    const Session& host = *match.peers[0];
+    const Session& spectator = *match.peers[2];
+    const auto changes = changes_of(host, 2);
+    REQUIRE(changes.size() == 2);
+    CHECK(changes[0] == std::pair<int64_t, Presence>{2, Presence::absent});  // its first input, after the delay
+    CHECK(changes[1].second == Presence::watching);
+    CHECK(changes[1].first > 200);
+    REQUIRE(spectator.joined());
+    CHECK(spectator.first_tick() == changes[1].first - 1);
+    CHECK(spectator.local_input_tick() == spectator.first_tick());  // it gives no input
+    const std::vector<uint64_t> expected = reference_chain(3, 1, ticks, host.roster_log());
+    for (int p = 0; p < 3; ++p) {
+      INFO("peer " << p << " after " << now << " frames");
+      const Session& s = *match.peers[static_cast<size_t>(p)];
+      REQUIRE(s.confirmed_tick() >= ticks);
+      CHECK(slice(match.chains[static_cast<size_t>(p)], 0, ticks - s.first_tick()) ==
+            slice(expected, s.first_tick(), ticks));
+      CHECK_FALSE(s.desync());
+    }
+    // It acknowledges what it confirmed, so the players resend it what it lost.
+    for (int k = 0; k < 40; ++k) match.frame(++now, ticks);
+    CHECK(host.peer_ack(2) >= ticks);
   }
 }
 
@@ -197,15 +234,17 @@ TEST_CASE("packets: a joining hello, a roster change's flag, the host alone chan
   SessionMessage inputs;
   inputs.tick = 6;
   inputs.inputs = {"1 1", "2 1"};
-  inputs.roster = {{7, 4, 2, false}};
-  Hello hello{2, 3, SessionMode::rollback, 1, 0x55, true};
-  const auto decoded = decode(encode(hello));
-  REQUIRE(std::holds_alternative<Hello>(decoded));
-  CHECK(std::get<Hello>(decoded) == hello);
+  inputs.roster = {{7, 4, 2, Presence::absent}};
+  for (const bool watching : {false, true}) {
+    const Hello hello{2, 3, SessionMode::rollback, 1, 0x55, true, watching};
+    const auto decoded = decode(encode(hello));
+    REQUIRE(std::holds_alternative<Hello>(decoded));
+    CHECK(std::get<Hello>(decoded) == hello);
+  }
   // A roster change's present byte must be 0 or 1.
   std::vector<uint8_t> bad = encode(inputs);
-  bad.back() = 2;
-  CHECK(std::get<PacketError>(decode(bad)).reason == "inputs: a roster change's present is not 0 or 1");
+  bad.back() = 3;
+  CHECK(std::get<PacketError>(decode(bad)).reason == "inputs: a roster change's presence is not 0, 1 or 2");
   // Only the host changes the roster.
   SessionConfig c;
   c.players = 3;
@@ -214,7 +253,7 @@ TEST_CASE("packets: a joining hello, a roster change's flag, the host alone chan
   SessionMessage from_2 = inputs;
   from_2.player = 2;
   from_2.tick = 1;
-  from_2.roster = {{1, 1, 1, false}};
+  from_2.roster = {{1, 1, 1, Presence::absent}};
   CHECK_FALSE(s.receive(from_2));
   CHECK(s.stats().refused_messages == 1);
   c.joining = true;

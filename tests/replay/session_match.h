@@ -62,14 +62,14 @@ std::vector<uint64_t> reference_chain(int players, int delay, int64_t ticks, con
   Roster roster(players);
   std::vector<int64_t> joined(static_cast<size_t>(players), 0);
   for (const RosterEvent& e : log) {
-    roster.set(e.player, e.from, e.present);
-    if (e.present) joined[static_cast<size_t>(e.player)] = e.from;
+    roster.set(e.player, e.from, e.presence);
+    if (e.presence == Presence::present) joined[static_cast<size_t>(e.player)] = e.from;
   }
   std::vector<uint64_t> chain;
   for (int64_t t = 1; t <= ticks; ++t) {
     for (int p = 0; p < players; ++p) {
       const int64_t since = joined[static_cast<size_t>(p)];
-      const bool silent = t <= delay || !roster.present(p, t) || (since > 0 && t >= since && t < since + delay);
+      const bool silent = t <= delay || !roster.plays(p, t) || (since > 0 && t >= since && t < since + delay);
       push(sim, p, silent ? PlayerInput{} : script(p, t - delay));
     }
     sim.step();
@@ -124,10 +124,11 @@ struct Match {
     REQUIRE(config_error(c).empty());
     return c;
   }
-  // A new process in slot p, joining the match in progress.
-  void rejoin(int p) {
+  // A new process in slot p, joining the match in progress (to play, or to watch).
+  void rejoin(int p, bool watching = false) {
     SessionConfig c = config(static_cast<int>(peers.size()), p, 1);
     c.joining = true;
+    c.watching = watching;
     peers[static_cast<size_t>(p)] = std::make_unique<Session>(arena_simulation(), c, push);
     chains[static_cast<size_t>(p)].clear();
     online[static_cast<size_t>(p)] = true;

@@ -144,14 +144,15 @@ TEST_CASE("packets: messages and hellos round-trip, malformed ones are refused w
   // Leaving and joining: the host's roster changes, a relay, a joiner's state and check.
   SessionMessage host_inputs = inputs;
   host_inputs.player = 0;
-  host_inputs.roster = {{41, 38, 2, false}, {41, 41, 3, true}};
+  host_inputs.roster = {{41, 38, 2, Presence::absent}, {41, 41, 3, Presence::present}, {41, 41, 1, Presence::watching}};
   SessionMessage relay = inputs;
   relay.kind = SessionMessage::Kind::relay;
   relay.subject = 2;
   SessionMessage join_state = state;
   join_state.kind = SessionMessage::Kind::join_state;
   join_state.subject = 1;
-  join_state.present = 0b1101;
+  join_state.present = 0b1001;
+  join_state.watching = 0b0100;
   join_state.start_hash = 0xabcdefu;
   SessionMessage join_check = checksum;
   join_check.kind = SessionMessage::Kind::join_check;
@@ -170,6 +171,7 @@ TEST_CASE("packets: messages and hellos round-trip, malformed ones are refused w
     CHECK(d.subject == m.subject);
     CHECK(d.roster == m.roster);
     CHECK(d.present == m.present);
+    CHECK(d.watching == m.watching);
     CHECK(d.start_hash == m.start_hash);
   }
   const Hello hello{2, 4, SessionMode::lockstep, 3, 0xfeedu};
