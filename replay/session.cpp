@@ -49,8 +49,11 @@ Session::Session(Simulation sim, SessionConfig config, ApplyInput apply)
     : sim_(std::move(sim)),
       config_(config),
       apply_(std::move(apply)),
-      inputs_(static_cast<size_t>(config.players)),
+      inputs_(static_cast<size_t>(config.players),
+              PooledMap<int64_t, PlayerInput>(PoolAllocator<std::pair<const int64_t, PlayerInput>>(pool_.get()))),
       acked_(static_cast<size_t>(config.players), 0),
+      confirmed_hashes_(PoolAllocator<std::pair<const int64_t, uint64_t>>(pool_.get())),
+      remote_checksums_(PoolAllocator<std::pair<const std::pair<int64_t, int>, uint64_t>>(pool_.get())),
       roster_(config.players),
       start_hash_(sim_.hash()),
       joined_(!config.joining),
@@ -67,6 +70,10 @@ Session::Session(Simulation sim, SessionConfig config, ApplyInput apply)
   // every tick run ahead of it.
   ring_.resize(static_cast<size_t>(config_.max_prediction) + 2);
   ring_tick_.assign(ring_.size(), -1);
+  used_.resize(ring_.size());
+  hashes_.assign(ring_.size(), 0);
+  run_tick_.assign(ring_.size(), -1);
+  checked_states_.assign(remembered_states, {-1, {}});
   if (config_.mode == SessionMode::rollback) save_state(0);
 }
 
@@ -179,9 +186,10 @@ void Session::apply_roster(const RosterEvent& e) {
   join_state_[p].reset();
   auto& theirs = inputs_[p];
   theirs.erase(theirs.lower_bound(e.from), theirs.end());
-  for (auto ran = used_.lower_bound(e.from); ran != used_.end(); ++ran) {
-    if (ran->second[p] != empty_) {
-      rollback_from_ = std::min(rollback_from_, ran->first);
+  for (int64_t t = e.from; t <= tick_; ++t) {
+    const std::vector<PlayerInput>* ran = used_at(t);
+    if (ran != nullptr && (*ran)[p] != empty_) {
+      rollback_from_ = std::min(rollback_from_, t);
       break;
     }
   }
@@ -222,7 +230,7 @@ void Session::run_roster() {
         if (at->first != m.tick + static_cast<int64_t>(m.inputs.size())) break;
         m.inputs.push_back(at->second);
       }
-      if (!m.inputs.empty()) outgoing_.push_back(std::move(m));
+      if (!m.inputs.empty()) send(std::move(m));
     }
     const int64_t joins = join_tick_[k];
     if (joins == 0) continue;
@@ -231,7 +239,7 @@ void Session::run_roster() {
       join_state_[k].reset();
       continue;
     }
-    if (host && join_state_[k] && frames_ % join_state_every == 0) outgoing_.push_back(*join_state_[k]);
+    if (host && join_state_[k] && frames_ % join_state_every == 0) send(*join_state_[k]);
     const auto checked = confirmed_hash(joins - 1);
     if (checked && frames_ % join_check_every == 0) {
       SessionMessage m;
@@ -241,7 +249,7 @@ void Session::run_roster() {
       m.ack = confirmed_;
       m.tick = joins - 1;
       m.checksum = *checked;
-      outgoing_.push_back(std::move(m));
+      send(std::move(m));
     }
   }
 }
@@ -252,8 +260,8 @@ void Session::send_inputs(bool always) {
   if (config_.players < 2 || !joined_) return;
   int64_t acked = acked_by_all();
   if (acked == INT64_MAX) acked = next_local_ - 1;  // nobody else plays now: an ack alone
-  SessionMessage m;
-  m.kind = SessionMessage::Kind::inputs;
+  // Written in place: it is sent (counted) only when it carries something.
+  SessionMessage& m = next_message(SessionMessage::Kind::inputs);
   m.player = config_.local_player;
   m.ack = confirmed_;
   m.tick = std::max<int64_t>(acked + 1, 1);
@@ -266,12 +274,49 @@ void Session::send_inputs(bool always) {
        at != roster_at_.end() && at->first < m.tick + static_cast<int64_t>(m.inputs.size()); ++at) {
     m.roster.insert(m.roster.end(), at->second.begin(), at->second.end());
   }
-  if (always || !m.inputs.empty()) outgoing_.push_back(std::move(m));
+  if (always || !m.inputs.empty()) ++outgoing_count_;
+}
+
+// The next outgoing message, emptied, its vectors' memory kept; sent once
+// outgoing_count_ counts it.
+SessionMessage& Session::next_message(SessionMessage::Kind kind) {
+  if (outgoing_count_ == outgoing_.size()) outgoing_.emplace_back();
+  SessionMessage& m = outgoing_[outgoing_count_];
+  m.kind = kind;
+  m.player = m.subject = 0;
+  m.ack = m.tick = 0;
+  m.inputs.clear();
+  m.checksum = 0;
+  m.state.clear();
+  m.roster.clear();
+  m.present = m.watching = 0;
+  m.start_hash = 0;
+  return m;
+}
+
+void Session::send(SessionMessage message) {
+  next_message(message.kind) = std::move(message);
+  ++outgoing_count_;
+}
+
+// The inputs a tick from the confirmed one on ran with, or nullptr.
+std::vector<PlayerInput>* Session::used_at(int64_t tick) {
+  const size_t k = static_cast<size_t>(tick) % used_.size();
+  return tick > 0 && run_tick_[k] == tick ? &used_[k] : nullptr;
+}
+
+const std::vector<uint8_t>* Session::checked_state(int64_t tick) const {
+  for (const auto& [kept, state] : checked_states_) {
+    if (kept == tick) return &state;
+  }
+  return nullptr;
 }
 
 void Session::simulate(int64_t tick) {
   if (config_.mode == SessionMode::rollback) save_state(tick - 1);  // the state this tick starts from
-  std::vector<PlayerInput> used(static_cast<size_t>(config_.players));
+  const size_t k = static_cast<size_t>(tick) % used_.size();
+  std::vector<PlayerInput>& used = used_[k];  // its strings' memory kept
+  used.resize(static_cast<size_t>(config_.players));
   for (int p = 0; p < config_.players; ++p) {
     bool predicted = false;
     used[static_cast<size_t>(p)] = input_for(p, tick, predicted);
@@ -280,8 +325,8 @@ void Session::simulate(int64_t tick) {
   }
   sim_.step();
   tick_ = tick;
-  hashes_[tick] = sim_.hash();
-  used_[tick] = std::move(used);
+  hashes_[k] = sim_.hash();
+  run_tick_[k] = tick;
 }
 
 // Back to the state before the first mispredicted tick, and forward again.
@@ -326,22 +371,24 @@ void Session::confirm() {
     for (int p = 0; p < config_.players && all; ++p) all = known(p, c);
     if (!all) break;
     confirmed_ = c;
-    confirmed_hashes_[c] = hashes_.at(c);
+    const uint64_t hash = hashes_[static_cast<size_t>(c) % hashes_.size()];  // run_tick_ has c: not confirmed, so kept
+    confirmed_hashes_[c] = hash;
     keep_join_state(c);
     if (c % config_.checksum_interval != 0) continue;
     // The state after c, kept (as a rollback state) until the peers' checksums agree.
-    checked_states_[c] = state_after(c);
-    if (checked_states_.size() > remembered_states) checked_states_.erase(checked_states_.begin());
-    SessionMessage m;
-    m.kind = SessionMessage::Kind::checksum;
+    auto& [kept, state] = checked_states_[static_cast<size_t>(c / config_.checksum_interval) % checked_states_.size()];
+    kept = c;
+    const std::vector<uint8_t>& now = state_after(c);
+    state.assign(now.begin(), now.end());  // its memory kept
+    SessionMessage& m = next_message(SessionMessage::Kind::checksum);
     m.player = config_.local_player;
     m.ack = confirmed_;
     m.tick = c;
-    m.checksum = hashes_.at(c);
-    outgoing_.push_back(std::move(m));
-    const auto remote = remote_checksums_.find(c);
-    if (remote != remote_checksums_.end()) {
-      for (const auto& [player, checksum] : remote->second) check_checksum(c, player);
+    m.checksum = hash;
+    ++outgoing_count_;
+    for (auto remote = remote_checksums_.lower_bound(std::pair<int64_t, int>{c, 0});
+         remote != remote_checksums_.end() && remote->first.first == c; ++remote) {
+      check_checksum(c, remote->first.second);
     }
   }
   // Forget what no rollback or peer can need any more (a rollback starts
@@ -349,13 +396,12 @@ void Session::confirm() {
   // Inputs stay until every player who plays acknowledged them: ours to
   // resend, a silent player's to relay.
   const int64_t acked = std::min(confirmed_, acked_by_all());
-  erase_before(used_, confirmed_);
-  erase_before(hashes_, confirmed_);
   for (auto& known_inputs : inputs_) erase_before(known_inputs, std::min(acked + 1, confirmed_));
   erase_before(roster_at_, std::min(acked + 1, confirmed_));
   roster_.forget_before(confirmed_ - static_cast<int64_t>(remembered_hashes));
   while (confirmed_hashes_.size() > remembered_hashes) confirmed_hashes_.erase(confirmed_hashes_.begin());
-  erase_before(remote_checksums_, confirmed_ - static_cast<int64_t>(remembered_hashes));
+  remote_checksums_.erase(remote_checksums_.begin(), remote_checksums_.lower_bound(std::pair<int64_t, int>{
+                                                          confirmed_ - static_cast<int64_t>(remembered_hashes), 0}));
 }
 
 // The state after a tick just confirmed (the world's now, or its rollback
@@ -381,7 +427,7 @@ void Session::keep_join_state(int64_t c) {
     m.watching = roster_.mask_at(c, Presence::watching);
     m.start_hash = start_hash_;
     m.state = snapshot_of(state_after(c));
-    outgoing_.push_back(m);
+    send(m);
     join_state_[static_cast<size_t>(p)] = std::move(m);
     heard_at_[static_cast<size_t>(p)] = frames_;
   }
@@ -389,21 +435,20 @@ void Session::keep_join_state(int64_t c) {
 
 void Session::check_checksum(int64_t tick, int player) {
   const auto local = confirmed_hashes_.find(tick);
-  const auto remote = remote_checksums_.find(tick);
-  if (desync_ || local == confirmed_hashes_.end() || remote == remote_checksums_.end()) return;
-  const auto theirs = remote->second.find(player);
-  if (theirs == remote->second.end() || theirs->second == local->second) return;
+  const auto theirs = remote_checksums_.find(std::pair<int64_t, int>{tick, player});
+  if (desync_ || local == confirmed_hashes_.end() || theirs == remote_checksums_.end()) return;
+  if (theirs->second == local->second) return;
   desync_ = Desync{tick, player, local->second, theirs->second, {}};
-  const auto state = checked_states_.find(tick);
-  if (state == checked_states_.end()) return;
-  desync_snapshot_ = snapshot_of(state->second);
+  const std::vector<uint8_t>* state = checked_state(tick);
+  if (state == nullptr) return;
+  desync_snapshot_ = snapshot_of(*state);
   SessionMessage m;
   m.kind = SessionMessage::Kind::state;
   m.player = config_.local_player;
   m.ack = confirmed_;
   m.tick = tick;
   m.state = desync_snapshot_;
-  outgoing_.push_back(std::move(m));
+  send(std::move(m));
 }
 
 // A whole snapshot of a kept rollback state: the world goes there and back.
@@ -445,7 +490,7 @@ bool Session::receive(const SessionMessage& m) {
       if (m.subject != config_.local_player && !receive_inputs(m, m.subject)) return refuse();
       break;
     case SessionMessage::Kind::checksum:
-      remote_checksums_[m.tick][m.player] = m.checksum;
+      remote_checksums_[std::pair<int64_t, int>{m.tick, m.player}] = m.checksum;
       check_checksum(m.tick, m.player);
       break;
     case SessionMessage::Kind::state: {
@@ -506,8 +551,8 @@ bool Session::receive_inputs(const SessionMessage& m, int player) {
     if (t <= confirmed_ || known(player, t)) continue;  // known already (or long confirmed)
     theirs[t] = input;
     heard_at_[static_cast<size_t>(player)] = frames_;  // news of it, if relayed
-    const auto ran = used_.find(t);
-    if (ran != used_.end() && ran->second[static_cast<size_t>(player)] != input) {
+    const std::vector<PlayerInput>* ran = used_at(t);
+    if (ran != nullptr && (*ran)[static_cast<size_t>(player)] != input) {
       ++stats_.mispredicted_inputs;
       rollback_from_ = std::min(rollback_from_, t);
     }
@@ -577,10 +622,12 @@ void Session::try_join() {
   for (int64_t t = c + 1; t <= c + delay; ++t) inputs_[static_cast<size_t>(config_.local_player)][t] = empty_;
   next_local_ = c + 1 + delay;
   tick_ = confirmed_ = first_tick_ = c;
-  used_.clear();
-  hashes_ = {{c, hash}};
-  confirmed_hashes_ = {{c, hash}};
-  checked_states_.clear();
+  run_tick_.assign(run_tick_.size(), -1);
+  run_tick_[static_cast<size_t>(c) % run_tick_.size()] = c;
+  hashes_[static_cast<size_t>(c) % hashes_.size()] = hash;
+  confirmed_hashes_.clear();
+  confirmed_hashes_[c] = hash;
+  for (auto& checked : checked_states_) checked.first = -1;
   remote_checksums_.clear();
   rollback_from_ = INT64_MAX;
   states_ = RollbackStates{};  // a new world: no state of the old one restores into it
@@ -591,7 +638,9 @@ void Session::try_join() {
   join_checks_.clear();
 }
 
-std::vector<SessionMessage> Session::take_outgoing() { return std::exchange(outgoing_, {}); }
+std::span<const SessionMessage> Session::take_outgoing() {
+  return {outgoing_.data(), std::exchange(outgoing_count_, 0)};
+}
 
 std::optional<uint64_t> Session::confirmed_hash(int64_t tick) const {
   const auto found = confirmed_hashes_.find(tick);

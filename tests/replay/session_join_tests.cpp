@@ -14,6 +14,7 @@
 #include "tests/replay/session_match.h"
 
 using namespace bitstep;
+using namespace bitstep::session_test;
 
 namespace {
 

@@ -17,11 +17,10 @@
 #include "replay/session.h"
 #include "replay/session_roster.h"
 
-namespace bitstep {
-namespace {
+namespace bitstep::session_test {
 
 // Four balls on a floor with a few crates; player p pushes ball p.
-const char* const arena = R"({"format": "bitstep-scene", "version": 1, "bodies": [
+inline constexpr const char* arena = R"({"format": "bitstep-scene", "version": 1, "bodies": [
   {"name": "floor", "type": "static", "position": [0, -1, 0], "shapes": [{"type": "box", "half_extents": [30, 1, 30]}]},
   {"name": "ball.0", "position": [-3, 0.5, 0], "shapes": [{"type": "sphere", "radius": 0.5}]},
   {"name": "ball.1", "position": [3, 0.5, 0], "shapes": [{"type": "sphere", "radius": 0.5}]},
@@ -29,7 +28,7 @@ const char* const arena = R"({"format": "bitstep-scene", "version": 1, "bodies":
   {"name": "ball.3", "position": [0, 0.5, 3], "shapes": [{"type": "sphere", "radius": 0.5}]}],
   "generators": [{"type": "stack", "name": "crates", "count": 3, "position": [0, 0, 0]}]})";
 
-Simulation arena_simulation() {
+inline Simulation arena_simulation() {
   std::string error;
   auto sim = Simulation::from_text(arena, "arena.json", error);
   INFO(error);
@@ -39,7 +38,7 @@ Simulation arena_simulation() {
 
 // The game: an input is the direction of the push held, "x z" in -1..1; a
 // ball is pushed with 2000 N along it (the force held while the input is).
-void push(Simulation& sim, int player, const PlayerInput& input) {
+inline void push(Simulation& sim, int player, const PlayerInput& input) {
   if (input.empty()) return;
   const int x = input[0] - '1', z = input[2] - '1';
   const BodyId ball = *sim.find_body("ball." + std::to_string(player));
@@ -47,7 +46,7 @@ void push(Simulation& sim, int player, const PlayerInput& input) {
 }
 
 // Player p's k-th input (k from 1): a direction held for 15 ticks, then another.
-PlayerInput script(int player, int64_t k) {
+inline PlayerInput script(int player, int64_t k) {
   const int64_t phase = (k / 15 + player) % 5;
   static const char* const directions[] = {"2 1", "1 2", "0 1", "1 0", "1 1"};
   return directions[phase];
@@ -57,7 +56,7 @@ PlayerInput script(int player, int64_t k) {
 // k-th input a player gives applies at tick k + delay. With the roster
 // changes a match made (its host's log): an absent player's input is
 // empty, and so is a joiner's for the `delay` ticks from its first.
-std::vector<uint64_t> reference_chain(int players, int delay, int64_t ticks, const std::vector<RosterEvent>& log = {}) {
+inline std::vector<uint64_t> reference_chain(int players, int delay, int64_t ticks, const std::vector<RosterEvent>& log = {}) {
   Simulation sim = arena_simulation();
   Roster roster(players);
   std::vector<int64_t> joined(static_cast<size_t>(players), 0);
@@ -146,7 +145,7 @@ struct Match {
         s.add_local_input(script(static_cast<int>(p), s.local_input_tick() + 1 - delay));
       }
       if (s.tick() < ticks + 30) s.advance();
-      for (SessionMessage& m : s.take_outgoing()) {
+      for (const SessionMessage& m : s.take_outgoing()) {
         // A state goes reliably, as the transport sends it.
         const bool reliable = m.kind == SessionMessage::Kind::state || m.kind == SessionMessage::Kind::join_state;
         for (size_t to = 0; to < peers.size(); ++to) {
@@ -194,5 +193,4 @@ struct Match {
   }
 };
 
-}  // namespace
-}  // namespace bitstep
+}  // namespace bitstep::session_test

@@ -18,6 +18,7 @@
 #include "tests/replay/session_match.h"
 
 using namespace bitstep;
+using namespace bitstep::session_test;
 
 TEST_CASE("2 and 4 peers in lockstep and in rollback end with one simulation's chain", "[session]") {
   constexpr int64_t ticks = 300;
