@@ -153,7 +153,7 @@ rejoin() {
       --inputs "$(join_script "$p")" --seed $((p + 1)) >"$out/join$p.json" 2>"$out/join$p.err" &
     pids+=($!)
   done
-  sleep 3
+  sleep 4
   kill "${pids[2]}"  # timeout passes the signal on: the peer dies without a word
   if [ "$flood" -eq 1 ]; then
     python3 - "$((base + offset))" <<'PY' &
