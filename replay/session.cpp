@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "replay/snapshot.h"
+#include "replay/state_hash.h"
 #include "replay/state_dump.h"
 
 namespace bitstep {
@@ -21,6 +22,9 @@ int64_t window(const SessionConfig& c) {
 constexpr size_t remembered_hashes = 1024;
 // States at checksum ticks kept until every peer's checksum agreed.
 constexpr size_t remembered_states = 8;
+// Frames between the host's sends of a joiner's state while it has not
+// acknowledged its first tick, and between every peer's join checks.
+constexpr int64_t join_state_every = 30, join_check_every = 4;
 
 template <class Map>
 void erase_before(Map& map, int64_t tick) {
@@ -35,6 +39,9 @@ std::string config_error(const SessionConfig& c) {
   if (c.input_delay < 0 || c.input_delay > 32) return "input delay: outside 0..32 ticks";
   if (c.max_prediction < 1 || c.max_prediction > 64) return "max prediction: outside 1..64 ticks";
   if (c.checksum_interval < 1 || c.checksum_interval > 3600) return "checksum interval: outside 1..3600 ticks";
+  if (c.leave_after != 0 && (c.leave_after < 10 || c.leave_after > 100000)) return "leave after: 0 or 10..100000 frames";
+  if (c.joining && c.local_player == 0) return "joining: the host (player 0) cannot join, it starts the match";
+  if (c.watching && !c.joining) return "watching: a spectator joins a match in progress (joining)";
   return {};
 }
 
@@ -42,8 +49,18 @@ Session::Session(Simulation sim, SessionConfig config, ApplyInput apply)
     : sim_(std::move(sim)),
       config_(config),
       apply_(std::move(apply)),
-      inputs_(static_cast<size_t>(config.players)),
-      acked_(static_cast<size_t>(config.players), 0) {
+      inputs_(static_cast<size_t>(config.players),
+              PooledMap<int64_t, PlayerInput>(PoolAllocator<std::pair<const int64_t, PlayerInput>>(pool_.get()))),
+      acked_(static_cast<size_t>(config.players), 0),
+      confirmed_hashes_(PoolAllocator<std::pair<const int64_t, uint64_t>>(pool_.get())),
+      remote_checksums_(PoolAllocator<std::pair<const std::pair<int64_t, int>, uint64_t>>(pool_.get())),
+      roster_(config.players),
+      start_hash_(sim_.hash()),
+      joined_(!config.joining),
+      heard_at_(static_cast<size_t>(config.players), 0),
+      wants_in_(static_cast<size_t>(config.players), Presence::absent),
+      join_tick_(static_cast<size_t>(config.players), 0),
+      join_state_(static_cast<size_t>(config.players)) {
   // Ticks 1..input_delay have no input, for every player.
   for (auto& known_inputs : inputs_) {
     for (int64_t t = 1; t <= config_.input_delay; ++t) known_inputs[t] = empty_;
@@ -53,6 +70,10 @@ Session::Session(Simulation sim, SessionConfig config, ApplyInput apply)
   // every tick run ahead of it.
   ring_.resize(static_cast<size_t>(config_.max_prediction) + 2);
   ring_tick_.assign(ring_.size(), -1);
+  used_.resize(ring_.size());
+  hashes_.assign(ring_.size(), 0);
+  run_tick_.assign(ring_.size(), -1);
+  checked_states_.assign(remembered_states, {-1, {}});
   if (config_.mode == SessionMode::rollback) save_state(0);
 }
 
@@ -73,12 +94,17 @@ void Session::save_state(int64_t tick) {
   }
 }
 
+// The input of a player who does not play (absent, watching) is known: empty.
 bool Session::known(int player, int64_t tick) const {
-  return inputs_[static_cast<size_t>(player)].count(tick) != 0;
+  return !roster_.plays(player, tick) || inputs_[static_cast<size_t>(player)].count(tick) != 0;
 }
 
 // The player's input for the tick, or its last one before (the prediction).
 const PlayerInput& Session::input_for(int player, int64_t tick, bool& predicted) const {
+  if (!roster_.plays(player, tick)) {
+    predicted = false;
+    return empty_;
+  }
   const auto& known_inputs = inputs_[static_cast<size_t>(player)];
   const auto at = known_inputs.lower_bound(tick);
   predicted = at == known_inputs.end() || at->first != tick;
@@ -87,22 +113,155 @@ const PlayerInput& Session::input_for(int player, int64_t tick, bool& predicted)
 }
 
 void Session::add_local_input(PlayerInput input) {
-  inputs_[static_cast<size_t>(config_.local_player)][next_local_++] = std::move(input);
+  if (!joined_ || config_.watching) return;  // a joiner plays from its state's next tick; a spectator never
+  const int64_t t = next_local_++;
+  inputs_[static_cast<size_t>(config_.local_player)][t] = std::move(input);
+  // The host's roster changes ride with this input: every peer applies
+  // them when it learns the host's input for t.
+  for (RosterEvent e : std::exchange(next_roster_, {})) {
+    e.at = t;
+    e.from = t;
+    // A leaver's inputs count up to the first one the host never got
+    // (its peers relayed to it what they held); over ticks where it does
+    // not play (a spectator, a joiner not yet in) no further than t.
+    if (e.presence == Presence::absent) {
+      const auto& theirs = inputs_[static_cast<size_t>(e.player)];
+      e.from = confirmed_ + 1;
+      while (roster_.plays(e.player, e.from) ? theirs.count(e.from) != 0 : e.from < t) ++e.from;
+    }
+    roster_at_[t].push_back(e);
+    apply_roster(e);
+  }
   send_inputs();
 }
 
 void Session::heartbeat() { send_inputs(true); }
 
+// The lowest ack of the other players who follow the match now (present
+// or watching; but `except`), or INT64_MAX when there is none.
+int64_t Session::acked_by_all(int except) const {
+  int64_t acked = INT64_MAX;
+  for (int p = 0; p < config_.players; ++p) {
+    if (p != config_.local_player && p != except && roster_.follows(p)) {
+      acked = std::min(acked, acked_[static_cast<size_t>(p)]);
+    }
+  }
+  return acked;
+}
+
+bool Session::admit(int player, bool watching) {
+  if (config_.local_player != 0 || player <= 0 || player >= config_.players) return false;
+  // A slot whose player is still heard from is not free.
+  const bool heard = frames_ - heard_at_[static_cast<size_t>(player)] < std::max(1, config_.leave_after / 2);
+  if (roster_.follows(player) && (config_.leave_after == 0 || heard)) return false;
+  wants_in_[static_cast<size_t>(player)] = watching ? Presence::watching : Presence::present;
+  return true;
+}
+
+// A roster change from the host's input: from `from` on, the player plays
+// or not. A leaver's inputs from then on are void (a rollback mends the
+// ticks run with them); a joiner's peers resend their inputs from `from` on.
+void Session::apply_roster(const RosterEvent& e) {
+  roster_log_.push_back(e);
+  const size_t p = static_cast<size_t>(e.player);
+  if (e.from <= confirmed_) {  // a leaver's input reached this peer but never the host, nor any relay
+    if (!desync_) {
+      desync_ = Desync{e.from, 0, 0, 0,
+                       "roster: player " + std::to_string(e.player) + " changes from tick " + std::to_string(e.from) +
+                           ", confirmed here already"};
+    }
+    return;
+  }
+  roster_.set(e.player, e.from, e.presence);
+  if (e.presence != Presence::absent) {
+    wants_in_[p] = Presence::absent;
+    heard_at_[p] = frames_;
+    if (e.player != config_.local_player) {
+      join_tick_[p] = e.from;
+      acked_[p] = e.from - 1;
+    }
+    return;
+  }
+  join_tick_[p] = 0;
+  join_state_[p].reset();
+  auto& theirs = inputs_[p];
+  theirs.erase(theirs.lower_bound(e.from), theirs.end());
+  for (int64_t t = e.from; t <= tick_; ++t) {
+    const std::vector<PlayerInput>* ran = used_at(t);
+    if (ran != nullptr && (*ran)[p] != empty_) {
+      rollback_from_ = std::min(rollback_from_, t);
+      break;
+    }
+  }
+}
+
+// Once a frame: the host's roster decisions; a silent player's inputs
+// relayed; a joiner's state (the host) and checks (everyone).
+void Session::run_roster() {
+  const bool host = config_.local_player == 0;
+  const auto queued = [&](int p) {
+    return std::any_of(next_roster_.begin(), next_roster_.end(), [&](const RosterEvent& e) { return e.player == p; });
+  };
+  for (int p = 0; p < config_.players; ++p) {
+    const size_t k = static_cast<size_t>(p);
+    if (p == config_.local_player) continue;
+    const int64_t silent = frames_ - heard_at_[k];
+    // A joiner is silent until its state reaches it: counted from the state on.
+    const bool awaits_state = join_tick_[k] != 0 && !join_state_[k];
+    if (host && config_.leave_after > 0 && roster_.follows(p) && silent >= config_.leave_after && !awaits_state &&
+        !queued(p)) {
+      next_roster_.push_back({0, 0, p, Presence::absent});
+    }
+    if (host && wants_in_[k] != Presence::absent && !roster_.follows(p) && !queued(p)) {
+      next_roster_.push_back({0, 0, p, wants_in_[k]});
+    }
+    // What a silent player sent to us and maybe not to others (the host
+    // above all: it decides where its inputs end).
+    if (config_.leave_after > 0 && silent >= std::max(1, config_.leave_after / 2)) {
+      const int64_t acked = acked_by_all(p);
+      SessionMessage m;
+      m.kind = SessionMessage::Kind::relay;
+      m.player = config_.local_player;
+      m.subject = p;
+      m.ack = confirmed_;
+      m.tick = acked == INT64_MAX ? confirmed_ + 1 : std::max<int64_t>(acked + 1, 1);
+      const auto& theirs = inputs_[k];
+      for (auto at = theirs.lower_bound(m.tick); at != theirs.end() && m.inputs.size() < max_inputs_per_message; ++at) {
+        if (at->first != m.tick + static_cast<int64_t>(m.inputs.size())) break;
+        m.inputs.push_back(at->second);
+      }
+      if (!m.inputs.empty()) send(std::move(m));
+    }
+    const int64_t joins = join_tick_[k];
+    if (joins == 0) continue;
+    if (acked_[k] >= joins) {  // the joiner runs
+      join_tick_[k] = 0;
+      join_state_[k].reset();
+      continue;
+    }
+    if (host && join_state_[k] && frames_ % join_state_every == 0) send(*join_state_[k]);
+    const auto checked = confirmed_hash(joins - 1);
+    if (checked && frames_ % join_check_every == 0) {
+      SessionMessage m;
+      m.kind = SessionMessage::Kind::join_check;
+      m.player = config_.local_player;
+      m.subject = p;
+      m.ack = confirmed_;
+      m.tick = joins - 1;
+      m.checksum = *checked;
+      send(std::move(m));
+    }
+  }
+}
+
 // The local inputs no peer has acknowledged (at most a message of them);
 // with `always`, a message even when there are none (it carries the ack).
 void Session::send_inputs(bool always) {
-  if (config_.players < 2) return;
-  int64_t acked = INT64_MAX;
-  for (int p = 0; p < config_.players; ++p) {
-    if (p != config_.local_player) acked = std::min(acked, acked_[static_cast<size_t>(p)]);
-  }
-  SessionMessage m;
-  m.kind = SessionMessage::Kind::inputs;
+  if (config_.players < 2 || !joined_) return;
+  int64_t acked = acked_by_all();
+  if (acked == INT64_MAX) acked = next_local_ - 1;  // nobody else plays now: an ack alone
+  // Written in place: it is sent (counted) only when it carries something.
+  SessionMessage& m = next_message(SessionMessage::Kind::inputs);
   m.player = config_.local_player;
   m.ack = confirmed_;
   m.tick = std::max<int64_t>(acked + 1, 1);
@@ -111,12 +270,53 @@ void Session::send_inputs(bool always) {
     if (at->first != m.tick + static_cast<int64_t>(m.inputs.size())) break;
     m.inputs.push_back(at->second);
   }
-  if (always || !m.inputs.empty()) outgoing_.push_back(std::move(m));
+  for (auto at = roster_at_.lower_bound(m.tick);
+       at != roster_at_.end() && at->first < m.tick + static_cast<int64_t>(m.inputs.size()); ++at) {
+    m.roster.insert(m.roster.end(), at->second.begin(), at->second.end());
+  }
+  if (always || !m.inputs.empty()) ++outgoing_count_;
+}
+
+// The next outgoing message, emptied, its vectors' memory kept; sent once
+// outgoing_count_ counts it.
+SessionMessage& Session::next_message(SessionMessage::Kind kind) {
+  if (outgoing_count_ == outgoing_.size()) outgoing_.emplace_back();
+  SessionMessage& m = outgoing_[outgoing_count_];
+  m.kind = kind;
+  m.player = m.subject = 0;
+  m.ack = m.tick = 0;
+  m.inputs.clear();
+  m.checksum = 0;
+  m.state.clear();
+  m.roster.clear();
+  m.present = m.watching = 0;
+  m.start_hash = 0;
+  return m;
+}
+
+void Session::send(SessionMessage message) {
+  next_message(message.kind) = std::move(message);
+  ++outgoing_count_;
+}
+
+// The inputs a tick from the confirmed one on ran with, or nullptr.
+std::vector<PlayerInput>* Session::used_at(int64_t tick) {
+  const size_t k = static_cast<size_t>(tick) % used_.size();
+  return tick > 0 && run_tick_[k] == tick ? &used_[k] : nullptr;
+}
+
+const std::vector<uint8_t>* Session::checked_state(int64_t tick) const {
+  for (const auto& [kept, state] : checked_states_) {
+    if (kept == tick) return &state;
+  }
+  return nullptr;
 }
 
 void Session::simulate(int64_t tick) {
   if (config_.mode == SessionMode::rollback) save_state(tick - 1);  // the state this tick starts from
-  std::vector<PlayerInput> used(static_cast<size_t>(config_.players));
+  const size_t k = static_cast<size_t>(tick) % used_.size();
+  std::vector<PlayerInput>& used = used_[k];  // its strings' memory kept
+  used.resize(static_cast<size_t>(config_.players));
   for (int p = 0; p < config_.players; ++p) {
     bool predicted = false;
     used[static_cast<size_t>(p)] = input_for(p, tick, predicted);
@@ -125,8 +325,8 @@ void Session::simulate(int64_t tick) {
   }
   sim_.step();
   tick_ = tick;
-  hashes_[tick] = sim_.hash();
-  used_[tick] = std::move(used);
+  hashes_[k] = sim_.hash();
+  run_tick_[k] = tick;
 }
 
 // Back to the state before the first mispredicted tick, and forward again.
@@ -141,6 +341,10 @@ void Session::roll_back() {
 }
 
 bool Session::advance() {
+  ++frames_;
+  if (!joined_) return false;
+  run_roster();
+  if (config_.watching) send_inputs(true);  // a spectator's ack: it has no inputs to carry it
   const int64_t next = tick_ + 1;
   if (config_.mode == SessionMode::rollback && rollback_from_ <= tick_) roll_back();
   bool ready = known(config_.local_player, next);
@@ -167,57 +371,84 @@ void Session::confirm() {
     for (int p = 0; p < config_.players && all; ++p) all = known(p, c);
     if (!all) break;
     confirmed_ = c;
-    confirmed_hashes_[c] = hashes_.at(c);
+    const uint64_t hash = hashes_[static_cast<size_t>(c) % hashes_.size()];  // run_tick_ has c: not confirmed, so kept
+    confirmed_hashes_[c] = hash;
+    keep_join_state(c);
     if (c % config_.checksum_interval != 0) continue;
     // The state after c, kept (as a rollback state) until the peers' checksums agree.
-    const size_t k = static_cast<size_t>(c) % ring_.size();
-    if (ring_tick_[k] != c) save_state(c);  // c is the tick just run
-    checked_states_[c] = ring_[k];
-    if (checked_states_.size() > remembered_states) checked_states_.erase(checked_states_.begin());
-    SessionMessage m;
-    m.kind = SessionMessage::Kind::checksum;
+    auto& [kept, state] = checked_states_[static_cast<size_t>(c / config_.checksum_interval) % checked_states_.size()];
+    kept = c;
+    const std::vector<uint8_t>& now = state_after(c);
+    state.assign(now.begin(), now.end());  // its memory kept
+    SessionMessage& m = next_message(SessionMessage::Kind::checksum);
     m.player = config_.local_player;
     m.ack = confirmed_;
     m.tick = c;
-    m.checksum = hashes_.at(c);
-    outgoing_.push_back(std::move(m));
-    const auto remote = remote_checksums_.find(c);
-    if (remote != remote_checksums_.end()) {
-      for (const auto& [player, checksum] : remote->second) check_checksum(c, player);
+    m.checksum = hash;
+    ++outgoing_count_;
+    for (auto remote = remote_checksums_.lower_bound(std::pair<int64_t, int>{c, 0});
+         remote != remote_checksums_.end() && remote->first.first == c; ++remote) {
+      check_checksum(c, remote->first.second);
     }
   }
   // Forget what no rollback or peer can need any more (a rollback starts
   // after the confirmed tick; the prediction base is the input at it).
-  int64_t acked = confirmed_;
-  for (int p = 0; p < config_.players; ++p) {
-    if (p != config_.local_player) acked = std::min(acked, acked_[static_cast<size_t>(p)]);
-  }
-  erase_before(used_, confirmed_);
-  erase_before(hashes_, confirmed_);
-  for (int p = 0; p < config_.players; ++p) {
-    erase_before(inputs_[static_cast<size_t>(p)], p == config_.local_player ? std::min(acked + 1, confirmed_) : confirmed_);
-  }
+  // Inputs stay until every player who plays acknowledged them: ours to
+  // resend, a silent player's to relay.
+  const int64_t acked = std::min(confirmed_, acked_by_all());
+  for (auto& known_inputs : inputs_) erase_before(known_inputs, std::min(acked + 1, confirmed_));
+  erase_before(roster_at_, std::min(acked + 1, confirmed_));
+  roster_.forget_before(confirmed_ - static_cast<int64_t>(remembered_hashes));
   while (confirmed_hashes_.size() > remembered_hashes) confirmed_hashes_.erase(confirmed_hashes_.begin());
-  erase_before(remote_checksums_, confirmed_ - static_cast<int64_t>(remembered_hashes));
+  remote_checksums_.erase(remote_checksums_.begin(), remote_checksums_.lower_bound(std::pair<int64_t, int>{
+                                                          confirmed_ - static_cast<int64_t>(remembered_hashes), 0}));
+}
+
+// The state after a tick just confirmed (the world's now, or its rollback
+// state in the ring), as a rollback state.
+const std::vector<uint8_t>& Session::state_after(int64_t c) {
+  const size_t k = static_cast<size_t>(c) % ring_.size();
+  if (ring_tick_[k] != c) save_state(c);  // c is the tick just run
+  return ring_[k];
+}
+
+// The host, at the tick before a joiner's first: its snapshot, for the joiner.
+void Session::keep_join_state(int64_t c) {
+  if (config_.local_player != 0) return;
+  for (int p = 1; p < config_.players; ++p) {
+    if (join_tick_[static_cast<size_t>(p)] != c + 1) continue;
+    SessionMessage m;
+    m.kind = SessionMessage::Kind::join_state;
+    m.player = 0;
+    m.subject = p;
+    m.ack = c;
+    m.tick = c;
+    m.present = roster_.mask_at(c, Presence::present);
+    m.watching = roster_.mask_at(c, Presence::watching);
+    m.start_hash = start_hash_;
+    m.state = snapshot_of(state_after(c));
+    send(m);
+    join_state_[static_cast<size_t>(p)] = std::move(m);
+    heard_at_[static_cast<size_t>(p)] = frames_;
+  }
 }
 
 void Session::check_checksum(int64_t tick, int player) {
   const auto local = confirmed_hashes_.find(tick);
-  const auto remote = remote_checksums_.find(tick);
-  if (desync_ || local == confirmed_hashes_.end() || remote == remote_checksums_.end()) return;
-  const auto theirs = remote->second.find(player);
-  if (theirs == remote->second.end() || theirs->second == local->second) return;
+  const auto theirs = remote_checksums_.find(std::pair<int64_t, int>{tick, player});
+  if (desync_ || local == confirmed_hashes_.end() || theirs == remote_checksums_.end()) return;
+  if (theirs->second == local->second) return;
   desync_ = Desync{tick, player, local->second, theirs->second, {}};
-  const auto state = checked_states_.find(tick);
-  if (state == checked_states_.end()) return;
-  desync_snapshot_ = snapshot_of(state->second);
+  const std::vector<uint8_t>* state = checked_state(tick);
+  if (state == nullptr) return;
+  desync_snapshot_ = snapshot_of(*state);
   SessionMessage m;
   m.kind = SessionMessage::Kind::state;
   m.player = config_.local_player;
   m.ack = confirmed_;
   m.tick = tick;
   m.state = desync_snapshot_;
-  outgoing_.push_back(std::move(m));
+  send(std::move(m));
 }
 
 // A whole snapshot of a kept rollback state: the world goes there and back.
@@ -235,34 +466,31 @@ bool Session::receive(const SessionMessage& m) {
     ++stats_.refused_messages;
     return false;
   };
-  const int64_t horizon = std::max(tick_, next_local_ - 1) + window(config_);
   if (m.player < 0 || m.player >= config_.players || m.player == config_.local_player) return refuse();
-  if (m.ack < 0 || m.ack > next_local_ - 1 + window(config_) || m.tick < 1 || m.tick > horizon) return refuse();
-  switch (m.kind) {
-    case SessionMessage::Kind::inputs: {
-      if (m.inputs.size() > max_inputs_per_message) return refuse();  // none: an ack alone
-      if (m.tick + static_cast<int64_t>(m.inputs.size()) - 1 > horizon) return refuse();
-      auto& theirs = inputs_[static_cast<size_t>(m.player)];
-      // All checked before any is kept: a contradiction refuses the message.
-      for (size_t i = 0; i < m.inputs.size(); ++i) {
-        if (m.inputs[i].size() > max_input_bytes) return refuse();
-        const auto at = theirs.find(m.tick + static_cast<int64_t>(i));
-        if (at != theirs.end() && at->second != m.inputs[i]) return refuse();
-      }
-      for (size_t i = 0; i < m.inputs.size(); ++i) {
-        const int64_t t = m.tick + static_cast<int64_t>(i);
-        if (t <= confirmed_ || known(m.player, t)) continue;  // known already (or long confirmed)
-        theirs[t] = m.inputs[i];
-        const auto ran = used_.find(t);
-        if (ran != used_.end() && ran->second[static_cast<size_t>(m.player)] != m.inputs[i]) {
-          ++stats_.mispredicted_inputs;
-          rollback_from_ = std::min(rollback_from_, t);
-        }
-      }
-      break;
+  if (!joined_) {  // the match's traffic is not ours until our state is in
+    if (m.subject != config_.local_player) return true;
+    if (m.kind == SessionMessage::Kind::join_check) {
+      join_checks_[m.player] = {m.tick, m.checksum};
+      try_join();
+    } else if (m.kind == SessionMessage::Kind::join_state) {
+      return receive_join_state(m);
     }
+    return true;
+  }
+  const int64_t horizon = std::max(tick_, next_local_ - 1) + window(config_);
+  if (m.ack < 0 || m.ack > horizon || m.tick < 1 || m.tick > horizon) return refuse();
+  switch (m.kind) {
+    case SessionMessage::Kind::inputs:
+      if (!m.roster.empty() && m.player != 0) return refuse();  // only the host changes the roster
+      if (!receive_inputs(m, m.player)) return refuse();
+      break;
+    case SessionMessage::Kind::relay:
+      if (m.subject < 0 || m.subject >= config_.players || !m.roster.empty()) return refuse();
+      // Our own inputs, relayed by a peer that stopped hearing us: we have them.
+      if (m.subject != config_.local_player && !receive_inputs(m, m.subject)) return refuse();
+      break;
     case SessionMessage::Kind::checksum:
-      remote_checksums_[m.tick][m.player] = m.checksum;
+      remote_checksums_[std::pair<int64_t, int>{m.tick, m.player}] = m.checksum;
       check_checksum(m.tick, m.player);
       break;
     case SessionMessage::Kind::state: {
@@ -276,13 +504,143 @@ bool Session::receive(const SessionMessage& m) {
       }
       break;
     }
+    case SessionMessage::Kind::join_state:
+      // We run already: the one we started from again (the host repeats it
+      // until we acknowledge our first tick) is nothing new, any other is stale.
+      if (m.subject == config_.local_player && m.tick != first_tick_) {
+        ++stats_.refused_states;
+        return refuse();
+      }
+      break;  // another joiner's
+    case SessionMessage::Kind::join_check: break;
   }
   acked_[static_cast<size_t>(m.player)] = std::max(acked_[static_cast<size_t>(m.player)], m.ack);
+  heard_at_[static_cast<size_t>(m.player)] = frames_;
   confirm();
   return true;
 }
 
-std::vector<SessionMessage> Session::take_outgoing() { return std::exchange(outgoing_, {}); }
+// A player's inputs (its own, or relayed); false, with nothing changed,
+// when any is out of the window, contradicts one known, or falls where
+// the player does not play; the host's roster changes are checked with them.
+bool Session::receive_inputs(const SessionMessage& m, int player) {
+  const int64_t horizon = std::max(tick_, next_local_ - 1) + window(config_);
+  const int64_t count = static_cast<int64_t>(m.inputs.size());
+  if (m.inputs.size() > max_inputs_per_message) return false;  // none: an ack alone
+  if (m.tick + count - 1 > horizon) return false;
+  if (m.roster.size() > max_roster_events) return false;
+  for (const RosterEvent& e : m.roster) {
+    if (e.at < m.tick || e.at >= m.tick + count || e.player <= 0 || e.player >= config_.players || e.from < 1 ||
+        e.from > e.at + window(config_)) {
+      return false;
+    }
+  }
+  auto& theirs = inputs_[static_cast<size_t>(player)];
+  // All checked before any is kept: a contradiction refuses the message.
+  for (int64_t i = 0; i < count; ++i) {
+    const PlayerInput& input = m.inputs[static_cast<size_t>(i)];
+    const int64_t t = m.tick + i;
+    if (input.size() > max_input_bytes) return false;
+    if (!roster_.plays(player, t)) return false;  // a leaver's (a spectator's), for a tick it does not play
+    const auto at = theirs.find(t);
+    if (at != theirs.end() && at->second != input) return false;
+  }
+  for (int64_t i = 0; i < count; ++i) {
+    const int64_t t = m.tick + i;
+    const PlayerInput& input = m.inputs[static_cast<size_t>(i)];
+    if (t <= confirmed_ || known(player, t)) continue;  // known already (or long confirmed)
+    theirs[t] = input;
+    heard_at_[static_cast<size_t>(player)] = frames_;  // news of it, if relayed
+    const std::vector<PlayerInput>* ran = used_at(t);
+    if (ran != nullptr && (*ran)[static_cast<size_t>(player)] != input) {
+      ++stats_.mispredicted_inputs;
+      rollback_from_ = std::min(rollback_from_, t);
+    }
+    if (player != 0) continue;
+    for (const RosterEvent& e : m.roster) {
+      if (e.at == t) apply_roster(e);
+    }
+  }
+  return true;
+}
+
+// A joiner's state from the host: for our match, not older than the one
+// waiting or than the host's checks; used once every check is in.
+bool Session::receive_join_state(const SessionMessage& m) {
+  const uint32_t everyone = config_.players >= 32 ? ~0u : (1u << config_.players) - 1;
+  const auto host_check = join_checks_.find(0);
+  const bool stale = (candidate_ && candidate_->tick > m.tick) ||
+                     (host_check != join_checks_.end() && host_check->second.first > m.tick);
+  const uint32_t local = 1u << config_.local_player;
+  const bool fits = m.player == 0 && m.start_hash == start_hash_ && m.tick >= 1 &&
+                    ((m.present | m.watching) & ~everyone) == 0 && (m.present & m.watching) == 0 &&
+                    (m.present & 1u) != 0 && ((m.present | m.watching) & local) == 0;
+  if (!fits || stale) {
+    ++stats_.refused_states;
+    ++stats_.refused_messages;
+    return false;
+  }
+  candidate_ = m;
+  try_join();
+  return true;
+}
+
+// The waiting state, once every player present at its tick sent its check:
+// used when its hash is theirs, refused when not.
+void Session::try_join() {
+  if (!candidate_) return;
+  const SessionMessage& m = *candidate_;
+  const auto refuse = [&] {
+    ++stats_.refused_states;
+    ++stats_.refused_messages;
+    candidate_.reset();
+  };
+  for (int q = 0; q < config_.players; ++q) {
+    if (((m.present | m.watching) & (1u << q)) == 0) continue;  // every peer that confirmed the tick checks it
+    const auto check = join_checks_.find(q);
+    if (check == join_checks_.end() || check->second.first < m.tick) return;  // wait for it
+    if (check->second.first > m.tick) return refuse();  // a newer join: this state is stale
+  }
+  World candidate;
+  if (restore(m.state, candidate) || candidate.step_count() != static_cast<uint64_t>(m.tick)) return refuse();
+  const uint64_t hash = state_hash(candidate);
+  for (const auto& [q, check] : join_checks_) {
+    if (((m.present | m.watching) & (1u << q)) != 0 && check.second != hash) return refuse();  // not what they confirmed
+  }
+  if (sim_.load(m.state)) return refuse();
+  // From the state on, as if the match had started there.
+  const int64_t c = m.tick;
+  roster_ = Roster(config_.players, m.present, m.watching);
+  roster_.set(config_.local_player, c + 1, config_.watching ? Presence::watching : Presence::present);
+  for (size_t p = 0; p < inputs_.size(); ++p) {
+    inputs_[p].clear();
+    acked_[p] = c;
+    heard_at_[p] = frames_;
+  }
+  // A player's input for its first `input_delay` ticks is empty; a spectator gives none.
+  const int delay = config_.watching ? 0 : config_.input_delay;
+  for (int64_t t = c + 1; t <= c + delay; ++t) inputs_[static_cast<size_t>(config_.local_player)][t] = empty_;
+  next_local_ = c + 1 + delay;
+  tick_ = confirmed_ = first_tick_ = c;
+  run_tick_.assign(run_tick_.size(), -1);
+  run_tick_[static_cast<size_t>(c) % run_tick_.size()] = c;
+  hashes_[static_cast<size_t>(c) % hashes_.size()] = hash;
+  confirmed_hashes_.clear();
+  confirmed_hashes_[c] = hash;
+  for (auto& checked : checked_states_) checked.first = -1;
+  remote_checksums_.clear();
+  rollback_from_ = INT64_MAX;
+  states_ = RollbackStates{};  // a new world: no state of the old one restores into it
+  ring_tick_.assign(ring_.size(), -1);
+  if (config_.mode == SessionMode::rollback) save_state(c);
+  joined_ = true;
+  candidate_.reset();
+  join_checks_.clear();
+}
+
+std::span<const SessionMessage> Session::take_outgoing() {
+  return {outgoing_.data(), std::exchange(outgoing_count_, 0)};
+}
 
 std::optional<uint64_t> Session::confirmed_hash(int64_t tick) const {
   const auto found = confirmed_hashes_.find(tick);

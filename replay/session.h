@@ -22,16 +22,45 @@
 // but time; a message that makes no sense (a player out of range, a tick
 // out of the window, an input that contradicts one already known) is
 // refused and counted, never applied.
+//
+// Memory: a warm session (its maps at their size, about 1,100 ticks in:
+// 1,024 confirmed hashes are remembered) allocates nothing in its own
+// calls per tick; map nodes come from its NodePool (replay/node_pool.h),
+// a tick's inputs and hash go to places it keeps, and take_outgoing hands
+// out messages filled in place. Inputs longer than std::string's inline
+// capacity (15 bytes here) allocate their copies, and the world's first
+// steps after a rollback's restore allocate (the world's, not ours).
+//
+// Leaving and joining (replay/session_roster.h): the host (player 0)
+// decides who plays, and its decisions travel in its own input stream, so
+// every peer applies them at the same tick. A player the host has heard
+// nothing from for `leave_after` frames is marked absent from the first
+// tick whose input the host never got (the others first relay to it every
+// input of the silent player they hold); its inputs from then on are
+// empty, and its own inputs for those ticks are refused. A player may join
+// (or rejoin) a slot that is absent: the host announces it present from
+// its next input's tick T, and once it has confirmed T - 1 sends the joiner
+// its snapshot after T - 1; every peer sends the joiner the hash it
+// confirmed for T - 1 (a join check). The joiner uses the snapshot only
+// when its hash is the one every player present at T - 1 checked, for its
+// own match (the start hash): a forged or stale state is refused and
+// counted. A spectator joins the same way into a slot where it watches:
+// it acknowledges ticks (its peers resend to it) but gives no input. The
+// host must stay for the whole match (no host migration).
 #pragma once
 
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
+#include "replay/node_pool.h"
 #include "replay/rollback_state.h"
+#include "replay/session_roster.h"
 #include "replay/simulation.h"
 
 namespace bitstep {
@@ -47,21 +76,31 @@ struct SessionConfig {
   int input_delay = 0;         // ticks, 0..32
   int max_prediction = 8;      // ticks ahead of the last confirmed one (rollback), 1..64
   int checksum_interval = 1;   // every k-th confirmed tick, 1..3600
+  int leave_after = 0;         // frames of silence before the host marks a player absent, 0 (never) or 10..100000
+  bool joining = false;        // joins a match in progress: waits for the host's state
+  bool watching = false;       // joins as a spectator: follows the match, gives no input
 };
 
 // A sentence about what is wrong with a config, or empty.
 std::string config_error(const SessionConfig& config);
 
 struct SessionMessage {
-  enum class Kind : uint8_t { inputs, checksum, state };
+  enum class Kind : uint8_t { inputs, checksum, state, relay, join_state, join_check };
   Kind kind = Kind::inputs;
   int player = 0;                   // the sender
+  int subject = 0;                  // relay: whose inputs; join_state, join_check: the joiner
   int64_t ack = 0;                  // the sender has every player's input up to this tick
   int64_t tick = 0;                 // inputs: of inputs[0]; checksum, state: the tick
   std::vector<PlayerInput> inputs;  // inputs: the sender's for ticks tick, tick + 1, ...
   uint64_t checksum = 0;            // checksum: the state hash after `tick`
-  std::vector<uint8_t> state;       // state: the snapshot after `tick` (after a mismatch)
+  std::vector<uint8_t> state;       // state: the snapshot after `tick` (after a mismatch); join_state: the joiner's start
+  std::vector<RosterEvent> roster;  // inputs (the host's only): the roster changes its inputs carry
+  uint32_t present = 0;             // join_state: who plays at `tick` (bit p: player p)
+  uint32_t watching = 0;            // join_state: who watches at `tick`
+  uint64_t start_hash = 0;          // join_state: the match's (the state hash before tick 1)
 };
+
+inline constexpr size_t max_roster_events = 16;
 
 inline constexpr size_t max_input_bytes = 1024;
 inline constexpr size_t max_inputs_per_message = 128;
@@ -77,6 +116,7 @@ struct SessionStats {
   int64_t rollbacks = 0, resimulated_ticks = 0, stalls = 0;
   int64_t predicted_inputs = 0, mispredicted_inputs = 0;
   int64_t refused_messages = 0;
+  int64_t refused_states = 0;  // join states refused (another match, stale, or not the checked hash)
 };
 
 // Applies one player's input to the simulation, before a tick.
@@ -99,8 +139,25 @@ class Session {
   // carries this peer's ack (call it now and then once the match is over,
   // so peers still waiting learn that their last inputs arrived).
   void heartbeat();
-  // What to send to every peer since the last call.
-  std::vector<SessionMessage> take_outgoing();
+  // The host: let `player` (an absent slot, or one the host will mark
+  // absent) play again, or watch, from the host's next input on; false for
+  // any other peer or slot.
+  bool admit(int player, bool watching = false);
+  // The host has roster changes for its next input: a game that gives its
+  // inputs no further ahead than the simulation gives one more now.
+  bool roster_waits() const { return !next_roster_.empty(); }
+  // False while a joining session waits for its state.
+  bool joined() const { return joined_; }
+  // The tick this session started from (0, or the joiner's state's).
+  int64_t first_tick() const { return first_tick_; }
+  const Roster& roster() const { return roster_; }
+  // The roster changes this peer applied, in order (for a game's record).
+  const std::vector<RosterEvent>& roster_log() const { return roster_log_; }
+  uint64_t start_hash() const { return start_hash_; }
+  // What to send to every peer since the last call; valid until the next
+  // call of any of this session's functions (the messages' memory is kept
+  // and filled again: no allocation per tick once warm).
+  std::span<const SessionMessage> take_outgoing();
 
   int64_t tick() const { return tick_; }                // ticks simulated
   int64_t confirmed_tick() const { return confirmed_; }  // every input up to it known and used
@@ -125,28 +182,67 @@ class Session {
   void confirm();
   void check_checksum(int64_t tick, int player);
   void send_inputs(bool always = false);
+  SessionMessage& next_message(SessionMessage::Kind kind);
+  void send(SessionMessage message);
+  std::vector<PlayerInput>* used_at(int64_t tick);
+  const std::vector<uint8_t>* checked_state(int64_t tick) const;
+  int64_t acked_by_all(int except = -1) const;
+  void apply_roster(const RosterEvent& event);
+  void run_roster();
+  bool receive_inputs(const SessionMessage& m, int player);
+  void try_join();
+  void keep_join_state(int64_t tick);
+  const std::vector<uint8_t>& state_after(int64_t tick);
+  bool receive_join_state(const SessionMessage& m);
+
+  template <class K, class V>
+  using PooledMap = std::map<K, V, std::less<>, PoolAllocator<std::pair<const K, V>>>;
 
   Simulation sim_;
   SessionConfig config_;
   ApplyInput apply_;
+  // The maps' nodes (every tick's input, hash, checksum): kept when freed,
+  // so a warm session does not call the allocator per tick.
+  std::unique_ptr<NodePool> pool_ = std::make_unique<NodePool>();
   int64_t tick_ = 0, confirmed_ = 0;
   int64_t next_local_ = 1;               // the tick of the next local input
   int64_t rollback_from_ = INT64_MAX;    // the first tick simulated with a wrong prediction
-  std::vector<std::map<int64_t, PlayerInput>> inputs_;  // per player: known inputs by tick
+  std::vector<PooledMap<int64_t, PlayerInput>> inputs_;  // per player: known inputs by tick
   std::vector<int64_t> acked_;           // per player: the ack they last sent
-  std::map<int64_t, std::vector<PlayerInput>> used_;   // per tick: the inputs it ran with
   RollbackStates states_;                              // rollback: the state after each tick since the
   std::vector<std::vector<uint8_t>> ring_;             // confirmed one, at ring_[tick % size]
   std::vector<int64_t> ring_tick_;
-  std::map<int64_t, uint64_t> hashes_;                 // the hash after each tick simulated (last run)
-  std::map<int64_t, uint64_t> confirmed_hashes_;       // at checksum ticks, confirmed
-  std::map<int64_t, std::vector<uint8_t>> checked_states_;  // the state at checksum ticks, until compared
+  // At ring_tick_'s places too, for the ticks from the confirmed one to the
+  // last run: the inputs each ran with, and the hash after it.
+  std::vector<std::vector<PlayerInput>> used_;
+  std::vector<uint64_t> hashes_;
+  std::vector<int64_t> run_tick_;
+  PooledMap<int64_t, uint64_t> confirmed_hashes_;      // the last confirmed ticks'
+  // The state at checksum ticks, until compared: the last few, by tick.
+  std::vector<std::pair<int64_t, std::vector<uint8_t>>> checked_states_;
   std::vector<uint8_t> desync_snapshot_;                    // ours, at the desync's tick
-  std::map<int64_t, std::map<int, uint64_t>> remote_checksums_;
-  std::vector<SessionMessage> outgoing_;
+  PooledMap<std::pair<int64_t, int>, uint64_t> remote_checksums_;  // by (tick, player)
+  std::vector<SessionMessage> outgoing_;  // [0, outgoing_count_) to send; the rest kept for reuse
+  size_t outgoing_count_ = 0;
   std::optional<Desync> desync_;
   SessionStats stats_;
   const PlayerInput empty_;
+
+  // Leaving and joining.
+  Roster roster_;
+  std::vector<RosterEvent> roster_log_;
+  uint64_t start_hash_ = 0;
+  bool joined_ = true;
+  int64_t first_tick_ = 0;
+  int64_t frames_ = 0;                                   // advance calls
+  std::vector<int64_t> heard_at_;                        // per player: the frame it was last heard (or relayed)
+  std::vector<RosterEvent> next_roster_;                 // the host's: for its next input
+  std::map<int64_t, std::vector<RosterEvent>> roster_at_;  // the host's: by the tick of the input carrying them
+  std::vector<Presence> wants_in_;                       // the host's: slots asked for (absent: none)
+  std::vector<int64_t> join_tick_;                       // per player: the tick it joins at, until it acked it
+  std::vector<std::optional<SessionMessage>> join_state_;  // the host's: the state sent to each joiner
+  std::optional<SessionMessage> candidate_;              // a joiner's: the state waiting for its checks
+  std::map<int, std::pair<int64_t, uint64_t>> join_checks_;  // a joiner's: per player, (tick, hash) checked
 };
 
 }  // namespace bitstep

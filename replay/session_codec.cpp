@@ -1,11 +1,14 @@
 #include "replay/session_codec.h"
 
+#include <optional>
+
 namespace bitstep {
 
 namespace {
 
 constexpr uint8_t magic[2] = {'b', 'S'};
-constexpr uint8_t version = 1;
+constexpr uint8_t version = 2;
+constexpr uint8_t last_message_type = 5;
 constexpr uint8_t hello_type = 16;
 
 void put(std::vector<uint8_t>& out, uint64_t value, int bytes) {
@@ -53,18 +56,44 @@ std::vector<uint8_t> encode(const SessionMessage& m) {
   put(out, static_cast<uint64_t>(m.player), 1);
   put(out, static_cast<uint64_t>(m.ack), 8);
   put(out, static_cast<uint64_t>(m.tick), 8);
+  const auto put_inputs = [&] {
+    put(out, m.inputs.size(), 1);
+    for (const PlayerInput& input : m.inputs) {
+      put(out, input.size(), 2);
+      out.insert(out.end(), input.begin(), input.end());
+    }
+  };
   switch (m.kind) {
     case SessionMessage::Kind::inputs:
-      put(out, m.inputs.size(), 1);
-      for (const PlayerInput& input : m.inputs) {
-        put(out, input.size(), 2);
-        out.insert(out.end(), input.begin(), input.end());
+      put_inputs();
+      put(out, m.roster.size(), 1);
+      for (const RosterEvent& e : m.roster) {
+        put(out, static_cast<uint64_t>(e.at), 8);
+        put(out, static_cast<uint64_t>(e.from), 8);
+        put(out, static_cast<uint64_t>(e.player), 1);
+        put(out, static_cast<uint64_t>(e.presence), 1);
       }
       break;
     case SessionMessage::Kind::checksum: put(out, m.checksum, 8); break;
     case SessionMessage::Kind::state:
       put(out, m.state.size(), 4);
       out.insert(out.end(), m.state.begin(), m.state.end());
+      break;
+    case SessionMessage::Kind::relay:
+      put(out, static_cast<uint64_t>(m.subject), 1);
+      put_inputs();
+      break;
+    case SessionMessage::Kind::join_state:
+      put(out, static_cast<uint64_t>(m.subject), 1);
+      put(out, m.present, 2);
+      put(out, m.watching, 2);
+      put(out, m.start_hash, 8);
+      put(out, m.state.size(), 4);
+      out.insert(out.end(), m.state.begin(), m.state.end());
+      break;
+    case SessionMessage::Kind::join_check:
+      put(out, static_cast<uint64_t>(m.subject), 1);
+      put(out, m.checksum, 8);
       break;
   }
   return out;
@@ -77,6 +106,7 @@ std::vector<uint8_t> encode(const Hello& h) {
   put(out, static_cast<uint64_t>(h.mode), 1);
   put(out, static_cast<uint64_t>(h.input_delay), 1);
   put(out, h.start_hash, 8);
+  put(out, h.watching ? 2 : h.joining ? 1 : 0, 1);
   return out;
 }
 
@@ -92,37 +122,75 @@ std::variant<SessionMessage, Hello, PacketError> decode(std::span<const uint8_t>
     const uint64_t mode = r.take(1);
     h.input_delay = static_cast<int>(r.take(1));
     h.start_hash = r.take(8);
+    const uint64_t joining = r.take(1);
     if (mode > 1) return PacketError{"hello: mode out of range"};
+    if (joining > 2) return PacketError{"hello: joining is not 0, 1 or 2"};
+    h.joining = joining >= 1;
+    h.watching = joining == 2;
     h.mode = static_cast<SessionMode>(mode);
     if (!r.ok() || !r.done()) return PacketError{"hello: wrong length"};
     return h;
   }
-  if (type > 2) return PacketError{"packet type " + std::to_string(type)};
+  if (type > last_message_type) return PacketError{"packet type " + std::to_string(type)};
   SessionMessage m;
   m.kind = static_cast<SessionMessage::Kind>(type);
   m.player = static_cast<int>(r.take(1));
   m.ack = static_cast<int64_t>(r.take(8));
   m.tick = static_cast<int64_t>(r.take(8));
+  const auto take_inputs = [&]() -> std::optional<PacketError> {
+    const uint64_t count = r.take(1);
+    if (count > max_inputs_per_message) return PacketError{"inputs: more than 128"};
+    for (uint64_t i = 0; i < count && r.ok(); ++i) {
+      const uint64_t length = r.take(2);
+      if (length > max_input_bytes) return PacketError{"inputs: an input longer than 1024 bytes"};
+      const auto bytes = r.bytes(static_cast<size_t>(length));
+      m.inputs.emplace_back(bytes.begin(), bytes.end());
+    }
+    return std::nullopt;
+  };
+  const auto take_state = [&]() -> std::optional<PacketError> {
+    const uint64_t length = r.take(4);
+    if (length > max_state_bytes) return PacketError{"state: longer than 64 MiB"};
+    const auto bytes = r.bytes(static_cast<size_t>(length));
+    m.state.assign(bytes.begin(), bytes.end());
+    return std::nullopt;
+  };
   switch (m.kind) {
     case SessionMessage::Kind::inputs: {
-      const uint64_t count = r.take(1);
-      if (count > max_inputs_per_message) return PacketError{"inputs: more than 128"};
-      for (uint64_t i = 0; i < count && r.ok(); ++i) {
-        const uint64_t length = r.take(2);
-        if (length > max_input_bytes) return PacketError{"inputs: an input longer than 1024 bytes"};
-        const auto bytes = r.bytes(static_cast<size_t>(length));
-        m.inputs.emplace_back(bytes.begin(), bytes.end());
+      if (auto error = take_inputs()) return *error;
+      const uint64_t changes = r.take(1);
+      if (changes > max_roster_events) return PacketError{"inputs: more than 16 roster changes"};
+      for (uint64_t i = 0; i < changes && r.ok(); ++i) {
+        RosterEvent e;
+        e.at = static_cast<int64_t>(r.take(8));
+        e.from = static_cast<int64_t>(r.take(8));
+        e.player = static_cast<int>(r.take(1));
+        const uint64_t presence = r.take(1);
+        if (presence > 2) return PacketError{"inputs: a roster change's presence is not 0, 1 or 2"};
+        e.presence = static_cast<Presence>(presence);
+        m.roster.push_back(e);
       }
       break;
     }
     case SessionMessage::Kind::checksum: m.checksum = r.take(8); break;
-    case SessionMessage::Kind::state: {
-      const uint64_t length = r.take(4);
-      if (length > max_state_bytes) return PacketError{"state: longer than 64 MiB"};
-      const auto bytes = r.bytes(static_cast<size_t>(length));
-      m.state.assign(bytes.begin(), bytes.end());
+    case SessionMessage::Kind::state:
+      if (auto error = take_state()) return *error;
       break;
-    }
+    case SessionMessage::Kind::relay:
+      m.subject = static_cast<int>(r.take(1));
+      if (auto error = take_inputs()) return *error;
+      break;
+    case SessionMessage::Kind::join_state:
+      m.subject = static_cast<int>(r.take(1));
+      m.present = static_cast<uint32_t>(r.take(2));
+      m.watching = static_cast<uint32_t>(r.take(2));
+      m.start_hash = r.take(8);
+      if (auto error = take_state()) return *error;
+      break;
+    case SessionMessage::Kind::join_check:
+      m.subject = static_cast<int>(r.take(1));
+      m.checksum = r.take(8);
+      break;
   }
   if (!r.ok()) return PacketError{"truncated packet"};
   if (!r.done()) return PacketError{"bytes left after the packet"};

@@ -1,10 +1,19 @@
 // Session messages as network packets, and the hello a peer opens with.
 // Little-endian, versioned:
-//   "bS", version (u8), type (u8: 0 inputs, 1 checksum, 2 state, 16 hello), then
-//   inputs:   player u8, ack i64, tick i64, count u8 (<= 128), each input: length u16 (<= 1024), bytes
-//   checksum: player u8, ack i64, tick i64, checksum u64
-//   state:    player u8, ack i64, tick i64, length u32 (<= 64 MiB), a snapshot image
-//   hello:    player u8, players u8, mode u8, input delay u8, the start state's hash u64
+//   "bS", version (u8: 2), type (u8: 0 inputs, 1 checksum, 2 state, 3 relay,
+//   4 join state, 5 join check, 16 hello), then
+//   inputs:     player u8, ack i64, tick i64, count u8 (<= 128), each input: length u16 (<= 1024), bytes;
+//               roster count u8 (<= 16), each change: at i64, from i64, player u8, presence u8
+//               (0 absent, 1 present, 2 watching)
+//   checksum:   player u8, ack i64, tick i64, checksum u64
+//   state:      player u8, ack i64, tick i64, length u32 (<= 64 MiB), a snapshot image
+//   relay:      player u8, ack i64, tick i64, subject u8, count u8, the inputs as above
+//   join state: player u8, ack i64, tick i64, subject u8, present u16, watching u16, start hash u64,
+//               length u32, a snapshot image
+//   join check: player u8, ack i64, tick i64, subject u8, checksum u64
+//   hello:      player u8, players u8, mode u8, input delay u8, the start state's hash u64,
+//               joining u8 (0 no, 1 to play, 2 to watch)
+// Version 1 (no roster, relay or join) is refused: peers of one match run one build.
 // decode refuses anything else (a wrong magic, version or type, a count or
 // length over its limit, bytes missing or left over) with a reason; the
 // session then checks the values against its window.
@@ -27,6 +36,8 @@ struct Hello {
   SessionMode mode = SessionMode::rollback;
   int input_delay = 0;
   uint64_t start_hash = 0;  // the state hash before tick 1: the same scene and settings
+  bool joining = false;     // asks to join (or rejoin) a match in progress in its slot
+  bool watching = false;    // ... as a spectator
   friend bool operator==(const Hello&, const Hello&) = default;
 };
 

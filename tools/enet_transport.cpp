@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <map>
 
 namespace bitstep {
 
@@ -19,6 +20,38 @@ int64_t now_ms() {
 
 // The peer's number: its slot in the host's peer array.
 uint32_t number_of(const ENetHost* host, const ENetPeer* peer) { return static_cast<uint32_t>(peer - host->peers); }
+
+// The stray datagrams of each host (ENet's intercept hook has no user pointer).
+std::map<const ENetHost*, uint64_t*>& stray_counters() {
+  static std::map<const ENetHost*, uint64_t*> counters;
+  return counters;
+}
+
+// Counts a datagram from no peer's address that does not open a
+// connection (ENet's header: a 12-bit peer id of all ones and flags, the
+// sent time when flagged, then the first command); ENet goes on with it.
+int ENET_CALLBACK count_stray(ENetHost* host, ENetEvent*) {
+  const ENetAddress& from = host->receivedAddress;
+  for (size_t i = 0; i < host->peerCount; ++i) {
+    const ENetPeer& peer = host->peers[i];
+    if (peer.state != ENET_PEER_STATE_DISCONNECTED && peer.address.host == from.host && peer.address.port == from.port) {
+      return 0;
+    }
+  }
+  const uint8_t* data = host->receivedData;
+  const size_t size = host->receivedDataLength;
+  if (size >= 4) {
+    const unsigned header = (unsigned{data[0]} << 8) | data[1];
+    const size_t command = (header & ENET_PROTOCOL_HEADER_FLAG_SENT_TIME) != 0 ? 4 : 2;
+    if ((header & ENET_PROTOCOL_MAXIMUM_PEER_ID) == ENET_PROTOCOL_MAXIMUM_PEER_ID && size > command &&
+        (data[command] & ENET_PROTOCOL_COMMAND_MASK) == ENET_PROTOCOL_COMMAND_CONNECT) {
+      return 0;
+    }
+  }
+  const auto counter = stray_counters().find(host);
+  if (counter != stray_counters().end()) ++*counter->second;
+  return 0;
+}
 
 bool initialise(std::string& error) {
   static const bool ok = [] {
@@ -46,9 +79,13 @@ std::unique_ptr<EnetTransport> EnetTransport::open(uint16_t port, const NetFault
 }
 
 EnetTransport::EnetTransport(ENetHost* host, const NetFaults& faults)
-    : host_(host), faults_(faults), rng_{faults.seed} {}
+    : host_(host), faults_(faults), rng_{faults.seed} {
+  stray_counters()[host_] = &stats_.stray;
+  host_->intercept = count_stray;
+}
 
 EnetTransport::~EnetTransport() {
+  stray_counters().erase(host_);
   for (size_t i = 0; i < host_->peerCount; ++i) {
     if (host_->peers[i].state == ENET_PEER_STATE_CONNECTED) enet_peer_disconnect_now(&host_->peers[i], 0);
   }

@@ -4,7 +4,8 @@
 // session repeats what was lost); hellos and desync states reliable.
 // Faults for tests, applied to the unreliable packets this peer sends:
 // loss, a delay drawn from [min, max] ms (jitter, so reordering) and
-// duplication.
+// duplication. A datagram from an address that is no peer's, and no
+// connection request, is counted (stray) and left to ENet, which drops it.
 #pragma once
 
 #include <cstdint>
@@ -32,6 +33,7 @@ struct NetFaults {
 struct NetStats {
   uint64_t sent = 0, received = 0;
   uint64_t dropped = 0, duplicated = 0;  // by the injected faults
+  uint64_t stray = 0;  // datagrams from no peer that were not a connection request (ENet drops them)
 };
 
 class EnetTransport {

@@ -13,6 +13,7 @@
 
 #include "replay/replay.h"
 #include "replay/session_codec.h"
+#include "replay/session_roster.h"
 #include "tools/enet_transport.h"
 #include "tools/exit_codes.h"
 
@@ -32,6 +33,8 @@ struct Options {
   double timeout_s = 60;
   NetFaults faults;
   bool json = false, reference = false;
+  std::vector<RosterEvent> roster;  // --reference: --absent, --present and --watching, in order
+  int64_t chain_from = 0;           // --reference: the chain of the ticks after this one
   std::string corrupt_body;  // a test's cheat: flip a bit of this body's velocity ...
   int64_t corrupt_tick = 0;  // ... before this tick
 };
@@ -110,6 +113,26 @@ std::string parse_options(int argc, char** argv, Options& o) {
         }
         o.corrupt_body = spec.substr(0, at);
         o.corrupt_tick = tick;
+      } else if (arg == "--join") {
+        o.session.joining = true;
+      } else if (arg == "--leave-after") {
+        o.session.leave_after = static_cast<int>(integer(0, 100000));
+      } else if (arg == "--watch") {
+        o.session.joining = o.session.watching = true;
+      } else if ((arg == "--absent" || arg == "--present" || arg == "--watching") && has_value) {
+        const std::string spec = argv[++i];  // PLAYER@TICK
+        const size_t at = spec.find('@');
+        long long player = 0, tick = 0;
+        if (at == std::string::npos || !parse_int(spec.substr(0, at).c_str(), 1, 15, player) ||
+            !parse_int(spec.substr(at + 1).c_str(), 1, 1000000, tick)) {
+          return arg + " needs PLAYER@TICK (player 1..15, tick 1..1000000), got '" + spec + "'";
+        }
+        const Presence presence = arg == "--present"    ? Presence::present
+                                  : arg == "--watching" ? Presence::watching
+                                                        : Presence::absent;
+        o.roster.push_back({tick, tick, static_cast<int>(player), presence});
+      } else if (arg == "--chain-from") {
+        o.chain_from = integer(0, 1000000);
       } else if (arg == "--json") {
         o.json = true;
       } else if (arg == "--reference") {
@@ -126,8 +149,19 @@ std::string parse_options(int argc, char** argv, Options& o) {
   if (o.reference && o.inputs.size() > static_cast<size_t>(o.players)) return "--reference takes at most one --inputs per player";
   if (!o.reference && o.inputs.size() > 1) return "--inputs: one script, the local player's";
   if (!o.reference && o.players > 1 && o.port == 0) return "--port is required with more than one player";
+  if (!o.reference && (!o.roster.empty() || o.chain_from > 0)) {
+    return "--absent, --present, --watching and --chain-from go with --reference";
+  }
+  if (o.session.watching && !o.inputs.empty()) return "--watch: a spectator gives no --inputs";
+  if (o.chain_from >= o.ticks) return "--chain-from must be below --ticks";
+  for (const RosterEvent& e : o.roster) {
+    if (e.player >= o.players) return "--absent, --present, --watching: player " + std::to_string(e.player) + " is not below --players";
+  }
   o.session.players = o.players;
   o.session.local_player = o.player;
+  if (!o.reference) {
+    if (const std::string error = config_error(o.session); !error.empty()) return error;
+  }
   return {};
 }
 
@@ -185,11 +219,26 @@ uint64_t chain_digest(const std::vector<uint64_t>& chain) {
   return digest;
 }
 
-void report(const Options& o, const std::vector<uint64_t>& chain, const Session* session, const NetStats* net,
-            double seconds) {
+// The roster changes a session applied, as the options that make
+// --reference apply them.
+std::string roster_options(const Session& session) {
+  static const char* const names[] = {"absent", "present", "watching"};
+  std::string changes;
+  for (const RosterEvent& e : session.roster_log()) {
+    changes += fmt::format("{}--{} {}@{}", changes.empty() ? "" : " ", names[static_cast<int>(e.presence)], e.player,
+                           e.from);
+  }
+  return changes;
+}
+
+// `chain` holds the hashes after ticks first + 1, first + 2, ...
+void report(const Options& o, int64_t first, const std::vector<uint64_t>& chain, const Session* session,
+            const NetStats* net, double seconds) {
   const uint64_t final_hash = chain.empty() ? 0 : chain.back();
+  const int64_t last = first + static_cast<int64_t>(chain.size());
   if (!o.json) {
-    fmt::print("player {}: tick {} hash {:016x}, chain {:016x}", o.player, chain.size(), final_hash, chain_digest(chain));
+    fmt::print("player {}: tick {} hash {:016x}, chain {:016x}", o.player, last, final_hash, chain_digest(chain));
+    if (first > 0) fmt::print(" (from tick {})", first);
     if (session != nullptr) {
       const SessionStats& s = session->stats();
       fmt::print(" ({} rollbacks, {} ticks again, {} refused)", s.rollbacks, s.resimulated_ticks, s.refused_messages);
@@ -197,14 +246,16 @@ void report(const Options& o, const std::vector<uint64_t>& chain, const Session*
     fmt::print(" in {:.1f} s\n", seconds);
     return;
   }
-  fmt::print("{{\"player\": {}, \"ticks\": {}, \"final_hash\": \"{:016x}\", \"chain\": \"{:016x}\", \"seconds\": {:.3f}",
-             o.player, chain.size(), final_hash, chain_digest(chain), seconds);
+  fmt::print("{{\"player\": {}, \"ticks\": {}, \"first_tick\": {}, \"final_hash\": \"{:016x}\", \"chain\": \"{:016x}\", "
+             "\"seconds\": {:.3f}",
+             o.player, last, first, final_hash, chain_digest(chain), seconds);
   if (session != nullptr) {
     const SessionStats& s = session->stats();
     fmt::print(", \"rollbacks\": {}, \"resimulated_ticks\": {}, \"stalls\": {}, \"predicted_inputs\": {}, "
                "\"mispredicted_inputs\": {}, \"refused_messages\": {}",
                s.rollbacks, s.resimulated_ticks, s.stalls, s.predicted_inputs, s.mispredicted_inputs,
                s.refused_messages);
+    fmt::print(", \"refused_states\": {}, \"roster\": \"{}\"", s.refused_states, roster_options(*session));
     if (const auto& d = session->desync()) {
       fmt::print(", \"desync\": {{\"tick\": {}, \"player\": {}, \"local\": \"{:016x}\", \"remote\": \"{:016x}\", "
                  "\"difference\": {}}}",
@@ -212,8 +263,9 @@ void report(const Options& o, const std::vector<uint64_t>& chain, const Session*
     }
   }
   if (net != nullptr) {
-    fmt::print(", \"packets_sent\": {}, \"packets_received\": {}, \"dropped\": {}, \"duplicated\": {}", net->sent,
-               net->received, net->dropped, net->duplicated);
+    fmt::print(", \"packets_sent\": {}, \"packets_received\": {}, \"dropped\": {}, \"duplicated\": {}, "
+               "\"stray_datagrams\": {}",
+               net->sent, net->received, net->dropped, net->duplicated, net->stray);
   }
   fmt::print("}}\n");
 }
@@ -229,18 +281,29 @@ int run_reference(const Options& o, const Scene& scene, Simulation sim) {
     }
     scripts.push_back(std::get<Script>(std::move(script)));
   }
+  // The roster a match made (replay/session.h): an absent player's input
+  // is empty, and so is a joiner's for the input delay's ticks from its first.
+  Roster roster(o.players);
+  std::vector<int64_t> joined(static_cast<size_t>(o.players), 0);
+  for (const RosterEvent& e : o.roster) {
+    roster.set(e.player, e.from, e.presence);
+    if (e.presence == Presence::present) joined[static_cast<size_t>(e.player)] = e.from;
+  }
   const ApplyInput apply = scripted_game(scene);
   std::vector<uint64_t> chain;
   const auto start = std::chrono::steady_clock::now();
   for (int64_t t = 1; t <= o.ticks; ++t) {
     for (size_t p = 0; p < scripts.size(); ++p) {
+      const int64_t since = joined[p];
+      if (!roster.plays(static_cast<int>(p), t) || (since > 0 && t >= since && t < since + o.session.input_delay)) continue;
       const auto found = scripts[p].find(t);
       if (found != scripts[p].end()) apply(sim, static_cast<int>(p), found->second);
     }
     sim.step();
-    chain.push_back(sim.hash());
+    if (t > o.chain_from) chain.push_back(sim.hash());
   }
-  report(o, chain, nullptr, nullptr, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  report(o, o.chain_from, chain, nullptr, nullptr,
+         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return 0;
 }
 
@@ -270,13 +333,17 @@ int peer_command(int argc, char** argv) {
     }
     script = std::get<Script>(std::move(read));
   }
-  const Hello hello{o.player, o.players, o.session.mode, o.session.input_delay, sim->hash()};
+  const Hello hello{o.player,      o.players, o.session.mode, o.session.input_delay, sim->hash(), o.session.joining,
+                    o.session.watching};
   Session session(std::move(*sim), o.session, scripted_game(scene));
 
   std::unique_ptr<EnetTransport> net;
   std::map<uint32_t, int> player_of;  // identified ENet peers
   std::vector<bool> present(static_cast<size_t>(o.players), false);
   present[static_cast<size_t>(o.player)] = true;
+  std::vector<bool> wants_in(static_cast<size_t>(o.players), false);  // the host: joiners not yet admitted ...
+  std::vector<bool> wants_to_watch(static_cast<size_t>(o.players), false);  // ... and whether to watch
+  bool started = o.session.joining;  // a match starts once every player said hello; a joiner's runs already
   uint64_t refused_packets = 0;
   if (o.players > 1) {
     net = EnetTransport::open(static_cast<uint16_t>(o.port), o.faults, error);
@@ -300,7 +367,8 @@ int peer_command(int argc, char** argv) {
       const bool fits = theirs->players == o.players && theirs->mode == o.session.mode &&
                         theirs->input_delay == o.session.input_delay && theirs->start_hash == hello.start_hash &&
                         theirs->player >= 0 && theirs->player < o.players && theirs->player != o.player &&
-                        !present[static_cast<size_t>(theirs->player)];
+                        (theirs->joining ? theirs->player != 0 && !o.session.joining
+                                         : !present[static_cast<size_t>(theirs->player)]);
       if (!fits) {  // an unknown peer, or another match: refused
         ++refused_packets;
         net->disconnect(peer);
@@ -308,6 +376,8 @@ int peer_command(int argc, char** argv) {
       }
       player_of[peer] = theirs->player;
       present[static_cast<size_t>(theirs->player)] = true;
+      if (theirs->joining) wants_in[static_cast<size_t>(theirs->player)] = true;
+      wants_to_watch[static_cast<size_t>(theirs->player)] = theirs->watching;
       return;
     }
     const auto* message = std::get_if<SessionMessage>(&packet);
@@ -327,17 +397,24 @@ int peer_command(int argc, char** argv) {
   double finished_at = -1;
   while (true) {
     if (elapsed() > o.timeout_s) {
-      fmt::print(stderr, "bitstep peer: player {}: timed out after {:.0f} s at tick {} (confirmed {})\n", o.player,
-                 o.timeout_s, session.tick(), session.confirmed_tick());
+      fmt::print(stderr, "bitstep peer: player {}: timed out after {:.0f} s at tick {} (confirmed {}, {} refused{}{})\n",
+                 o.player, o.timeout_s, session.tick(), session.confirmed_tick(), session.stats().refused_messages,
+                 session.roster_log().empty() ? "" : "; roster ", roster_options(session));
       return 1;
     }
     if (net) net->poll(1, handlers);
-    const bool everyone = std::all_of(present.begin(), present.end(), [](bool p) { return p; });
-    if (everyone && std::chrono::steady_clock::now() >= next_frame) {
+    started = started || std::all_of(present.begin(), present.end(), [](bool p) { return p; });
+    for (int p = 0; p < o.players; ++p) {  // the host lets a joiner in once its slot is free
+      const size_t k = static_cast<size_t>(p);
+      if (wants_in[k] && session.admit(p, wants_to_watch[k])) wants_in[k] = false;
+    }
+    if (started && std::chrono::steady_clock::now() >= next_frame) {
       next_frame += std::chrono::duration_cast<std::chrono::steady_clock::duration>(frame);
       // One input per tick, as a game's frame gives it: never more than the
       // input delay ahead of the simulation.
-      if (session.local_input_tick() < std::min(o.ticks, session.tick() + o.session.input_delay + 1)) {
+      const bool due = session.local_input_tick() < std::min(o.ticks, session.tick() + o.session.input_delay + 1) ||
+                       (session.roster_waits() && session.local_input_tick() < o.ticks);
+      if (session.joined() && due) {
         const int64_t t = session.local_input_tick() + 1;
         const auto found = script.find(t);
         session.add_local_input(found == script.end() ? PlayerInput{} : found->second);
@@ -355,23 +432,27 @@ int peer_command(int argc, char** argv) {
       if (session.tick() >= o.ticks) session.heartbeat();
     }
     for (const SessionMessage& m : session.take_outgoing()) {
-      if (net) net->send_all(encode(m), m.kind == SessionMessage::Kind::state);
+      const bool reliable = m.kind == SessionMessage::Kind::state || m.kind == SessionMessage::Kind::join_state;
+      if (net) net->send_all(encode(m), reliable);
     }
-    while (static_cast<int64_t>(chain.size()) < std::min(session.confirmed_tick(), o.ticks)) {
-      chain.push_back(*session.confirmed_hash(static_cast<int64_t>(chain.size()) + 1));
+    const int64_t first = session.first_tick();
+    while (session.joined() && first + static_cast<int64_t>(chain.size()) < std::min(session.confirmed_tick(), o.ticks)) {
+      chain.push_back(*session.confirmed_hash(first + static_cast<int64_t>(chain.size()) + 1));
     }
-    bool acked = static_cast<int64_t>(chain.size()) >= o.ticks;
-    for (int p = 0; p < o.players && acked; ++p) acked = p == o.player || session.peer_ack(p) >= o.ticks;
+    bool acked = session.joined() && first + static_cast<int64_t>(chain.size()) >= o.ticks;
+    for (int p = 0; p < o.players && acked; ++p) {
+      acked = p == o.player || !session.roster().follows(p) || session.peer_ack(p) >= o.ticks;
+    }
     const bool desync_named = session.desync() && !session.desync()->difference.empty();
     if ((acked || desync_named) && finished_at < 0) finished_at = elapsed();
     // Linger a little: a peer whose last message was lost hears our ack again.
     if (finished_at >= 0 && elapsed() - finished_at > 0.3) break;
-    if (!everyone || session.tick() >= o.ticks) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    if (!started || session.tick() >= o.ticks) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
   if (o.json) {
-    report(o, chain, &session, net ? &net->stats() : nullptr, elapsed());
+    report(o, session.first_tick(), chain, &session, net ? &net->stats() : nullptr, elapsed());
   } else {
-    report(o, chain, &session, nullptr, elapsed());
+    report(o, session.first_tick(), chain, &session, nullptr, elapsed());
   }
   if (refused_packets > 0) fmt::print(stderr, "bitstep peer: player {}: {} packets refused\n", o.player, refused_packets);
   if (const auto& d = session.desync()) {

@@ -6,7 +6,10 @@
 # one process computes from every script (--reference). Then a peer that
 # flips one bit of a body's velocity before tick 200 must be reported by
 # both at tick 200 with the body and field; an intruder that does not fit
-# the match is refused while the match plays on; and the sync test rolls
+# the match is refused while the match plays on; a peer killed mid-match is
+# marked absent and a new process rejoins (or watches in) its slot, all on
+# the reference chain of that roster, under a flood of random datagrams; and
+# the sync test rolls
 # the playground's golden replay back 8 ticks after every tick. Each run is
 # bounded by `timeout`. Usage: tools/peer_test.sh [BITSTEP]
 set -euo pipefail
@@ -113,6 +116,108 @@ if [ "$intruder_status" -eq 0 ] || ! grep -q "packets refused" "$out/i0.err" ||
 else
   echo "intruder refused ($(cat "$out/i0.err")); the match finished alike"
 fi
+
+# Late join over ENet with 10% loss and 50-150 ms of jitter, at 100 frames a
+# second: player 2 of 3 (a busy script: a push every 10 ticks, so its
+# absence shows in the chain) is killed after 3 s; the host marks it absent
+# after 60 frames of silence; a new process takes its slot, to play
+# (--join) or to watch (--watch). In the first match a raw UDP sender
+# fires 3000 random datagrams at the host. Every peer, the newcomer from
+# its first tick, must end on the chain of the reference given the host's
+# roster changes, which must differ from the chain without them.
+{
+  printf '{"inputs": [\n'
+  for t in $(seq 20 10 590); do
+    printf '  {"step": %d, "type": "impulse", "body": "ball.3", "impulse": [0, 2, %d], "point": [30, 1, 25]}%s\n' \
+      "$t" $(((t / 10) % 7 - 3)) "$([ "$t" -lt 590 ] && echo ,)"
+  done
+  printf ']}\n'
+} >"$out/busy2.inputs.json"
+join_script() { [ "$1" -eq 2 ] && echo "$out/busy2.inputs.json" || echo "$match/player$1.inputs.json"; }
+join_options=(--scene "$scene" --players 3 --mode rollback --hz 100 --leave-after 60 --loss 10 --jitter 50-150
+  --timeout 60 --json)
+join_reference() {  # the chain after tick $1, with the host's roster changes $2 (word-split on purpose)
+  # shellcheck disable=SC2086
+  "$bitstep" peer --reference --scene "$scene" --players 3 --inputs "$match/player0.inputs.json" \
+    --inputs "$match/player1.inputs.json" --inputs "$(join_script 2)" --chain-from "$1" $2 --json >"$out/jref.json"
+  chain_of "$out/jref.json"
+}
+# Usage: rejoin NAME --join|--watch FLOOD(0|1)
+rejoin() {
+  local name=$1 how=$2 flood=$3 pids=() flooder=0 failed=0
+  offset=$((offset + 10))
+  for p in 0 1 2; do
+    local connect=()
+    for q in $(seq 0 $((p - 1))); do connect+=(--connect "127.0.0.1:$((base + offset + q))"); done
+    timeout 90 "$bitstep" peer "${join_options[@]}" --player "$p" --port $((base + offset + p)) "${connect[@]}" \
+      --inputs "$(join_script "$p")" --seed $((p + 1)) >"$out/join$p.json" 2>"$out/join$p.err" &
+    pids+=($!)
+  done
+  sleep 4
+  kill "${pids[2]}"  # timeout passes the signal on: the peer dies without a word
+  if [ "$flood" -eq 1 ]; then
+    python3 - "$((base + offset))" <<'PY' &
+import os, random, socket, sys, time
+random.seed(7)
+sender = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+for i in range(3000):
+    sender.sendto(os.urandom(random.randint(1, 1400)), ("127.0.0.1", int(sys.argv[1])))
+    if i % 100 == 0:
+        time.sleep(0.01)
+PY
+    flooder=$!
+  fi
+  sleep 1
+  local inputs=(--inputs "$(join_script 2)")
+  [ "$how" = --watch ] && inputs=()
+  timeout 90 "$bitstep" peer "${join_options[@]}" --player 2 "$how" --port $((base + offset + 3)) \
+    --connect "127.0.0.1:$((base + offset))" --connect "127.0.0.1:$((base + offset + 1))" "${inputs[@]}" \
+    --seed 9 >"$out/join3.json" 2>"$out/join3.err" &
+  pids[2]=$!
+  for pid in "${pids[@]}"; do wait "$pid" || failed=1; done
+  [ "$flooder" -ne 0 ] && { wait "$flooder" || failed=1; }
+  local roster first stray expected came
+  roster=$(sed -n 's/.*"roster": "\([^"]*\)".*/\1/p' "$out/join0.json")
+  first=$(sed -n 's/.*"first_tick": \([0-9]*\).*/\1/p' "$out/join3.json")
+  stray=$(sed -n 's/.*"stray_datagrams": \([0-9]*\).*/\1/p' "$out/join0.json")
+  came=present
+  [ "$how" = --watch ] && came=watching
+  if [ "$failed" -ne 0 ] || [ -z "$first" ] || [ "$first" -eq 0 ]; then
+    echo "peer_test.sh: $name: a peer failed, or the newcomer never joined:" >&2
+    cat "$out"/join*.err >&2
+    status=1
+    return
+  fi
+  if [[ "$roster" != "--absent 2@"*" --$came 2@"* ]]; then
+    echo "peer_test.sh: $name: the host's roster is '$roster', not an absence and a return of player 2" >&2
+    status=1
+    return
+  fi
+  expected=$(join_reference 0 "$roster")
+  for p in 0 1; do
+    if [ "$(chain_of "$out/join$p.json")" != "$expected" ]; then
+      echo "peer_test.sh: $name: peer $p's chain is not the reference's with '$roster'" >&2
+      status=1
+    fi
+  done
+  if [ "$(chain_of "$out/join3.json")" != "$(join_reference "$first" "$roster")" ]; then
+    echo "peer_test.sh: $name: the newcomer's chain from tick $first is not the reference's" >&2
+    status=1
+  fi
+  if [ "$expected" = "$(join_reference 0 "")" ]; then
+    echo "peer_test.sh: $name: the absence left the chain as it was: the test proves nothing" >&2
+    status=1
+  fi
+  if [ "$flood" -eq 1 ] && [ "${stray:-0}" -lt 1000 ]; then
+    echo "peer_test.sh: $name: the host counted ${stray:-0} stray datagrams of the 3000 sent" >&2
+    status=1
+  fi
+  local counted=""
+  [ "$flood" -eq 1 ] && counted="; the host counted $stray stray datagrams of 3000"
+  echo "$name: $roster; the newcomer from tick $first and both others on the reference chain ($expected)$counted"
+}
+rejoin "rejoin under a datagram flood" --join 1
+rejoin "a spectator in a dropped player's slot" --watch 0
 
 # GGPO's sync test on the playground's golden inputs: the golden chain.
 "$bitstep" synctest scenes/playground.replay.json --frames 8 || status=1

@@ -12,7 +12,8 @@
 #      input, and the C API's call sequences, for a fixed number of runs from
 #      its seeds (tools/fuzz_test.sh);
 #   6. bitstep peer processes on 127.0.0.1 playing a match, 2 and 4 peers,
-#      lockstep and rollback, with and without faults (tools/peer_test.sh);
+#      lockstep and rollback, with and without faults, and a killed peer's
+#      slot rejoined or watched (tools/peer_test.sh);
 #   7. the browser viewer: its wasm engine under node, then the page in
 #      headless Chromium (tools/viewer_test.sh);
 #   8. a ThreadSanitizer build: the threaded solver's golden-replay test.

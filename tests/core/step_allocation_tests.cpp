@@ -6,49 +6,20 @@
 // has come to rest. Measured before the workspace: 32 allocations per
 // settled step in stack20, 53 in pyramid20, 88 in thrown.
 //
-// This executable replaces the global operator new to count calls, so it
-// holds these tests alone.
+// This executable replaces the global operator new to count calls
+// (tests/allocation_counter.h), so it holds allocation tests alone.
 #include <catch2/catch.hpp>
 
-#include <atomic>
-#include <cstdlib>
-#include <new>
 #include <vector>
 
 #include "replay/rollback_state.h"
 #include "replay/state_hash.h"
 #include "replay/thread_pool.h"
+#include "tests/allocation_counter.h"
 #include "tests/core/test_world.h"
 
-namespace {
-
-std::atomic<long> allocations{0};
-
-void* counted_allocation(std::size_t size) {
-  ++allocations;
-  return std::malloc(size == 0 ? 1 : size);
-}
-
-}  // namespace
-
-void* operator new(std::size_t size) {
-  if (void* p = counted_allocation(size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) {
-  if (void* p = counted_allocation(size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new(std::size_t size, const std::nothrow_t&) noexcept { return counted_allocation(size); }
-void* operator new[](std::size_t size, const std::nothrow_t&) noexcept { return counted_allocation(size); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
-
 using namespace bitstep;
+using bitstep::test::allocations;
 using bitstep::test::TestWorld;
 
 namespace {

@@ -15,148 +15,10 @@
 #include "fixed/splitmix64.h"
 #include "replay/session.h"
 #include "replay/session_codec.h"
+#include "tests/replay/session_match.h"
 
 using namespace bitstep;
-
-namespace {
-
-// Four balls on a floor with a few crates; player p pushes ball p.
-const char* const arena = R"({"format": "bitstep-scene", "version": 1, "bodies": [
-  {"name": "floor", "type": "static", "position": [0, -1, 0], "shapes": [{"type": "box", "half_extents": [30, 1, 30]}]},
-  {"name": "ball.0", "position": [-3, 0.5, 0], "shapes": [{"type": "sphere", "radius": 0.5}]},
-  {"name": "ball.1", "position": [3, 0.5, 0], "shapes": [{"type": "sphere", "radius": 0.5}]},
-  {"name": "ball.2", "position": [0, 0.5, -3], "shapes": [{"type": "sphere", "radius": 0.5}]},
-  {"name": "ball.3", "position": [0, 0.5, 3], "shapes": [{"type": "sphere", "radius": 0.5}]}],
-  "generators": [{"type": "stack", "name": "crates", "count": 3, "position": [0, 0, 0]}]})";
-
-Simulation arena_simulation() {
-  std::string error;
-  auto sim = Simulation::from_text(arena, "arena.json", error);
-  INFO(error);
-  REQUIRE(sim);
-  return std::move(*sim);
-}
-
-// The game: an input is the direction of the push held, "x z" in -1..1; a
-// ball is pushed with 2000 N along it (the force held while the input is).
-void push(Simulation& sim, int player, const PlayerInput& input) {
-  if (input.empty()) return;
-  const int x = input[0] - '1', z = input[2] - '1';
-  const BodyId ball = *sim.find_body("ball." + std::to_string(player));
-  sim.apply_force(ball, {Fixed::from_int(200 * x), Fixed{}, Fixed::from_int(200 * z)}, sim.world().body(ball).pose.position);
-}
-
-// Player p's k-th input (k from 1): a direction held for 15 ticks, then another.
-PlayerInput script(int player, int64_t k) {
-  const int64_t phase = (k / 15 + player) % 5;
-  static const char* const directions[] = {"2 1", "1 2", "0 1", "1 0", "1 1"};
-  return directions[phase];
-}
-
-// The chain one simulation computes when given every input in time: the
-// k-th input a player gives applies at tick k + delay.
-std::vector<uint64_t> reference_chain(int players, int delay, int64_t ticks) {
-  Simulation sim = arena_simulation();
-  std::vector<uint64_t> chain;
-  for (int64_t t = 1; t <= ticks; ++t) {
-    for (int p = 0; p < players; ++p) push(sim, p, t <= delay ? PlayerInput{} : script(p, t - delay));
-    sim.step();
-    chain.push_back(sim.hash());
-  }
-  return chain;
-}
-
-struct Faults {
-  int loss_percent = 0;
-  int min_delay = 1, max_delay = 1;  // frames (16.7 ms each)
-  int duplicate_percent = 0;
-};
-
-// Peers exchanging messages through a queue that loses, delays (so
-// reorders) and duplicates them; every frame each peer gives its input and
-// advances once. Records each peer's confirmed chain.
-struct Match {
-  std::vector<std::unique_ptr<Session>> peers;
-  std::vector<std::vector<uint64_t>> chains;
-  struct InFlight {
-    int64_t due;
-    int to;
-    SessionMessage message;
-  };
-  std::vector<InFlight> in_flight;
-  SplitMix64 rng{42};
-  Faults faults;
-  int delay;
-
-  Match(int players, SessionMode mode, int input_delay, Faults f, int checksum_interval = 1)
-      : faults(f), delay(input_delay) {
-    for (int p = 0; p < players; ++p) {
-      SessionConfig c;
-      c.players = players;
-      c.local_player = p;
-      c.mode = mode;
-      c.input_delay = input_delay;
-      c.checksum_interval = checksum_interval;
-      REQUIRE(config_error(c).empty());
-      peers.push_back(std::make_unique<Session>(arena_simulation(), c, push));
-    }
-    chains.resize(static_cast<size_t>(players));
-  }
-  int percent() { return static_cast<int>(rng.next() % 100); }
-
-  void frame(int64_t now, int64_t ticks) {
-    for (size_t p = 0; p < peers.size(); ++p) {
-      Session& s = *peers[p];
-      // Past `ticks` too, as a game goes on: the last ticks are confirmed
-      // once the inputs after them flow.
-      // (local_input_tick() starts at the delay: the k-th input is for tick k + delay.)
-      if (s.local_input_tick() < ticks + 30) {
-        s.add_local_input(script(static_cast<int>(p), s.local_input_tick() + 1 - delay));
-      }
-      if (s.tick() < ticks + 30) s.advance();
-      for (SessionMessage& m : s.take_outgoing()) {
-        for (size_t to = 0; to < peers.size(); ++to) {
-          if (to == p || percent() < faults.loss_percent) continue;
-          const int copies = percent() < faults.duplicate_percent ? 2 : 1;
-          for (int k = 0; k < copies; ++k) {
-            const int span = faults.max_delay - faults.min_delay + 1;
-            in_flight.push_back({now + faults.min_delay + static_cast<int64_t>(rng.next() % static_cast<uint64_t>(span)),
-                                 static_cast<int>(to), m});
-          }
-        }
-      }
-    }
-    // Deliver what is due, in the (random) order it was sent.
-    std::vector<InFlight> later;
-    for (InFlight& f : in_flight) {
-      if (f.due <= now) {
-        peers[static_cast<size_t>(f.to)]->receive(f.message);
-      } else {
-        later.push_back(std::move(f));
-      }
-    }
-    in_flight = std::move(later);
-    // Each peer's newly confirmed hashes (confirmed by advancing or by a message).
-    for (size_t p = 0; p < peers.size(); ++p) {
-      while (static_cast<int64_t>(chains[p].size()) < peers[p]->confirmed_tick()) {
-        chains[p].push_back(*peers[p]->confirmed_hash(static_cast<int64_t>(chains[p].size()) + 1));
-      }
-    }
-  }
-
-  // Frames until every peer confirmed `ticks` (or a bound).
-  int64_t play(int64_t ticks) {
-    int64_t now = 0;
-    const auto done = [&] {
-      return std::all_of(peers.begin(), peers.end(), [&](const auto& s) { return s->confirmed_tick() >= ticks; });
-    };
-    while (!done() && now < 20 * ticks) frame(++now, ticks);
-    return now;
-  }
-};
-
-// What the input given in frame k means: the script's k-th, at tick k + delay.
-}  // namespace
+using namespace bitstep::session_test;
 
 TEST_CASE("2 and 4 peers in lockstep and in rollback end with one simulation's chain", "[session]") {
   constexpr int64_t ticks = 300;
@@ -280,7 +142,23 @@ TEST_CASE("packets: messages and hellos round-trip, malformed ones are refused w
   state.kind = SessionMessage::Kind::state;
   state.checksum = 0;  // a state carries none
   state.state = {1, 2, 3, 4, 5};
-  for (const SessionMessage& m : {inputs, checksum, state}) {
+  // Leaving and joining: the host's roster changes, a relay, a joiner's state and check.
+  SessionMessage host_inputs = inputs;
+  host_inputs.player = 0;
+  host_inputs.roster = {{41, 38, 2, Presence::absent}, {41, 41, 3, Presence::present}, {41, 41, 1, Presence::watching}};
+  SessionMessage relay = inputs;
+  relay.kind = SessionMessage::Kind::relay;
+  relay.subject = 2;
+  SessionMessage join_state = state;
+  join_state.kind = SessionMessage::Kind::join_state;
+  join_state.subject = 1;
+  join_state.present = 0b1001;
+  join_state.watching = 0b0100;
+  join_state.start_hash = 0xabcdefu;
+  SessionMessage join_check = checksum;
+  join_check.kind = SessionMessage::Kind::join_check;
+  join_check.subject = 1;
+  for (const SessionMessage& m : {inputs, checksum, state, host_inputs, relay, join_state, join_check}) {
     const auto decoded = decode(encode(m));
     REQUIRE(std::holds_alternative<SessionMessage>(decoded));
     const SessionMessage& d = std::get<SessionMessage>(decoded);
@@ -291,6 +169,11 @@ TEST_CASE("packets: messages and hellos round-trip, malformed ones are refused w
     CHECK(d.inputs == m.inputs);
     CHECK(d.checksum == m.checksum);
     CHECK(d.state == m.state);
+    CHECK(d.subject == m.subject);
+    CHECK(d.roster == m.roster);
+    CHECK(d.present == m.present);
+    CHECK(d.watching == m.watching);
+    CHECK(d.start_hash == m.start_hash);
   }
   const Hello hello{2, 4, SessionMode::lockstep, 3, 0xfeedu};
   const auto decoded_hello = decode(encode(hello));
@@ -328,7 +211,8 @@ TEST_CASE("packets: messages and hellos round-trip, malformed ones are refused w
   bad[6] = 2;  // the mode
   CHECK(reason(bad) == "hello: mode out of range");
   // Every truncation of every packet is refused, none crashes.
-  for (const auto& packet : {encode(inputs), encode(checksum), encode(state), encode(hello)}) {
+  for (const auto& packet : {encode(inputs), encode(checksum), encode(state), encode(hello), encode(host_inputs),
+                             encode(relay), encode(join_state), encode(join_check)}) {
     for (size_t n = 0; n < packet.size(); ++n) {
       CHECK(std::holds_alternative<PacketError>(decode(std::span<const uint8_t>(packet.data(), n))));
     }

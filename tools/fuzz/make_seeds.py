@@ -136,22 +136,33 @@ def snapshots(bitstep):
 
 
 def packet(kind, player, ack, tick, body):
-    return b"bS" + bytes([1, kind, player]) + struct.pack("<qq", ack, tick) + body
+    return b"bS" + bytes([2, kind, player]) + struct.pack("<qq", ack, tick) + body
+
+
+def roster(*changes):  # (at, from, player, presence)
+    return bytes([len(changes)]) + b"".join(struct.pack("<qqBB", *change) for change in changes)
 
 
 def packets(images):
     inputs = [b"", b"\x01", b"left+jump", bytes(range(32))]
-    write("packet", "inputs_0.bin", packet(0, 0, 0, 1, bytes([0])))
-    write("packet", "inputs_1.bin", packet(0, 1, 5, 6, bytes([1]) + struct.pack("<H", 1) + b"\x01"))
+    write("packet", "inputs_0.bin", packet(0, 0, 0, 1, bytes([0]) + roster()))
+    write("packet", "inputs_1.bin", packet(0, 1, 5, 6, bytes([1]) + struct.pack("<H", 1) + b"\x01" + roster()))
     body = bytes([len(inputs)]) + b"".join(struct.pack("<H", len(i)) + i for i in inputs)
-    write("packet", "inputs_4.bin", packet(0, 3, -1, 1 << 40, body))
+    write("packet", "inputs_4.bin", packet(0, 3, -1, 1 << 40, body + roster()))
+    write("packet", "inputs_roster.bin", packet(0, 0, 40, 41, body + roster((41, 38, 2, 0), (42, 42, 3, 1), (43, 43, 1, 2))))
+    write("packet", "relay.bin", packet(3, 1, 5, 6, bytes([2]) + body))
     write("packet", "checksum.bin", packet(1, 2, 60, 60, struct.pack("<Q", 0xfbe30ec9ec0eefda)))
     state = images["small_1"]
     write("packet", "state.bin", packet(2, 1, 30, 30, struct.pack("<I", len(state)) + state))
     write("packet", "state_empty.bin", packet(2, 0, 0, 0, struct.pack("<I", 0)))
-    for name, (player, players, mode, delay) in {"hello_rollback": (0, 2, 1, 2), "hello_lockstep": (3, 4, 0, 0)}.items():
-        write("packet", name + ".bin", b"bS" + bytes([1, 16, player, players, mode, delay]) +
-              struct.pack("<Q", 0x3c0e9c78ac0b4f0f))
+    write("packet", "join_state.bin", packet(4, 0, 30, 30, bytes([2]) +
+                                            struct.pack("<HHQI", 0b0011, 0b1000, 0x3c0e9c78ac0b4f0f, len(state)) + state))
+    write("packet", "join_check.bin", packet(5, 1, 30, 30, bytes([2]) + struct.pack("<Q", 0xfbe30ec9ec0eefda)))
+    hellos = {"hello_rollback": (0, 2, 1, 2, 0), "hello_lockstep": (3, 4, 0, 0, 0), "hello_join": (2, 3, 1, 0, 1),
+              "hello_watch": (3, 4, 0, 1, 2)}
+    for name, (player, players, mode, delay, joining) in hellos.items():
+        write("packet", name + ".bin", b"bS" + bytes([2, 16, player, players, mode, delay]) +
+              struct.pack("<Q", 0x3c0e9c78ac0b4f0f) + bytes([joining]))
 
 
 # --- capi: C API call sequences (tools/fuzz/capi_input.h) -------------------

@@ -1,0 +1,196 @@
+// Peers of a session in one process (replay/session.h), over a network
+// that loses, delays (so reorders) and duplicates messages: the arena they
+// play in, the game and its scripted inputs, the reference chain, and the
+// match loop. A peer may go offline (a crash: nothing in or out) and a new
+// session may take its slot (a rejoin).
+#pragma once
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "fixed/splitmix64.h"
+#include "replay/session.h"
+#include "replay/session_roster.h"
+
+namespace bitstep::session_test {
+
+// Four balls on a floor with a few crates; player p pushes ball p.
+inline constexpr const char* arena = R"({"format": "bitstep-scene", "version": 1, "bodies": [
+  {"name": "floor", "type": "static", "position": [0, -1, 0], "shapes": [{"type": "box", "half_extents": [30, 1, 30]}]},
+  {"name": "ball.0", "position": [-3, 0.5, 0], "shapes": [{"type": "sphere", "radius": 0.5}]},
+  {"name": "ball.1", "position": [3, 0.5, 0], "shapes": [{"type": "sphere", "radius": 0.5}]},
+  {"name": "ball.2", "position": [0, 0.5, -3], "shapes": [{"type": "sphere", "radius": 0.5}]},
+  {"name": "ball.3", "position": [0, 0.5, 3], "shapes": [{"type": "sphere", "radius": 0.5}]}],
+  "generators": [{"type": "stack", "name": "crates", "count": 3, "position": [0, 0, 0]}]})";
+
+inline Simulation arena_simulation() {
+  std::string error;
+  auto sim = Simulation::from_text(arena, "arena.json", error);
+  INFO(error);
+  REQUIRE(sim);
+  return std::move(*sim);
+}
+
+// The game: an input is the direction of the push held, "x z" in -1..1; a
+// ball is pushed with 2000 N along it (the force held while the input is).
+inline void push(Simulation& sim, int player, const PlayerInput& input) {
+  if (input.empty()) return;
+  const int x = input[0] - '1', z = input[2] - '1';
+  const BodyId ball = *sim.find_body("ball." + std::to_string(player));
+  sim.apply_force(ball, {Fixed::from_int(200 * x), Fixed{}, Fixed::from_int(200 * z)}, sim.world().body(ball).pose.position);
+}
+
+// Player p's k-th input (k from 1): a direction held for 15 ticks, then another.
+inline PlayerInput script(int player, int64_t k) {
+  const int64_t phase = (k / 15 + player) % 5;
+  static const char* const directions[] = {"2 1", "1 2", "0 1", "1 0", "1 1"};
+  return directions[phase];
+}
+
+// The chain one simulation computes when given every input in time: the
+// k-th input a player gives applies at tick k + delay. With the roster
+// changes a match made (its host's log): an absent player's input is
+// empty, and so is a joiner's for the `delay` ticks from its first.
+inline std::vector<uint64_t> reference_chain(int players, int delay, int64_t ticks, const std::vector<RosterEvent>& log = {}) {
+  Simulation sim = arena_simulation();
+  Roster roster(players);
+  std::vector<int64_t> joined(static_cast<size_t>(players), 0);
+  for (const RosterEvent& e : log) {
+    roster.set(e.player, e.from, e.presence);
+    if (e.presence == Presence::present) joined[static_cast<size_t>(e.player)] = e.from;
+  }
+  std::vector<uint64_t> chain;
+  for (int64_t t = 1; t <= ticks; ++t) {
+    for (int p = 0; p < players; ++p) {
+      const int64_t since = joined[static_cast<size_t>(p)];
+      const bool silent = t <= delay || !roster.plays(p, t) || (since > 0 && t >= since && t < since + delay);
+      push(sim, p, silent ? PlayerInput{} : script(p, t - delay));
+    }
+    sim.step();
+    chain.push_back(sim.hash());
+  }
+  return chain;
+}
+
+struct Faults {
+  int loss_percent = 0;
+  int min_delay = 1, max_delay = 1;  // frames (16.7 ms each)
+  int duplicate_percent = 0;
+};
+
+// Peers exchanging messages through a queue that loses, delays (so
+// reorders) and duplicates them; every frame each peer gives its input and
+// advances once. Records each peer's confirmed chain (from its first tick).
+struct Match {
+  std::vector<std::unique_ptr<Session>> peers;
+  std::vector<std::vector<uint64_t>> chains;  // chains[p][i]: the hash after tick first_tick + i + 1
+  std::vector<bool> online;
+  struct InFlight {
+    int64_t due;
+    int to;
+    SessionMessage message;
+  };
+  std::vector<InFlight> in_flight;
+  SplitMix64 rng{42};
+  Faults faults;
+  int delay;
+  SessionMode mode;
+  int leave_after;
+  // Sees each message as it is delivered; false holds it back for good.
+  std::function<bool(int to, const SessionMessage&)> deliver;
+
+  Match(int players, SessionMode match_mode, int input_delay, Faults f, int checksum_interval = 1, int leave_frames = 0)
+      : faults(f), delay(input_delay), mode(match_mode), leave_after(leave_frames) {
+    for (int p = 0; p < players; ++p) {
+      peers.push_back(std::make_unique<Session>(arena_simulation(), config(players, p, checksum_interval), push));
+    }
+    chains.resize(static_cast<size_t>(players));
+    online.assign(static_cast<size_t>(players), true);
+  }
+  SessionConfig config(int players, int p, int checksum_interval) const {
+    SessionConfig c;
+    c.players = players;
+    c.local_player = p;
+    c.mode = mode;
+    c.input_delay = delay;
+    c.checksum_interval = checksum_interval;
+    c.leave_after = leave_after;
+    REQUIRE(config_error(c).empty());
+    return c;
+  }
+  // A new process in slot p, joining the match in progress (to play, or to watch).
+  void rejoin(int p, bool watching = false) {
+    SessionConfig c = config(static_cast<int>(peers.size()), p, 1);
+    c.joining = true;
+    c.watching = watching;
+    peers[static_cast<size_t>(p)] = std::make_unique<Session>(arena_simulation(), c, push);
+    chains[static_cast<size_t>(p)].clear();
+    online[static_cast<size_t>(p)] = true;
+  }
+  int percent() { return static_cast<int>(rng.next() % 100); }
+
+  void frame(int64_t now, int64_t ticks) {
+    for (size_t p = 0; p < peers.size(); ++p) {
+      if (!online[p]) continue;
+      Session& s = *peers[p];
+      // Past `ticks` too, as a game goes on: the last ticks are confirmed
+      // once the inputs after them flow.
+      // (local_input_tick() starts at the delay: the k-th input is for tick k + delay.)
+      if (s.joined() && s.local_input_tick() < ticks + 30) {
+        s.add_local_input(script(static_cast<int>(p), s.local_input_tick() + 1 - delay));
+      }
+      if (s.tick() < ticks + 30) s.advance();
+      for (const SessionMessage& m : s.take_outgoing()) {
+        // A state goes reliably, as the transport sends it.
+        const bool reliable = m.kind == SessionMessage::Kind::state || m.kind == SessionMessage::Kind::join_state;
+        for (size_t to = 0; to < peers.size(); ++to) {
+          if (to == p || (!reliable && percent() < faults.loss_percent)) continue;
+          const int copies = !reliable && percent() < faults.duplicate_percent ? 2 : 1;
+          for (int k = 0; k < copies; ++k) {
+            const int span = faults.max_delay - faults.min_delay + 1;
+            in_flight.push_back({now + faults.min_delay + static_cast<int64_t>(rng.next() % static_cast<uint64_t>(span)),
+                                 static_cast<int>(to), m});
+          }
+        }
+      }
+    }
+    // Deliver what is due, in the (random) order it was sent; nothing
+    // reaches a peer offline.
+    std::vector<InFlight> later;
+    for (InFlight& f : in_flight) {
+      if (f.due > now) {
+        later.push_back(std::move(f));
+      } else if (online[static_cast<size_t>(f.to)] && (!deliver || deliver(f.to, f.message))) {
+        peers[static_cast<size_t>(f.to)]->receive(f.message);
+      }
+    }
+    in_flight = std::move(later);
+    // Each peer's newly confirmed hashes (confirmed by advancing or by a message).
+    for (size_t p = 0; p < peers.size(); ++p) {
+      const Session& s = *peers[p];
+      while (s.joined() && s.first_tick() + static_cast<int64_t>(chains[p].size()) < s.confirmed_tick()) {
+        chains[p].push_back(*s.confirmed_hash(s.first_tick() + static_cast<int64_t>(chains[p].size()) + 1));
+      }
+    }
+  }
+
+  // Frames until every peer online confirmed `ticks` (or a bound).
+  int64_t play(int64_t ticks, int64_t now = 0) {
+    const auto done = [&] {
+      for (size_t p = 0; p < peers.size(); ++p) {
+        if (online[p] && peers[p]->confirmed_tick() < ticks) return false;
+      }
+      return true;
+    };
+    const int64_t bound = now + 20 * ticks;
+    while (!done() && now < bound) frame(++now, ticks);
+    return now;
+  }
+};
+
+}  // namespace bitstep::session_test
