@@ -13,7 +13,12 @@ out=build/crosscheck
 mkdir -p "$out"
 
 sources=(fixed/*.cpp tools/known_answer.cpp tools/known_answer_main.cpp)
-replay_sources=(fixed/*.cpp core/*.cpp replay/*.cpp tools/verify_replays_main.cpp)
+# The verifier links neither sessions, the C API, render poses, Simulation
+# nor the thread pool: leaving them out saves ~15% of each compile.
+replay_sources=(fixed/*.cpp core/*.cpp tools/verify_replays_main.cpp)
+for f in replay/*.cpp; do
+  case "$f" in replay/session*|replay/bitstep_c.cpp|replay/render_pose.cpp|replay/simulation.cpp|replay/sync_test.cpp|replay/thread_pool.cpp) ;; *) replay_sources+=("$f") ;; esac
+done
 common=(-std=c++20 -I. -Wall -Wextra -Wpedantic -Wconversion -Wsign-conversion -Wshadow -Werror)
 # The header-only libraries, visible to the cross compilers too (their own
 # sysroots have no nlohmann or xxhash); no other host header leaks in.

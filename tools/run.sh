@@ -24,7 +24,7 @@ if [[ "${1:-}" == --view ]]; then
 fi
 
 tools/install_deps.sh bench
-cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release -DBITSTEP_TESTS=OFF >/dev/null
+cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release -DBITSTEP_TESTS=OFF -DBITSTEP_FLAG_PEERS=ON >/dev/null
 # bitstep, and the bench's peer programs when Bullet is installed (bitstep bench).
 cmake --build build/release -j"$(nproc)"
 if [[ $# -eq 0 ]]; then

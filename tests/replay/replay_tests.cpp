@@ -13,7 +13,7 @@
 #include "replay/replay.h"
 #include "replay/state_dump.h"
 #include "replay/state_hash.h"
-#include "replay/thread_pool.h"
+#include "tests/replay/golden_replays.h"
 #include "tests/replay/test_scenes.h"
 #include "tests/test_support.h"
 
@@ -21,41 +21,12 @@ using namespace bitstep;
 
 namespace {
 
+using bitstep::test::golden_replays;
+using bitstep::test::left_to_optimised_builds;
+using bitstep::test::replay_chain;
+using bitstep::test::replays_of_this_build;
 using bitstep::test::scenes_dir;
 using bitstep::test::world_of;
-
-std::vector<std::string> golden_replays() {
-  std::vector<std::string> paths;
-  for (const auto& entry : std::filesystem::directory_iterator(scenes_dir)) {
-    const std::string name = entry.path().filename().string();
-    if (name.size() > 12 && name.ends_with(".replay.json")) paths.push_back(entry.path().string());
-  }
-  std::sort(paths.begin(), paths.end());
-  return paths;
-}
-
-// Runs a replay; the hash chain it produces. Without `contact_reuse` the
-// narrowphase tests every shape pair afresh every step and the solver
-// builds every row, and the iterations sweep copies of the rows' parts
-// however few the manifolds (with it, from the default 2,048: wall128's
-// short replay; `copies_always` asks for them too); `executor` steps the
-// world on its workers.
-std::vector<uint64_t> replay_chain(const Replay& replay, uint64_t& scene_hash, bool contact_reuse = true,
-                                   Executor* executor = nullptr, uint64_t* shared_sweep_runs = nullptr,
-                                   bool copies_always = false) {
-  World world(replay.scene.settings);
-  std::string reason;
-  REQUIRE(build_world(replay.scene, world, reason));
-  world.set_contact_reuse(contact_reuse);
-  if (!contact_reuse || copies_always) world.set_sweep_copies_from(0);
-  world.set_executor(executor);
-  scene_hash = state_hash(world);
-  std::vector<uint64_t> hashes;
-  run_inputs(world, replay.inputs, replay.steps, hashes);
-  if (!contact_reuse) CHECK(world.reused_shape_pairs() + world.reused_manifold_rows() == 0);
-  if (shared_sweep_runs) *shared_sweep_runs += world.shared_sweep_runs();
-  return hashes;
-}
 
 // A temporary file with the given text, next to a copy of bounce.json (so
 // that "scene": "bounce.json" resolves), removed at the end of the test.
@@ -90,47 +61,6 @@ std::string error_of(const std::string& path) {
 
 }  // namespace
 
-// Whether a full replay is left to optimised builds: in unoptimised ones (the
-// checked Debug build with ASan and UBSan) a scene with a short replay
-// (<scene>.short.replay.json: wall128, pyramid20, playground, ragdolls) runs that one
-// only, as under qemu in tools/crosscheck.sh, whose optimised checked + UBSan
-// build verifies the full ones. Their full replays took ~4 of this test's
-// ~6 minutes in the checked build.
-namespace {
-
-bool left_to_optimised_builds(const std::string& path) {
-#if defined(NDEBUG)
-  (void)path;
-  return false;
-#else
-  const std::string suffix = ".replay.json";
-  if (path.ends_with(".short" + suffix)) return false;
-  const std::string short_path = path.substr(0, path.size() - suffix.size()) + ".short" + suffix;
-  return std::filesystem::exists(short_path);
-#endif
-}
-
-// Unoptimised builds run seven replays that cover what the reuse and the
-// threads must get right (a standing pyramid hit by a spawned sphere, a
-// thrown pile settling and sleeping with spawns, removals and wakes, a body
-// removed from a stack, spheres and capsules, guendelman's predicted poses)
-// and leave the rest to the optimised builds, where all of them run.
-std::vector<std::string> replays_of_this_build() {
-  std::vector<std::string> paths = golden_replays();
-#if !defined(NDEBUG)
-  std::erase_if(paths, [](const std::string& path) {
-    for (const char* name : {"pyramid20.short", "thrown.sleep_motion", "stack20.remove_middle.", "playground.short",
-                             "spheres.", "car_wall.guendelman"}) {
-      if (path.find(std::string("/") + name) != std::string::npos) return false;
-    }
-    return true;
-  });
-  REQUIRE(paths.size() == 7);
-#endif
-  return paths;
-}
-
-}  // namespace
 
 // The broadphase reuses last step's pairs when no body's bounds or margin
 // changed by a bit (core/broadphase.h), the narrowphase last step's result
@@ -148,31 +78,6 @@ TEST_CASE("every golden replay gives the same chain with the pairs', narrowphase
     const Replay& replay = std::get<Replay>(loaded);
     uint64_t scene_hash = 0;
     CHECK(first_divergent_step(replay.hashes, replay_chain(replay, scene_hash, false)) == 0);
-  }
-}
-
-// The solver's sweeps on several workers keep every body's updates in the
-// one-thread order (core/ordered_sweeps.h): the same chain for any count,
-// more workers than cores included (8 on CI's 2).
-TEST_CASE("every golden replay reproduces its hash chain on 2, 3 and 8 workers", "[replay][golden][threads]") {
-  const std::vector<std::string> paths = replays_of_this_build();
-  for (const int workers : {2, 3, 8}) {
-    ThreadPool pool(workers);
-    uint64_t shared_runs = 0;
-    for (const std::string& path : paths) {
-      INFO(path << " on " << workers << " workers");
-      auto loaded = load_replay_file(path, true);
-      if (const ReplayError* error = std::get_if<ReplayError>(&loaded)) FAIL(error->message());
-      const Replay& replay = std::get<Replay>(loaded);
-      uint64_t scene_hash = 0;
-      // On 3 workers the sweeps run on copies of the rows' parts (made and
-      // written back by the workers) in every scene.
-      CHECK(first_divergent_step(replay.hashes,
-                                 replay_chain(replay, scene_hash, true, &pool, &shared_runs, workers == 3)) == 0);
-    }
-    // Shared, not left on one thread: the standing pyramid and the walls are
-    // (977 runs on 2 and 3 workers, 616 on 8, in Release).
-    CHECK(shared_runs > 10);
   }
 }
 

@@ -9,7 +9,6 @@
 #include "replay/snapshot.h"
 #include "replay/state_dump.h"
 #include "replay/state_hash.h"
-#include "replay/thread_pool.h"
 #include "tests/replay/test_scenes.h"
 
 using namespace bitstep;
@@ -204,31 +203,6 @@ TEST_CASE("a world of the soft step restores it and continues identically", "[sn
     copy.step();
     REQUIRE(state_hash(copy) == state_hash(world));
   }
-}
-
-// The executor is how a world steps, not state: a restore keeps the one the
-// world had (a rollback session restores every frame), and a pyramid
-// restored mid-collapse continues on two workers with the bits it would
-// have had on one.
-TEST_CASE("a restore keeps the world's executor, and the workers continue with the same bits", "[snapshot][threads]") {
-  auto loaded = load_scene_file(std::string(BITSTEP_SOURCE_DIR) + "/scenes/pyramid20.json");
-  REQUIRE(std::holds_alternative<Scene>(loaded));
-  const Scene& scene = std::get<Scene>(loaded);
-  World world(scene.settings);
-  std::string reason;
-  REQUIRE(build_world(scene, world, reason));
-  for (int s = 0; s < 30; ++s) world.step();
-  ThreadPool pool(2);
-  World shared;
-  shared.set_executor(&pool);
-  REQUIRE_FALSE(restore(snapshot(world), shared).has_value());
-  CHECK(shared.executor() == &pool);
-  for (int s = 0; s < 30; ++s) {
-    world.step();
-    shared.step();
-    REQUIRE(state_hash(shared) == state_hash(world));
-  }
-  CHECK(shared.shared_sweep_runs() > 0);
 }
 
 TEST_CASE("a world with joints restores and continues identically", "[snapshot][joint]") {

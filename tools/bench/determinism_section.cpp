@@ -77,7 +77,8 @@ Section run_determinism(Context& context) {
   const std::string o0 = dir + "/bitstep-peer-O0", fast = dir + "/bitstep-peer-O3-fast-math";
   if (access(o0.c_str(), X_OK) != 0 || access(fast.c_str(), X_OK) != 0) {
     const std::string note = "skipped: the peer programs bitstep-peer-O0 / bitstep-peer-O3-fast-math were not built "
-                             "(they need libbullet-dev)";
+                             "(they need libbullet-dev and the CMake option BITSTEP_FLAG_PEERS, on unless tools/test.sh "
+                             "turned it off: tools/run.sh builds them)";
     context.progress->note("determinism " + note);
     section.markdown = "## Determinism across builds\n\n" + note + "\n\n";
     return section;
