@@ -4,7 +4,7 @@
 # a C++ program, find_package(bitstep)) against it, runs both on
 # scenes/pyramid20.json with the ball of scenes/pyramid20.short.replay.json
 # thrown in, and checks they print that golden's last hash; then checks that
-# the README's example is tests/consumer/cpp_consumer.cpp, byte for byte.
+# docs/embedding.md's example is tests/consumer/cpp_consumer.cpp, byte for byte.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tree=${1:-build/release}
@@ -26,12 +26,12 @@ for consumer in c_consumer cpp_consumer; do
   fi
 done
 
-# The README's example: the lines between its two markers.
-if ! sed -n '/^<!-- example: tests\/consumer\/cpp_consumer.cpp -->$/,/^<!-- end of example -->$/p' README.md |
+# docs/embedding.md's example: the lines between its two markers.
+if ! sed -n '/^<!-- example: tests\/consumer\/cpp_consumer.cpp -->$/,/^<!-- end of example -->$/p' docs/embedding.md |
     sed '1,2d;$d' | sed '$d' | diff -u tests/consumer/cpp_consumer.cpp - >/dev/null; then
-  echo "check_package.sh: README.md's example differs from tests/consumer/cpp_consumer.cpp" >&2
+  echo "check_package.sh: docs/embedding.md's example differs from tests/consumer/cpp_consumer.cpp" >&2
   status=1
 else
-  echo "README.md's example is tests/consumer/cpp_consumer.cpp"
+  echo "docs/embedding.md's example is tests/consumer/cpp_consumer.cpp"
 fi
 exit "$status"

@@ -14,7 +14,7 @@ namespace bitstep {
 struct AccuracyRow {
   std::string function;     // e.g. "mul", "sin"
   std::string reference;    // "exact" or "long double"
-  double bound_ulps;        // the stated bound (README.md, "Accuracy")
+  double bound_ulps;        // the stated bound (docs/determinism.md, "Accuracy")
   double worst_ulps;        // measured
   std::string worst_input;  // the operand(s) of the worst case, in raw: text
   uint64_t samples;         // edge values + random operands

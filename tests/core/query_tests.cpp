@@ -312,8 +312,8 @@ TEST_CASE("overlap queries: bodies by their bounds, shapes by the exact test", "
   CHECK(std::abs(to_double(overlaps[0].depth) - 0.03) < 1e-9);
 }
 
-// The README's example (section "Queries"), on a world with a ground box.
-TEST_CASE("the README's query example runs and answers", "[query]") {
+// The example of docs/queries.md, on a world with a ground box.
+TEST_CASE("the query example of docs/queries.md runs and answers", "[query]") {
   TestWorld t;
   t.add_ground();
   t.add_box({Fixed{}, 0.5_fx, 3.0_fx}, {0.5_fx, 0.5_fx, 0.5_fx});

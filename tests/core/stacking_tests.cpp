@@ -106,7 +106,7 @@ TEST_CASE("the shock step does not make a stack rigid: remove a middle box and t
   // 20 steps on (1 m of free fall takes 27), every box above the gap has
   // dropped about as far as a free body (0.572 m after 20 steps of this
   // integrator); the lower boxes of the falling column drop faster, up to
-  // 0.69 m (see the README's known issues), none slower than 0.45 m.
+  // 0.69 m (see docs/pipelines.md's known issues), none slower than 0.45 m.
   t.simulate_steps(20);
   for (size_t i = 11; i < boxes.size(); ++i) {
     const double drop = before[i] - to_double(t.body(boxes[i]).pose.position.y);

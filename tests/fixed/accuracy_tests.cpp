@@ -8,7 +8,7 @@
 #include "tests/test_support.h"
 #include "tools/fixed_accuracy.h"
 
-// The accuracy bounds README.md states ("Accuracy"), measured over edge values plus 10^6 random
+// The accuracy bounds docs/determinism.md states ("Accuracy"), measured over edge values plus 10^6 random
 // operands per function (10^5 in unoptimised builds: test_support.h)
 // against exact integer or long double references (tools/fixed_accuracy.cpp).
 // The table goes to stdout, i.e. the ctest log.

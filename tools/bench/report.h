@@ -22,7 +22,7 @@ bool plot(const std::string& dir, const std::string& stem, const std::string& co
 
 // The summary's line naming a section's plots, drawn beside it ("" for
 // none): named rather than embedded, so a folder keeping only some of them
-// (tools/report keeps those the README shows) has no broken image.
+// (tools/report keeps those docs/bench.md shows) has no broken image.
 std::string plots_line(const std::vector<std::string>& plots);
 
 // A log y axis that shows results of exactly 0 instead of losing them below

@@ -3,7 +3,7 @@
 //
 // Method. For each scene the world is built twice from the scene file. Awake:
 // sleep off, `steps` steps timed from the start (the structure standing, as
-// in the README's speed table). Asleep: sleep on (motion or still), stepped
+// in the report's speed table). Asleep: sleep on (motion or still), stepped
 // until every dynamic body sleeps, then `steps` steps timed. Each figure is
 // the mean ms/step of one timed run (std::chrono::steady_clock); the ratio is
 // awake / asleep. The asleep run also checks that nothing moved while asleep.

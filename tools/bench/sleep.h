@@ -1,5 +1,5 @@
 // `bitstep bench sleep`: ms/step of shipped scenes awake and asleep, as a
-// Markdown table (the README's sleep cost table).
+// Markdown table (docs/sleeping.md's cost table).
 #pragma once
 
 namespace bitstep {
