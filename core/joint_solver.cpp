@@ -54,12 +54,19 @@ void solve_rows(const SolverBody& sa, const SolverBody& sb, BodyRates& a, BodyRa
 }
 
 // The tree node's rows in JointRow::tree_axes order: the point block's
-// three, a hinge's two angular rows, the swing, the limit.
+// three, a hinge's two angular rows, the swing, the limit; or a slider's
+// five, then its limit.
 struct NodeLayout {
   int hinge = -1, swing = -1, limit = -1;  // the first row of each, -1: not in the node
+  bool slide = false;                      // rows 0..4: a slider's block (no point block)
 };
 NodeLayout layout_of(const JointRow& row) {
   NodeLayout layout;
+  if (row.slide_rows_in_tree) {
+    layout.slide = true;
+    if (row.limit_in_tree) layout.limit = 5;
+    return layout;
+  }
   int next = 3;
   if (row.hinge_rows_in_tree) {
     layout.hinge = next;
@@ -114,6 +121,21 @@ bool release_pulling_rows(std::vector<SolverBody>& bodies, std::vector<JointRow>
   return released;
 }
 
+// A slider's node solved: its block's impulses (across the axis: the
+// joint's point impulse as a world vector; angular: about the world axes)
+// and its limit's, what rounding left on the wrong side of zero taken back.
+void apply_slide_node(BodyRates& a, BodyRates& b, const JointRow& row, const Column& lambda, const NodeLayout& layout,
+                      Impulses& impulse) {
+  for (int k = 0; k < 5; ++k) apply_rate(a, b, row.slide[k], lambda.at[k]);
+  impulse.point += row.slide[0].direction * lambda.at[0] + row.slide[1].direction * lambda.at[1];
+  impulse.angular += Vec3{lambda.at[2], lambda.at[3], lambda.at[4]};
+  if (layout.limit >= 0) {
+    const Fixed total = clamp_limit(row, impulse.limit + lambda.at[layout.limit]);
+    apply_rate(a, b, row.slide_axis, total - impulse.limit);
+    impulse.limit = total;
+  }
+}
+
 // Every joint's tree rows at once on one rate of the bodies: lambda = K^-1
 // (target - J v), solved again while an engaged row pulls
 // (release_pulling_rows), then each joint's impulses applied. A joint
@@ -135,6 +157,11 @@ void solve_tree(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, Jo
       const Targets target = targets_of(row);
       const NodeLayout layout = layout_of(row);
       Column& rhs = tree.rhs[p];
+      if (layout.slide) {
+        for (int k = 0; k < 5; ++k) rhs.at[k] = target.slide[k] - relative_rate(a, b, row.slide[k]);
+        if (layout.limit >= 0) rhs.at[layout.limit] = target.limit - relative_rate(a, b, row.slide_axis);
+        continue;
+      }
       const Vec3 point = target.point - anchor_rate(a, b, row.ra, row.rb);
       rhs.at[0] = point.x;
       rhs.at[1] = point.y;
@@ -158,6 +185,10 @@ void solve_tree(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, Jo
     Impulses impulse = impulses_of(row);
     const NodeLayout layout = layout_of(row);
     const Column& lambda = tree.rhs[p];
+    if (layout.slide) {
+      apply_slide_node(a, b, row, lambda, layout, impulse);
+      continue;
+    }
     const Vec3 point{lambda.at[0], lambda.at[1], lambda.at[2]};
     impulse.point += point;
     apply_point(sa, sb, a, b, row.ra, row.rb, point);
@@ -216,11 +247,19 @@ BodyRates& push_of(SolverBody& body) { return body.push; }
 // The joint's rows in the tree solve (JointRow::tree_axes), their angular
 // parts on each body.
 void set_tree_axes(JointRow& row) {
+  const NodeLayout layout = layout_of(row);
+  if (layout.slide) {
+    // J v = d . (v_b - v_a) + arm_b . w_b - arm_a . w_a (solver_rows.h).
+    const auto axis_of = [](const Jacobian& j) { return TreeAxis{-j.arm_a, j.arm_b, j.direction}; };
+    for (int k = 0; k < 5; ++k) row.tree_axes[k] = axis_of(row.slide[k]);
+    if (layout.limit >= 0) row.tree_axes[layout.limit] = axis_of(row.slide_axis);
+    row.tree_size = static_cast<uint8_t>(layout.limit >= 0 ? 6 : 5);
+    return;
+  }
   const Vec3 unit[3] = {{Fixed::one(), {}, {}}, {{}, Fixed::one(), {}}, {{}, {}, Fixed::one()}};
   // The point block: e . (v_b + w_b x r_b - v_a - w_a x r_a) per axis e.
-  for (int k = 0; k < 3; ++k) row.tree_axes[k] = {-cross(row.ra, unit[k]), cross(row.rb, unit[k])};
-  const auto angular = [](const AngularPart& part) { return TreeAxis{-part.axis, part.axis}; };
-  const NodeLayout layout = layout_of(row);
+  for (int k = 0; k < 3; ++k) row.tree_axes[k] = {-cross(row.ra, unit[k]), cross(row.rb, unit[k]), unit[k]};
+  const auto angular = [](const AngularPart& part) { return TreeAxis{-part.axis, part.axis, Vec3{}}; };
   if (layout.hinge >= 0) {
     for (int k = 0; k < 2; ++k) row.tree_axes[layout.hinge + k] = angular(row.hinge[k]);
   }
@@ -255,7 +294,7 @@ void prepare_joint_rows(const Settings& settings, const std::vector<Body>& bodie
     rows.push_back(row);
   }
   for (JointRow& row : rows) {
-    if (row.has_point_block) set_tree_axes(row);
+    if (row.has_point_block || row.slide_rows_in_tree) set_tree_axes(row);
   }
   factor_joint_tree(solver_bodies, rows, tree);
 }

@@ -28,6 +28,9 @@ struct JointRow {
   // The joint has a point block (point, hinge, cone: a node of the tree
   // solve), and a hinge's two angular rows go with it.
   bool has_point_block = false, hinge_rows_in_tree = false;
+  // A slider's block is a node of the tree solve instead (its five rows,
+  // and its limit's where engaged).
+  bool slide_rows_in_tree = false;
   Vec3 ra, rb;              // m: the anchors from the centres of mass, world frame
   Mat33 point_k;            // K
   Mat33 point_mass;         // K^-1

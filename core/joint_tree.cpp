@@ -13,18 +13,19 @@ namespace {
 
 constexpr uint32_t unvisited = UINT32_MAX;
 
-bool has_point_block(const JointRow& row) { return row.has_point_block; }
+// A node of the tree: a point block (point, hinge, cone) or a slider's block.
+bool is_node(const JointRow& row) { return row.has_point_block || row.slide_rows_in_tree; }
 
 // Row p of a joint on one of its bodies: the angular part.
 Vec3 angular_on(const JointRow& row, int p, uint32_t body) {
   return body == row.a ? row.tree_axes[p].angular_a : row.tree_axes[p].angular_b;
 }
 
-// K_ij through one shared body B: entry (p, q) = l_p . l_q / m_B + w_p .
-// I_B^-1 w_q, for row p of joint i and row q of joint j (i may be j). The
-// linear parts are the point block's unit axes (+-e_k: -e_k on body a) and
-// nothing for angular rows, so l_p . l_q / m_B is s_i s_j / m_B where p = q
-// < 3, and 0 elsewhere.
+// K_ij through one shared body B: entry (p, q) = s_i s_j l_p . l_q / m_B +
+// w_p . I_B^-1 w_q, for row p of joint i and row q of joint j (i may be j),
+// s = -1 on a joint's body a. Between two point blocks the linear parts are
+// unit axes e_k, and angular rows have none: l_p . l_q / m_B is 1 / m_B
+// where p = q < 3 and 0 elsewhere, added without the products.
 Block coupling(const SolverBody& body, const JointRow& ri, const JointRow& rj, uint32_t slot) {
   Block k{};
   Vec3 turn[max_tree_axes];
@@ -34,7 +35,19 @@ Block coupling(const SolverBody& body, const JointRow& ri, const JointRow& rj, u
     for (int q = 0; q < rj.tree_size; ++q) k.at[p][q] = dot(wp, turn[q]);
   }
   const bool same_side = (slot == ri.a) == (slot == rj.a);
-  for (int p = 0; p < 3; ++p) k.at[p][p] += same_side ? body.inverse_mass : -body.inverse_mass;
+  const Fixed mass = same_side ? body.inverse_mass : -body.inverse_mass;
+  if (ri.has_point_block && rj.has_point_block) {
+    for (int p = 0; p < 3; ++p) k.at[p][p] += mass;
+    return k;
+  }
+  for (int p = 0; p < ri.tree_size; ++p) {
+    const Vec3 lp = ri.tree_axes[p].linear;
+    if (lp == Vec3{}) continue;
+    for (int q = 0; q < rj.tree_size; ++q) {
+      const Vec3 lq = rj.tree_axes[q].linear;
+      if (lq != Vec3{}) k.at[p][q] += dot(lp, lq) * mass;
+    }
+  }
   return k;
 }
 
@@ -140,7 +153,7 @@ bool list_body_rows(const std::vector<SolverBody>& bodies, const std::vector<Joi
   std::vector<uint32_t>& begin = tree.body_rows_begin;
   begin.assign(count + 1, 0);
   for (const JointRow& row : rows) {
-    if (!has_point_block(row)) continue;
+    if (!is_node(row)) continue;
     const bool movable_a = !immovable(bodies[row.a]), movable_b = !immovable(bodies[row.b]);
     if (movable_a && movable_b) {
       if (find_root(parent, row.a) == find_root(parent, row.b)) return false;
@@ -154,7 +167,7 @@ bool list_body_rows(const std::vector<SolverBody>& bodies, const std::vector<Joi
   std::vector<uint32_t>& fill = tree.queue;
   fill.assign(begin.begin(), begin.end() - 1);
   for (uint32_t r = 0; r < rows.size(); ++r) {
-    if (!has_point_block(rows[r])) continue;
+    if (!is_node(rows[r])) continue;
     for (const uint32_t body : {rows[r].a, rows[r].b}) {
       if (!immovable(bodies[body])) tree.body_rows[fill[body]++] = r;
     }
@@ -200,7 +213,7 @@ void order_rows(const std::vector<SolverBody>& bodies, const std::vector<JointRo
   };
   tree.row_of.clear();
   for (uint32_t r = 0; r < rows.size(); ++r) {
-    if (has_point_block(rows[r])) tree.row_of.push_back(r);
+    if (is_node(rows[r])) tree.row_of.push_back(r);
   }
   std::sort(tree.row_of.begin(), tree.row_of.end(), [&](uint32_t x, uint32_t y) {
     const Key a = key_of(x), b = key_of(y);
@@ -398,10 +411,10 @@ void factor_positions(const std::vector<SolverBody>& bodies, const std::vector<J
     const JointRow& row = rows[tree.row_of[p]];
     tree.size[p] = row.tree_size;
     // K_ii: the point block's K as prepare_joint_rows formed it, and the
-    // angular rows' entries through each movable body.
+    // other rows' entries through each movable body (all of a slider's).
     Block& pivot = tree.pivot[p];
     pivot = Block{};
-    if (row.tree_size > 3) {
+    if (row.tree_size > 3 || !row.has_point_block) {
       for (const uint32_t body : {row.a, row.b}) {
         if (immovable(bodies[body])) continue;
         const Block part = coupling(bodies[body], row, row, body);
@@ -410,9 +423,11 @@ void factor_positions(const std::vector<SolverBody>& bodies, const std::vector<J
         }
       }
     }
-    const Block point = block_of(row.point_k);
-    for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) pivot.at[i][j] = point.at[i][j];
+    if (row.has_point_block) {
+      const Block point = block_of(row.point_k);
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) pivot.at[i][j] = point.at[i][j];
+      }
     }
     for (int i = 0; i < max_tree_axes; ++i) {
       tree.scale[p].exponent[i] = i < row.tree_size ? scale_exponent(pivot.at[i][i]) : int8_t{0};

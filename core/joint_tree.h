@@ -7,7 +7,8 @@
 //
 // Each joint is one node of up to six rows (JointRow::tree_axes): its point
 // block (3), a hinge's two angular rows, and the swing and twist limits that
-// are engaged this step. Each row is a Jacobian (linear and angular parts
+// are engaged this step; or a slider's block (two rows across its axis,
+// three angular) and its limit where engaged. Each row is a Jacobian (linear and angular parts
 // on each body). K = J M^-1 J^T has a block per pair of joints that share a
 // movable body B, entry (p, q) = l_p . l_q / m_B + w_p . I_B^-1 w_q for
 // their rows' parts l, w on B. A static, kinematic or sleeping body couples
@@ -31,12 +32,13 @@ namespace bitstep {
 struct JointRow;
 struct SolverBody;
 
-// One row of a joint in the tree solve, its angular parts on each body. The
-// linear parts need no storing: a point block's row k has +e_k on b and
-// -e_k on a, an angular row none (J v = e_k . (v_b - v_a) + angular_b . w_b
-// + angular_a . w_a, or without the first term).
+// One row of a joint in the tree solve: J v = linear . (v_b - v_a) +
+// angular_b . w_b + angular_a . w_a. A point block's row k has linear e_k,
+// an angular row none, a slider's rows across its axis (and its limit's
+// along it) a unit normal of their own.
 struct TreeAxis {
   Vec3 angular_a, angular_b;
+  Vec3 linear;
 };
 
 constexpr int max_tree_axes = 6;
