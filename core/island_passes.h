@@ -9,7 +9,7 @@
 // spreads each push over the whole ragdoll. The two converge over passes:
 // at the world's 10 velocity and 4 position passes a heap of ragdolls kept
 // moving and kept limbs millimetres inside each other (ragdoll generator:
-// core/README.md has the numbers).
+// replay/generators.h sets its passes).
 //
 // The extra passes run after the world's (velocity) and before them
 // (position, so that the last position pass stays the world's: position_passes.cpp
