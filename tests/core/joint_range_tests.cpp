@@ -6,7 +6,9 @@
 // warm start is now scaled into range (core/joint_solver.cpp,
 // keep_warm_start_in_range). Hinges: the joint tree's pivots came out
 // negative from rounding and the chain flew apart at 2 m/s; the tree now
-// factorises a scaled K (JointTree::scale). These run in both builds; in
+// factorises a scaled K (JointTree::scale). Sliders: block by block a
+// light link between two of them slid off along its axis; their blocks are
+// now nodes of the tree. These run in both builds; in
 // the checked one any overflow aborts. Still open (core/README.md): hinges
 // and sliders near their speed limits, and a die anchored 50 of its sizes
 // away.
