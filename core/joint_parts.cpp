@@ -75,10 +75,8 @@ void prepare_angle_limit(const JointSetup& setup, JointRow& row, Fixed angle, Ve
   pair_with_point(row, row.limit, row.limit_anchor, row.limit_mass);
   const Fixed rate = spin(body_rates(setup.body_a), body_rates(setup.body_b), row.limit);
   const Fixed past = prepare_limit_side(setup, row, angle, rate, joint.lower_angle, joint.upper_angle);
-  // Engaged (in the tree solve) where it binds at the rates the step
-  // starts with, or is past, or held last step; else row by row.
-  row.limit_in_tree = past > Fixed{} || (row.limit_side > 0 ? rate <= row.limit_target : rate >= row.limit_target) ||
-                      joint.limit_impulse != Fixed{};
+  // Engaged: in the tree solve; else row by row.
+  row.limit_in_tree = limit_engaged(row, past, rate, joint.limit_impulse);
 }
 
 const char* motor_error(Fixed speed, Fixed max, Fixed max_speed) {

@@ -171,6 +171,14 @@ void prepare_point_rows(const JointSetup& setup, JointRow& row, Vec3 gap);
 Fixed prepare_limit_side(const JointSetup& setup, JointRow& row, Fixed value, Fixed rate, Fixed lower_bound,
                          Fixed upper_bound);
 
+// Whether a limit row is engaged at the step's start (in the tree
+// solve): it binds at the rates the step starts with (`rate` against
+// limit_target), or is past, or held last step (`held`).
+inline bool limit_engaged(const JointRow& row, Fixed past, Fixed rate, Fixed held) {
+  return past > Fixed{} || (row.limit_side > 0 ? rate <= row.limit_target : rate >= row.limit_target) ||
+         held != Fixed{};
+}
+
 // An angle's limit row about `axis` (a hinge's angle, a cone's twist; rad):
 // one-sided, speculative, on the limit the angle is heading to, paired
 // with the point impulse.

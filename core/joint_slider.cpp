@@ -168,12 +168,9 @@ void SliderJoint::prepare(const JointSetup& setup, JointRow& row) {
     const Fixed rate = relative_rate(body_rates(setup.body_a), body_rates(setup.body_b), row.slide_axis);
     const Fixed past =
         prepare_limit_side(setup, row, dot(gap, axis), rate, joint.lower_translation, joint.upper_translation);
-    // In the tree where it binds at the rates the step starts with, or is
-    // past, or held last step (as an angle's limit); else row by row, and
-    // into the tree once it acts (joint_solver.cpp).
-    row.limit_in_tree = row.limit_side != 0 && (past > Fixed{} ||
-                                                (row.limit_side > 0 ? rate <= row.limit_target : rate >= row.limit_target) ||
-                                                joint.limit_impulse != Fixed{});
+    // In the tree where engaged; else row by row, and into the tree once
+    // it acts (joint_solver.cpp).
+    row.limit_in_tree = row.limit_side != 0 && limit_engaged(row, past, rate, joint.limit_impulse);
   }
   prepare_motor_limit(setup, row);
   if (joint.friction_torque > Fixed{}) {

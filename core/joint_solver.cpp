@@ -294,7 +294,7 @@ void prepare_joint_rows(const Settings& settings, const std::vector<Body>& bodie
     rows.push_back(row);
   }
   for (JointRow& row : rows) {
-    if (row.has_point_block || row.slide_rows_in_tree) set_tree_axes(row);
+    if (row.is_tree_node()) set_tree_axes(row);
   }
   factor_joint_tree(solver_bodies, rows, tree);
 }

@@ -31,6 +31,7 @@ struct JointRow {
   // A slider's block is a node of the tree solve instead (its five rows,
   // and its limit's where engaged).
   bool slide_rows_in_tree = false;
+  bool is_tree_node() const { return has_point_block || slide_rows_in_tree; }
   Vec3 ra, rb;              // m: the anchors from the centres of mass, world frame
   Mat33 point_k;            // K
   Mat33 point_mass;         // K^-1

@@ -13,8 +13,6 @@ namespace {
 
 constexpr uint32_t unvisited = UINT32_MAX;
 
-// A node of the tree: a point block (point, hinge, cone) or a slider's block.
-bool is_node(const JointRow& row) { return row.has_point_block || row.slide_rows_in_tree; }
 
 // Row p of a joint on one of its bodies: the angular part.
 Vec3 angular_on(const JointRow& row, int p, uint32_t body) {
@@ -153,7 +151,7 @@ bool list_body_rows(const std::vector<SolverBody>& bodies, const std::vector<Joi
   std::vector<uint32_t>& begin = tree.body_rows_begin;
   begin.assign(count + 1, 0);
   for (const JointRow& row : rows) {
-    if (!is_node(row)) continue;
+    if (!row.is_tree_node()) continue;
     const bool movable_a = !immovable(bodies[row.a]), movable_b = !immovable(bodies[row.b]);
     if (movable_a && movable_b) {
       if (find_root(parent, row.a) == find_root(parent, row.b)) return false;
@@ -167,7 +165,7 @@ bool list_body_rows(const std::vector<SolverBody>& bodies, const std::vector<Joi
   std::vector<uint32_t>& fill = tree.queue;
   fill.assign(begin.begin(), begin.end() - 1);
   for (uint32_t r = 0; r < rows.size(); ++r) {
-    if (!is_node(rows[r])) continue;
+    if (!rows[r].is_tree_node()) continue;
     for (const uint32_t body : {rows[r].a, rows[r].b}) {
       if (!immovable(bodies[body])) tree.body_rows[fill[body]++] = r;
     }
@@ -213,7 +211,7 @@ void order_rows(const std::vector<SolverBody>& bodies, const std::vector<JointRo
   };
   tree.row_of.clear();
   for (uint32_t r = 0; r < rows.size(); ++r) {
-    if (is_node(rows[r])) tree.row_of.push_back(r);
+    if (rows[r].is_tree_node()) tree.row_of.push_back(r);
   }
   std::sort(tree.row_of.begin(), tree.row_of.end(), [&](uint32_t x, uint32_t y) {
     const Key a = key_of(x), b = key_of(y);
