@@ -34,6 +34,11 @@ struct GlueFace {
   uint32_t first_point = 0, first_middle = 0;  // into GlueFaces::points and ::middles
 };
 
+// What glue_all did: glued, or nothing because the supports do not share
+// one rigid motion (they part), or nothing for another reason (their
+// contacts do not face one way, or cannot deliver the glue).
+enum class GlueAll : uint8_t { refused, glued, supports_part };
+
 // A face point's lever (p - c) x n, and (glue_all) its arm's coordinates
 // in the face's plane.
 struct GluePoint {

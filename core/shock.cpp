@@ -1,6 +1,7 @@
 #include "core/shock.h"
 
 #include <algorithm>
+#include <optional>
 
 #include "core/islands.h"
 #include "core/shock_groups.h"
@@ -25,18 +26,57 @@ Fixed energy_per_mass(const Body& body, const BodyRates& rates, Fixed inverse_ma
   return dot(rates.linear, rates.linear) + dot(w, (body.inertia_local * inverse_mass) * w);
 }
 
+// Whether some touching contact of the cluster [begin, end) moves faster
+// than quiet_motion (moving_at_contact) at the velocities its bodies had
+// before its passes (scratch.rank_bodies), against the ranks below as the
+// shock step left them: judged during or after the passes, with the same
+// bits as before them. Its manifolds' rows as they were then
+// (scratch.manifolds: a pass may point the order at a one-sided copy); the
+// ranks below stayed frozen.
+bool moving_before_passes(SolverScratch& scratch, size_t begin, size_t end) {
+  std::vector<SolverBody>& solver_bodies = scratch.bodies;
+  const std::vector<RankBody>& before_shock = scratch.rank_bodies;
+  std::vector<BodyRates>& after = scratch.groups.after_passes;
+  after.clear();
+  for (const RankBody& b : before_shock) after.push_back(solver_bodies[b.body].velocity);
+  for (const RankBody& b : before_shock) solver_bodies[b.body].velocity = b.velocity;
+  bool moving = false;
+  for (size_t i = begin; i < end && !moving; ++i) {
+    moving = moving_at_contact(solver_bodies, scratch.rows, scratch.manifolds[scratch.order[i].index], quiet_motion);
+  }
+  for (size_t i = 0; i < before_shock.size(); ++i) solver_bodies[before_shock[i].body].velocity = after[i];
+  return moving;
+}
+
+// Whether a cluster is held already: no sideways contact, and none of its
+// touching contacts moving before the passes (moving_before_passes).
+// Judged once, when first asked: the ranks below are frozen, so the answer
+// stays.
+struct HeldProbe {
+  SolverScratch& scratch;
+  size_t begin, end;
+  bool sideways;
+  std::optional<bool> answer;
+  bool operator()() {
+    if (!answer) answer = !sideways && !moving_before_passes(scratch, begin, end);
+    return *answer;
+  }
+};
+
 // One pass over the cluster's manifolds [begin, end) of scratch.shock_manifolds:
 // each body held up is glued to its supports (all at once, or through one
 // contact), else its rows are solved, one-sided against a lower rank.
-// Whether any velocity changed.
-bool cluster_pass(const std::vector<Body>& bodies, const std::vector<uint32_t>& level, SolverScratch& scratch,
-               size_t begin, size_t end, int pass) {
+// Settled when no velocity changed; given up (the pass left unfinished)
+// when a body of a cluster held already sits on supports that part.
+enum class ClusterPass { settled, changed, given_up };
+ClusterPass cluster_pass(const std::vector<Body>& bodies, const std::vector<uint32_t>& level, SolverScratch& scratch,
+                         size_t begin, size_t end, int pass, HeldProbe& held_already) {
   std::vector<SolverBody>& solver_bodies = scratch.bodies;
   std::vector<PointRow>& rows = scratch.rows;
   std::vector<ManifoldRow*>& shock_manifolds = scratch.shock_manifolds;
   const std::vector<ShockEntry>& order = scratch.order;
   const SupportGroups& supports = scratch.supports;
-  std::vector<uint8_t>& glued_to_all = scratch.glued_to_all;
+  std::vector<GlueAll>& glued_to_all = scratch.glued_to_all;
   std::vector<uint8_t>& glued_alone = scratch.glued_alone;
   std::vector<BodyRates>& glued_velocity = scratch.glued_velocity;
   bool changed = false;
@@ -55,16 +95,25 @@ bool cluster_pass(const std::vector<Body>& bodies, const std::vector<uint32_t>& 
           const size_t count = supports.begin[mover + 1] - supports.begin[mover];
           // Glued in the last pass and not moved since: its supports are
           // frozen, so the glue would find the same again.
-          if (list[0] == i && !(glued_to_all[mover] && solver_bodies[mover].velocity == glued_velocity[mover])) {
+          const bool glued_before =
+              glued_to_all[mover] == GlueAll::glued && solver_bodies[mover].velocity == glued_velocity[mover];
+          if (list[0] == i && !glued_before) {
             glued_to_all[mover] =
                 glue_all(solver_bodies[mover], bodies[mover], solver_bodies, bodies, list, count, level,
                          shock_manifolds, rows, scratch.glue_faces.of_body(mover), scratch.glue_faces);
             glued_velocity[mover] = solver_bodies[mover].velocity;
           }
-          if (glued_to_all[mover]) {
+          if (glued_to_all[mover] == GlueAll::glued) {
             changed = changed || !(solver_bodies[mover].velocity == before);
             continue;
           }
+          // Supports that part cannot all hold it, and glued to one after
+          // another the last wins over the others. In a cluster held
+          // already the passes then trade the body between its supports
+          // without end and the cluster is settled as it began (a
+          // collapsing pile ran most of its clusters through every pass
+          // so): it is given up at once. In motion, each support is tried.
+          if (glued_to_all[mover] == GlueAll::supports_part && held_already()) return ClusterPass::given_up;
         }
         // A body on one support glued in the last pass and not moved since:
         // its support is frozen, so the glue would find the same again.
@@ -87,30 +136,9 @@ bool cluster_pass(const std::vector<Body>& bodies, const std::vector<uint32_t>& 
     solve_manifold(solver_bodies, rows, *row, pass);
     changed = changed || !(solver_bodies[m.a].velocity == before_a) || !(solver_bodies[m.b].velocity == before_b);
   }
-  return changed;
+  return changed ? ClusterPass::changed : ClusterPass::settled;
 }
 
-// Whether some touching contact of the cluster [begin, end) moves faster
-// than quiet_motion (moving_at_contact) at the velocities its bodies had
-// before its passes (scratch.rank_bodies), against the ranks below as the
-// shock step left them: judged after the passes, and only for a cluster
-// that did not converge, with the same bits as before them. Its manifolds'
-// rows as they were then (scratch.manifolds: a pass may point the order at
-// a one-sided copy); the ranks below stayed frozen.
-bool moving_before_passes(SolverScratch& scratch, size_t begin, size_t end) {
-  std::vector<SolverBody>& solver_bodies = scratch.bodies;
-  const std::vector<RankBody>& before_shock = scratch.rank_bodies;
-  std::vector<BodyRates>& after = scratch.groups.before_last_pass;  // free once the unconverged are listed
-  after.clear();
-  for (const RankBody& b : before_shock) after.push_back(solver_bodies[b.body].velocity);
-  for (const RankBody& b : before_shock) solver_bodies[b.body].velocity = b.velocity;
-  bool moving = false;
-  for (size_t i = begin; i < end && !moving; ++i) {
-    moving = moving_at_contact(solver_bodies, scratch.rows, scratch.manifolds[scratch.order[i].index], quiet_motion);
-  }
-  for (size_t i = 0; i < before_shock.size(); ++i) solver_bodies[before_shock[i].body].velocity = after[i];
-  return moving;
-}
 
 // Solves the cluster [begin, end) of scratch.order (one rank's): passes
 // until one changes no velocity (exactly: the arithmetic is fixed point),
@@ -138,6 +166,7 @@ void solve_cluster(const Settings& settings, const std::vector<Body>& bodies, co
     }
     sideways = sideways || (level[m.a] != level[m.b] && !order[i].holds_up);
   }
+  HeldProbe held_already{scratch, begin, end, sideways, {}};
   bool converged = false;
   const int last_pass = settings.shock_iterations - 1;
   bool skipped = false;  // once: the history does not follow the jump
@@ -146,7 +175,12 @@ void solve_cluster(const Settings& settings, const std::vector<Body>& bodies, co
   for (int pass = 0; pass <= last_pass && !converged; ++pass) {
     before_last_pass.clear();
     for (const RankBody& b : before_shock) before_last_pass.push_back(solver_bodies[b.body].velocity);
-    converged = !cluster_pass(bodies, level, scratch, begin, end, pass);
+    const ClusterPass result = cluster_pass(bodies, level, scratch, begin, end, pass, held_already);
+    if (result == ClusterPass::given_up) {
+      before_last_pass.clear();  // every body of the cluster counts as unconverged
+      break;
+    }
+    converged = result == ClusterPass::settled;
     if (converged || skipped) continue;
     const int next = skip_repeating_passes(solver_bodies, before_shock, scratch.rank_history, pass, last_pass);
     skipped = next != pass;
@@ -160,8 +194,7 @@ void solve_cluster(const Settings& settings, const std::vector<Body>& bodies, co
         scratch.groups.unconverged.push_back(body);
       }
     }
-    const bool held_already = !sideways && !moving_before_passes(scratch, begin, end);
-    settle_unconverged_cluster(bodies, before_shock, held_already, solver_bodies);
+    settle_unconverged_cluster(bodies, before_shock, held_already(), solver_bodies);
   }
   for (size_t i = begin; i < end; ++i) {
     for (uint32_t body : {shock_manifolds[i]->a, shock_manifolds[i]->b}) {
@@ -381,7 +414,7 @@ void propagate_shock(const Settings& settings, const std::vector<Body>& bodies, 
   order_manifolds(settings, scratch.levels, scratch.manifolds, scratch.order, scratch.order_workspace);
   group_supports(bodies.size(), level, scratch.manifolds, scratch.order, scratch.supports);
   // Per body, whether it is glued to all its supports at once in this pass.
-  scratch.glued_to_all.assign(bodies.size(), 0);
+  scratch.glued_to_all.assign(bodies.size(), GlueAll::refused);
   scratch.glued_alone.assign(bodies.size(), 0);
   scratch.glued_velocity.resize(bodies.size());  // read only where glued_to_all or glued_alone
   gather_rows(contacts, scratch);

@@ -48,7 +48,8 @@ void order_manifolds(const Settings& settings, const ShockLevels& levels, const 
 // Bodies held up through more than one contact of `order` (by several
 // bodies, or by several shapes of one: a table's four legs on the table
 // below) are glued to all their supports at once (glue_all), else to one
-// at a time. One neither glue can hold (its supports move differently, or
+// at a time (in a cluster held already whose supports part, not at all:
+// the cluster is given up, shock.cpp). One neither glue can hold (its supports move differently, or
 // its load's centre lies outside each contact alone) is left as the
 // iterations left it: solved against each support in turn, one-sided, it
 // was driven toward whichever rises fastest and, through the rotation that

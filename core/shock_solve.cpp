@@ -452,7 +452,7 @@ void share_impulse(const SupportSet& supports, std::vector<PointRow>& rows, cons
 // running-bond brick had to be held by each half of its base alone (its
 // load's centre lies on the edge between them). The friction found is
 // shared by the contacts in proportion to their normal impulses.
-bool glue_all(SolverBody& mover, const Body& body, const std::vector<SolverBody>& solver_bodies,
+GlueAll glue_all(SolverBody& mover, const Body& body, const std::vector<SolverBody>& solver_bodies,
               const std::vector<Body>& bodies, const uint32_t* entries, size_t entry_count,
               const std::vector<uint32_t>& level, const std::vector<ManifoldRow*>& manifolds,
               std::vector<PointRow>& rows, GlueFace& face, GlueFaces& faces) {
@@ -460,11 +460,11 @@ bool glue_all(SolverBody& mover, const Body& body, const std::vector<SolverBody>
       !(face.recallable && recall_faces(entries, entry_count, level, manifolds, rows, face, faces))) {
     measure_faces(entries, entry_count, level, manifolds, rows, face, faces);
   }
-  if (face.state == GlueFace::State::never) return false;
+  if (face.state == GlueFace::State::never) return GlueAll::refused;
   const SupportSet supports{entries, entry_count, level, manifolds};
   const Vec3 position = body.pose.position;
   BodyRates motion;
-  if (!common_motion(supports, solver_bodies, bodies, position, motion)) return false;
+  if (!common_motion(supports, solver_bodies, bodies, position, motion)) return GlueAll::supports_part;
   const Vec3 v = motion.linear, w = motion.angular;
   // The glue's impulse on the mover: P through the centroid and an angular
   // impulse L about it (m dv = P, I dw = r x P + L), as in glue().
@@ -474,10 +474,10 @@ bool glue_all(SolverBody& mover, const Body& body, const std::vector<SolverBody>
   const Vec3 angular =
       rotate(q, body.inertia_local * rotate_inverse(q, w - mover.velocity.angular)) - cross(r_mover, impulse);
   const WholeImpulse whole = whole_impulse(supports, rows, face, faces, impulse, angular);
-  if (whole.total <= Fixed{}) return false;
+  if (whole.total <= Fixed{}) return GlueAll::refused;
   const Fixed cone = face.mu * whole.total;  // the static cone's radius, for friction and twist
-  if (longer_than(whole.tangential, cone)) return false;
-  if (abs(whole.twist) > cone * face.radius) return false;
+  if (longer_than(whole.tangential, cone)) return GlueAll::refused;
+  if (abs(whole.twist) > cone * face.radius) return GlueAll::refused;
   // The fresh distribution pi_i = total / k + beta . a_i, a_i = (p_i - c) x n
   // in the face's plane (e0, e1), with G beta = moment: the least-squares
   // spread of the points' impulses that gives the moment (sum a_i = 0).
@@ -490,11 +490,11 @@ bool glue_all(SolverBody& mover, const Body& body, const std::vector<SolverBody>
     return share + beta0 * faces.points[point].a0 + beta1 * faces.points[point].a1;
   };
   for (size_t p = face.first_point; p < face.first_point + static_cast<size_t>(face.point_count); ++p) {
-    if (point_share(p) < Fixed{}) return false;
+    if (point_share(p) < Fixed{}) return GlueAll::refused;
   }
   share_impulse(supports, rows, face, faces, whole, point_share);
   mover.velocity = {v, w};
-  return true;
+  return GlueAll::glued;
 }
 
 }  // namespace bitstep

@@ -28,10 +28,10 @@ bool glue(SolverBody& mover, const SolverBody& support, const Body& body, bool m
 // Glues `mover` to all its supports at once (the manifolds
 // manifolds[entries[0 .. entry_count)]), taken as one face, when they
 // share one rigid motion and face the same way and the face can deliver
-// it; false and nothing changed otherwise. level: the shock ranks (the
-// mover is the higher-ranked body of each manifold).
+// it; nothing changed otherwise. level: the shock ranks (the mover is the
+// higher-ranked body of each manifold).
 // `face`: the mover's, kept in `faces` between calls.
-bool glue_all(SolverBody& mover, const Body& body, const std::vector<SolverBody>& solver_bodies,
+GlueAll glue_all(SolverBody& mover, const Body& body, const std::vector<SolverBody>& solver_bodies,
               const std::vector<Body>& bodies, const uint32_t* entries, size_t entry_count,
               const std::vector<uint32_t>& level, const std::vector<ManifoldRow*>& manifolds,
               std::vector<PointRow>& rows, GlueFace& face, GlueFaces& faces);

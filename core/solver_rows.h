@@ -386,6 +386,7 @@ struct ShockGroups {
   std::vector<BodyRates> before_shock;  // per slot: the iterations' velocity
   std::vector<uint32_t> unconverged;    // bodies whose velocity a rank's last pass still changed (with repeats)
   std::vector<BodyRates> before_last_pass;  // the rank's bodies' velocities before its last pass
+  std::vector<BodyRates> after_passes;      // moving_before_passes's keep of the velocities the passes left
   std::vector<uint32_t> parent;         // per slot: union-find parent (an island's root is its lowest slot)
   std::vector<uint8_t> flags;           // per root: unconverged, moving
 };

@@ -39,7 +39,7 @@ struct SolverScratch {
   ShockOrderWorkspace order_workspace;
   SupportGroups supports;
   ShockGroups groups;
-  std::vector<uint8_t> glued_to_all;      // per slot
+  std::vector<GlueAll> glued_to_all;      // per slot: glue_all's answer in the last pass
   std::vector<uint8_t> glued_alone;       // per slot: glued to its one support in the last pass
   std::vector<BodyRates> glued_velocity;  // per slot: the velocity the last glue gave it
   std::vector<ManifoldRow*> shock_manifolds;  // per position in the order: the row solved there
