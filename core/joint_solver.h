@@ -1,9 +1,10 @@
 // The joints' rows in a solve (core/joint.h), made of the same constraint
 // parts as the contacts' (solver_rows.h): built once per solve, warm-started
-// with last step's impulses, solved before the contacts in every velocity
-// iteration, and their drift pushed out in the position passes (the split
-// impulse: pseudo-velocities that move the bodies but add no momentum), or
-// by a Baumgarte bias when the scene asks for it. Internal to core/.
+// with last step's impulses, solved after the contacts in every velocity
+// iteration (before them in the soft step's passes), and their drift pushed
+// out in the position passes (the split impulse: pseudo-velocities that move
+// the bodies but add no momentum), or by a Baumgarte bias when the scene
+// asks for it. Internal to core/.
 #pragma once
 
 #include <vector>
