@@ -1,6 +1,6 @@
-// The bitstep command line's failures: each exits with its code (tools/
-// exit_codes.h) and one line on stderr, and leaves no output file, whole
-// or partial, behind. The tests run the built binary.
+// The bitstep command line's failures: each exits with its code
+// (tools/cli/exit_codes.h) and one line on stderr, and leaves no output
+// file, whole or partial, behind. The tests run the built binary.
 #include <catch2/catch.hpp>
 #include <sys/wait.h>
 
@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "tests/tools/cli_support.h"
-#include "tools/exit_codes.h"
+#include "tools/cli/exit_codes.h"
 
 namespace {
 

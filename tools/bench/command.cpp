@@ -36,7 +36,7 @@
 #include "tools/bench/sections.h"
 #include "tools/cli/shared_options.h"
 #include "tools/cli/options.h"
-#include "tools/exit_codes.h"
+#include "tools/cli/exit_codes.h"
 
 namespace bitstep {
 

@@ -37,8 +37,8 @@
 #include "fixed/vec3.h"
 #include "fixed/splitmix64.h"
 #include "tools/cli/options.h"
-#include "tools/exit_codes.h"
-#include "tools/file_output.h"
+#include "tools/cli/exit_codes.h"
+#include "tools/cli/file_output.h"
 
 namespace bitstep {
 

@@ -27,7 +27,7 @@
 #include "core/query.h"
 #include "fixed/splitmix64.h"
 #include "tools/cli/options.h"
-#include "tools/exit_codes.h"
+#include "tools/cli/exit_codes.h"
 
 namespace bitstep {
 

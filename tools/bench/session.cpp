@@ -30,7 +30,7 @@
 #include "replay/rollback_state.h"
 #include "replay/session.h"
 #include "tools/cli/options.h"
-#include "tools/exit_codes.h"
+#include "tools/cli/exit_codes.h"
 
 namespace bitstep {
 

@@ -22,7 +22,7 @@
 #include "replay/replay.h"
 #include "replay/scene.h"
 #include "tools/cli/options.h"
-#include "tools/exit_codes.h"
+#include "tools/cli/exit_codes.h"
 
 namespace bitstep {
 

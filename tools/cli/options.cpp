@@ -5,7 +5,7 @@
 #include <charconv>
 #include <utility>
 
-#include "tools/exit_codes.h"
+#include "tools/cli/exit_codes.h"
 
 namespace bitstep::cli {
 

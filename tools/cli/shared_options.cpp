@@ -3,7 +3,7 @@
 #include <cstdint>
 
 #include "tools/cli/options.h"
-#include "tools/thread_option.h"
+#include "tools/cli/thread_option.h"
 
 namespace bitstep::cli {
 

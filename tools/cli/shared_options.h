@@ -5,11 +5,11 @@
 
 #include <CLI/CLI.hpp>
 
-#include "tools/body_trace.h"
+#include "tools/cli/body_trace.h"
 
 namespace bitstep::cli {
 
-// --threads N: N workers, min..max_threads (tools/thread_option.h).
+// --threads N: N workers, min..max_threads (tools/cli/thread_option.h).
 CLI::Option* add_threads(CLI::App& app, int& threads, int min, const std::string& description);
 
 // --trace FILE, --trace-every K and --trace-format csv|jsonl into `trace`

@@ -14,13 +14,13 @@
 #include "tools/bench/session.h"
 #include "tools/bench/sleep.h"
 #include "tools/cli/options.h"
-#include "tools/exit_codes.h"
-#include "tools/fixed_accuracy.h"
-#include "tools/known_answer.h"
-#include "tools/replay_command.h"
-#include "tools/peer_command.h"
-#include "tools/run_command.h"
-#include "tools/synctest_command.h"
+#include "tools/cli/exit_codes.h"
+#include "tools/measure/fixed_accuracy.h"
+#include "tools/measure/known_answer.h"
+#include "tools/cli/replay_command.h"
+#include "tools/cli/peer_command.h"
+#include "tools/cli/run_command.h"
+#include "tools/cli/synctest_command.h"
 
 namespace {
 

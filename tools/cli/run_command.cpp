@@ -1,4 +1,4 @@
-#include "tools/run_command.h"
+#include "tools/cli/run_command.h"
 
 #include <fmt/core.h>
 
@@ -19,12 +19,12 @@
 #include "replay/scene.h"
 #include "replay/snapshot.h"
 #include "replay/state_hash.h"
-#include "tools/body_trace.h"
+#include "tools/cli/body_trace.h"
 #include "tools/cli/options.h"
 #include "tools/cli/shared_options.h"
-#include "tools/exit_codes.h"
-#include "tools/file_output.h"
-#include "tools/thread_option.h"
+#include "tools/cli/exit_codes.h"
+#include "tools/cli/file_output.h"
+#include "tools/cli/thread_option.h"
 
 namespace bitstep {
 

@@ -1,4 +1,4 @@
-#include "tools/replay_command.h"
+#include "tools/cli/replay_command.h"
 
 #include <fmt/core.h>
 
@@ -12,14 +12,14 @@
 #include "replay/json_tree.h"
 #include "replay/limits.h"
 #include "replay/replay.h"
-#include "tools/file_output.h"
+#include "tools/cli/file_output.h"
 #include "replay/state_dump.h"
 #include "replay/state_hash.h"
-#include "tools/body_trace.h"
+#include "tools/cli/body_trace.h"
 #include "tools/cli/options.h"
 #include "tools/cli/shared_options.h"
-#include "tools/exit_codes.h"
-#include "tools/thread_option.h"
+#include "tools/cli/exit_codes.h"
+#include "tools/cli/thread_option.h"
 
 namespace bitstep {
 

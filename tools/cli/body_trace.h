@@ -10,7 +10,7 @@
 #include <string>
 
 #include "core/world.h"
-#include "tools/file_output.h"
+#include "tools/cli/file_output.h"
 
 namespace bitstep {
 

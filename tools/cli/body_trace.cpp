@@ -1,4 +1,4 @@
-#include "tools/body_trace.h"
+#include "tools/cli/body_trace.h"
 
 #include <fmt/core.h>
 
@@ -9,7 +9,7 @@
 #include <limits>
 
 #include "fixed/decimal.h"
-#include "tools/exit_codes.h"
+#include "tools/cli/exit_codes.h"
 
 namespace bitstep {
 

@@ -1,4 +1,4 @@
-#include "tools/synctest_command.h"
+#include "tools/cli/synctest_command.h"
 
 #include <fmt/core.h>
 
@@ -8,7 +8,7 @@
 #include "replay/json_tree.h"
 #include "replay/sync_test.h"
 #include "tools/cli/options.h"
-#include "tools/exit_codes.h"
+#include "tools/cli/exit_codes.h"
 
 namespace bitstep {
 

@@ -1,4 +1,4 @@
-#include "tools/peer_command.h"
+#include "tools/cli/peer_command.h"
 
 #include <fmt/core.h>
 
@@ -15,9 +15,9 @@
 #include "replay/replay.h"
 #include "replay/session_codec.h"
 #include "replay/session_roster.h"
-#include "tools/enet_transport.h"
+#include "tools/cli/enet_transport.h"
 #include "tools/cli/options.h"
-#include "tools/exit_codes.h"
+#include "tools/cli/exit_codes.h"
 
 namespace bitstep {
 
