@@ -25,7 +25,7 @@
 namespace {
 
 constexpr const char* usage =
-    "usage: bitstep <command> [options]\n"
+    "usage: bitstep <command> [options]   (bitstep <command> --help: that command's options)\n"
     "\n"
     "commands:\n"
     "  run SCENE [--steps N] [--seconds S] [--hash-every K] [--json] [--settings JSON]\n"

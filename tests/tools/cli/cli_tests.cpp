@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "tests/tools/cli_support.h"
+#include "tests/tools/cli/cli_support.h"
 #include "tools/cli/exit_codes.h"
 
 namespace {
