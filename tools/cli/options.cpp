@@ -10,11 +10,12 @@
 namespace bitstep::cli {
 
 std::optional<int> parse(CLI::App& app, const std::string& command, int argc, char** argv) {
-  // CLI11 wants the program's name first; the command's words follow it.
+  // App::parse's vector form takes the words without a program name, the
+  // last one first (it pops them from the back).
   std::vector<std::string> words;
   for (int i = argc - 1; i >= 0; --i) words.emplace_back(argv[i]);
   try {
-    app.parse(words);  // the vector form takes the words in reverse order
+    app.parse(words);
   } catch (const CLI::CallForHelp&) {
     fmt::print("{}", app.help());
     return exit_code::success;
