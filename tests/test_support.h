@@ -23,7 +23,7 @@ namespace bitstep::test {
 // Sample counts of the random sweeps: the full count in optimised builds, a
 // tenth in unoptimised ones (the checked Debug build with ASan and UBSan,
 // ~15x slower per operation), whose point is the asserts on every path; the
-// Release run and tools/crosscheck.sh's optimised checked build cover the
+// Release run and tools/crosscheck/crosscheck.sh's optimised checked build cover the
 // full count. Keeps tools/test.sh inside the CI budget (the full sweeps took
 // ~7 of the checked build's ~22 test minutes on 2 cores).
 constexpr uint64_t samples(uint64_t full) {

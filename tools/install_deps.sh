@@ -9,7 +9,7 @@
 #                                 qemu-user, mingw-w64 with wine
 set -euo pipefail
 
-build_packages=(cmake make gcc g++ catch2 libfmt-dev nlohmann-json3-dev libxxhash-dev libenet-dev pkg-config)
+build_packages=(cmake make gcc g++ catch2 libcli11-dev libfmt-dev nlohmann-json3-dev libxxhash-dev libenet-dev pkg-config)
 bench_packages=(gnuplot-nox libbullet-dev)
 # Debian's emscripten 3.1.6 with its prebuilt system libraries; emcc needs
 # node-acorn. nodejs: Debian's, unless a newer one is installed already.

@@ -2,7 +2,7 @@
 # The test command: install what is missing, then
 #   1. a Debug build with BITSTEP_CHECKED, AddressSanitizer and UBSan: every test;
 #   2. a Release build: every test again, optimised, unchecked;
-#   3. tools/crosscheck.sh (beside 2's tests): the known-answer hash and the
+#   3. tools/crosscheck/crosscheck.sh (beside 2's tests): the known-answer hash and the
 #      golden replays across compilers, the portable 128-bit path, i686 /
 #      aarch64 / s390x / armhf / riscv64 / ppc64le under qemu-user, Windows
 #      (mingw-w64) under wine and WebAssembly under node;
@@ -46,7 +46,7 @@ cmake --build build/release -j"$jobs"
 # on every full replay, optimised. Its tables print after.
 step "Release tests, and the cross-build check beside them"
 mkdir -p build
-tools/crosscheck.sh >build/crosscheck.log 2>&1 &
+tools/crosscheck/crosscheck.sh >build/crosscheck.log 2>&1 &
 crosscheck=$!
 release_status=0
 ctest --test-dir build/release --no-tests=error --output-on-failure -j"$jobs" \

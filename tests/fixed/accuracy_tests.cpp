@@ -6,11 +6,11 @@
 #include <vector>
 
 #include "tests/test_support.h"
-#include "tools/fixed_accuracy.h"
+#include "tools/measure/fixed_accuracy.h"
 
 // The accuracy bounds docs/determinism.md states ("Accuracy"), measured over edge values plus 10^6 random
 // operands per function (10^5 in unoptimised builds: test_support.h)
-// against exact integer or long double references (tools/fixed_accuracy.cpp).
+// against exact integer or long double references (tools/measure/fixed_accuracy.cpp).
 // The table goes to stdout, i.e. the ctest log.
 TEST_CASE("every fixed-point function is within its documented ulp bound over 10^6 random operands and the edges",
           "[fixed][accuracy]") {

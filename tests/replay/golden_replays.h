@@ -52,7 +52,7 @@ inline std::vector<uint64_t> replay_chain(const Replay& replay, uint64_t& scene_
 // Whether a full replay is left to optimised builds: in unoptimised ones (the
 // checked Debug build with ASan and UBSan) a scene with a short replay
 // (<scene>.short.replay.json: wall128, pyramid20, playground, ragdolls) runs that one
-// only, as under qemu in tools/crosscheck.sh, whose optimised checked + UBSan
+// only, as under qemu in tools/crosscheck/crosscheck.sh, whose optimised checked + UBSan
 // build verifies the full ones. Their full replays took ~4 of this test's
 // ~6 minutes in the checked build.
 inline bool left_to_optimised_builds(const std::string& path) {

@@ -15,7 +15,7 @@
 
 #include "tests/envelope_corners.h"
 #include "tests/test_support.h"
-#include "tests/tools/cli_support.h"
+#include "tests/tools/cli/cli_support.h"
 
 using namespace bitstep;
 using namespace bitstep::test_cli;

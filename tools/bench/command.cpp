@@ -34,8 +34,9 @@
 #include "tools/bench/context.h"
 #include "tools/bench/report.h"
 #include "tools/bench/sections.h"
-#include "tools/thread_option.h"
-#include "tools/exit_codes.h"
+#include "tools/cli/shared_options.h"
+#include "tools/cli/options.h"
+#include "tools/cli/exit_codes.h"
 
 namespace bitstep {
 
@@ -120,60 +121,51 @@ std::set<std::string> split(const std::string& list) {
   return items;
 }
 
-// The option at argv[i] (its value at argv[i + 1], i then moved past it);
-// false (said on stderr) when it is unknown or invalid.
-bool parse_option(int argc, char** argv, int& i, Options& options) {
-  const std::string_view arg = argv[i];
-  const bool has_value = i + 1 < argc;
-  if (arg == "--quick") {
-    options.quick = true;
-  } else if (arg == "--full") {
-    options.quick = false;
-  } else if (arg == "--out" && has_value) {
-    options.out = argv[++i];
-  } else if (arg == "--scenes" && has_value) {
-    options.scenes = argv[++i];
-  } else if (arg == "--no-peer") {
-    options.peer = false;
-  } else if (arg == "--threads" && has_value) {
-    if (!parse_threads(argv[++i], options.threads) || options.threads < 2) {
-      fmt::print(stderr, "bitstep bench: --threads needs an integer 2..{}, got '{}'\n", max_threads, argv[i]);
-      return false;
-    }
-  } else if (arg == "--sections" && has_value) {
-    options.sections = split(argv[++i]);
-    for (const std::string& s : options.sections) {
-      if (s != "results" && s != "sweep" && s != "scale" && s != "speed" && s != "costs" && s != "determinism") {
-        fmt::print(stderr, "bitstep bench: unknown section '{}' (results, sweep, scale, speed, costs, determinism)\n",
-                   s);
-        return false;
-      }
-    }
-  } else if (arg == "--only" && has_value) {
-    options.only = split(argv[++i]);
-    for (const std::string& name : options.only) {
-      if (find_experiment(name) == nullptr) {
-        fmt::print(stderr, "bitstep bench: unknown experiment '{}'\n", name);
-        return false;
-      }
-    }
-  } else {
-    fmt::print(stderr,
-               "bitstep bench: unknown option '{}' (options: --quick, --full, --out DIR, --scenes DIR, "
-               "--sections LIST, --only EXPERIMENTS, --no-peer, --threads N)\n",
-               arg);
-    return false;
-  }
-  return true;
+// The suite's command line into `options`: nullopt, or the exit status
+// (--help, a usage error).
+std::optional<int> parse_options(int argc, char** argv, Options& options) {
+  CLI::App app("the suite: accuracy, stability, work-precision, scale, speed and costs, next to Bullet",
+               "bitstep bench");
+  CLI::Option* quick = app.add_flag_callback("--quick", [&options] { options.quick = true; }, "the short run");
+  CLI::Option* full = app.add_flag_callback("--full", [&options] { options.quick = false; }, "the whole run");
+  quick->excludes(full);
+  app.footer("one bench alone: bitstep bench fixed|queries|session|sleep [--help]");
+  app.add_option("--out", options.out, "the report's folder (default bench-report)")->type_name("DIR");
+  app.add_option("--scenes", options.scenes, "the scenes' folder")->type_name("DIR");
+  app.add_flag_callback("--no-peer", [&options] { options.peer = false; }, "leave Bullet out");
+  cli::add_threads(app, options.threads, 2, "the workers of the speed table's threaded column (default 2)");
+  cli::add_read(
+      app, "--sections", "a list of results, sweep, scale, speed, costs, determinism",
+      [&options](const std::string& list) {
+        options.sections = split(list);
+        for (const std::string& s : options.sections) {
+          if (s != "results" && s != "sweep" && s != "scale" && s != "speed" && s != "costs" && s != "determinism") {
+            return false;
+          }
+        }
+        return true;
+      },
+      "the sections to run, comma-separated: results,sweep,scale,speed,costs,determinism")
+      ->type_name("LIST");
+  cli::add_read(
+      app, "--only", "a list of experiments",
+      [&options](const std::string& list) {
+        options.only = split(list);
+        for (const std::string& name : options.only) {
+          if (find_experiment(name) == nullptr) cli::refuse("--only", "known experiments", name);
+        }
+        return true;
+      },
+      "only these experiments, comma-separated")
+      ->type_name("EXPERIMENTS");
+  return cli::parse(app, "bench", argc, argv);
 }
 
 }  // namespace
 
 int run_bench_suite(int argc, char** argv) {
   Options options;
-  for (int i = 0; i < argc; ++i) {
-    if (!parse_option(argc, argv, i, options)) return 2;
-  }
+  if (const std::optional<int> code = parse_options(argc, argv, options)) return *code;
   try {
     return run_bench(options);
   } catch (const std::exception& error) {

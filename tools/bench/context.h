@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "tools/bench/experiments.h"
-#include "tools/progress_bar.h"
+#include "tools/cli/progress_bar.h"
 
 namespace bitstep::bench {
 

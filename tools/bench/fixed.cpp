@@ -36,8 +36,9 @@
 #include "fixed/u128.h"
 #include "fixed/vec3.h"
 #include "fixed/splitmix64.h"
-#include "tools/exit_codes.h"
-#include "tools/file_output.h"
+#include "tools/cli/options.h"
+#include "tools/cli/exit_codes.h"
+#include "tools/cli/file_output.h"
 
 namespace bitstep {
 
@@ -311,24 +312,16 @@ std::string csv_text(const std::vector<Row>& rows) {
 
 int run_bench_fixed(int argc, char** argv) {
   Settings settings;
-  std::string_view csv_path;
-  for (int i = 0; i < argc; ++i) {
-    const std::string_view arg = argv[i];
-    if (arg == "--quick") {
-      settings = {9, 1e6};
-    } else if (arg == "--csv" && i + 1 < argc) {
-      csv_path = argv[++i];
-    } else {
-      fmt::print(stderr, "bitstep bench fixed: {} (options: --quick, --csv FILE)\n",
-                 arg == "--csv" ? std::string("--csv needs a file name") : fmt::format("unknown option '{}'", arg));
-      return exit_code::usage;
-    }
-  }
+  std::string csv_path;
+  CLI::App app("ns/op of fixed-point operations next to float and double", "bitstep bench fixed");
+  app.add_flag_callback("--quick", [&settings] { settings = {9, 1e6}; }, "fewer samples");
+  app.add_option("--csv", csv_path, "also write the table as CSV")->type_name("FILE");
+  if (const std::optional<int> code = cli::parse(app, "bench fixed", argc, argv)) return *code;
   // Opened (under its temporary name) before the run: an unwritable path
   // fails at once; renamed into place only when whole.
   AtomicFile csv;
   std::string reason;
-  if (!csv_path.empty() && !csv.open(std::string(csv_path), reason)) {
+  if (!csv_path.empty() && !csv.open(csv_path, reason)) {
     fmt::print(stderr, "bitstep bench fixed: {}\n", reason);
     return exit_code::output_failed;
   }

@@ -9,9 +9,9 @@
 //   PROGRAM memory SCENE --variant NAME --steps N   peak resident KiB after loading the scene, and after N steps
 //   PROGRAM speed SCENE --variant NAME --from K --steps N [--threads T]
 //                                                  CPU and wall-clock ms per step of N steps after K
+#include <CLI/CLI.hpp>
+
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -43,40 +43,45 @@ const Variant* find_variant(const std::vector<Variant>& variants, std::string_vi
 int main(int argc, char** argv) {
   const std::vector<Variant> variants = peer_variants();
   const std::string program = argc > 0 ? argv[0] : "peer";
-  if (argc < 2) return fail(program + ": usage: list | run EXPERIMENT ... | hash SCENE ... | memory SCENE ...");
-  const std::string_view command = argv[1];
+  // The commands' options, on CLI11 as bitstep's own (tools/cli/options.h);
+  // every command but list takes all of them and uses its own.
+  CLI::App app("a peer program of bitstep bench: its experiments on the engines compiled in", program);
+  app.require_subcommand(1);
+  app.add_subcommand("list", "the variants, one a line");
+  std::string target, variant_name;
+  StepConfig config;
+  RunOptions options;
+  long steps = 0, from = 0;
+  const auto command_with_options = [&](const char* name, const char* argument, const char* description) {
+    CLI::App* command = app.add_subcommand(name, description);
+    command->add_option(argument, target)->required();
+    command->add_option("--variant", variant_name, "the engine's variant");
+    command->add_option("--dt", config.dt, "the step, seconds");
+    command->add_option("--iterations", config.iterations, "solver iterations");
+    command->add_option("--steps", steps, "steps to run");
+    command->add_option("--from", from, "steps before the timed ones");
+    command->add_option("--threads", config.threads, "workers (1-64)");
+    command->add_flag("--quick", options.quick, "the short run");
+    command->add_option("--scenes", options.scenes_dir, "the scenes' folder");
+  };
+  command_with_options("run", "EXPERIMENT", "an experiment's result, in the text form of experiments.h");
+  command_with_options("hash", "SCENE", "the final state hash after --steps, hex");
+  command_with_options("memory", "SCENE", "peak resident KiB after loading the scene, and after --steps");
+  command_with_options("speed", "SCENE", "CPU and wall-clock ms per step of --steps after --from");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::fputs(app.help().c_str(), stdout);
+    return 0;
+  } catch (const CLI::ParseError& error) {
+    // An unknown word is the likelier mistake than what CLI11 checks first.
+    const std::vector<std::string> unknown = app.remaining();
+    return fail(program + ": " + (unknown.empty() ? error.what() : CLI::ExtrasError(unknown).what()));
+  }
+  const std::string command = app.get_subcommands().front()->get_name();
   if (command == "list") {
     for (const Variant& v : variants) std::printf("%s\n", v.name.c_str());
     return 0;
-  }
-  if (argc < 3) return fail(program + ": " + std::string(command) + " needs an argument");
-  const std::string target = argv[2];
-  StepConfig config;
-  RunOptions options;
-  std::string variant_name;
-  long steps = 0, from = 0;
-  for (int i = 3; i < argc; ++i) {
-    const std::string_view arg = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (arg == "--variant" && has_value) {
-      variant_name = argv[++i];
-    } else if (arg == "--dt" && has_value) {
-      config.dt = std::strtod(argv[++i], nullptr);
-    } else if (arg == "--iterations" && has_value) {
-      config.iterations = std::atoi(argv[++i]);
-    } else if (arg == "--steps" && has_value) {
-      steps = std::strtol(argv[++i], nullptr, 10);
-    } else if (arg == "--from" && has_value) {
-      from = std::strtol(argv[++i], nullptr, 10);
-    } else if (arg == "--threads" && has_value) {
-      config.threads = std::atoi(argv[++i]);
-    } else if (arg == "--quick") {
-      options.quick = true;
-    } else if (arg == "--scenes" && has_value) {
-      options.scenes_dir = argv[++i];
-    } else {
-      return fail(program + ": unknown option '" + std::string(arg) + "'");
-    }
   }
   const Variant* variant = find_variant(variants, variant_name);
   if (variant == nullptr) return fail(program + ": unknown variant '" + variant_name + "'");
@@ -110,5 +115,5 @@ int main(int argc, char** argv) {
     }
     return 0;
   }
-  return fail(program + ": unknown command '" + std::string(command) + "'");
+  return fail(program + ": unknown command '" + command + "'");
 }

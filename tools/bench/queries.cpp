@@ -26,7 +26,8 @@
 
 #include "core/query.h"
 #include "fixed/splitmix64.h"
-#include "tools/exit_codes.h"
+#include "tools/cli/options.h"
+#include "tools/cli/exit_codes.h"
 
 namespace bitstep {
 
@@ -126,14 +127,9 @@ World car_world(int others, int rays) {
 
 int run_bench_queries(int argc, char** argv) {
   int samples = 5;
-  for (int i = 0; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--quick") == 0) {
-      samples = 2;
-    } else {
-      fmt::print(stderr, "bitstep bench queries: unknown option '{}'\n", argv[i]);
-      return exit_code::usage;
-    }
-  }
+  CLI::App app("us per ray, shape cast and overlap over 100 to 10,000 bodies", "bitstep bench queries");
+  app.add_flag_callback("--quick", [&samples] { samples = 2; }, "fewer samples");
+  if (const std::optional<int> code = cli::parse(app, "bench queries", argc, argv)) return *code;
   constexpr size_t questions = 1000;
   fmt::print("| bodies | build the query (us) | ray, nearest (us) | ray, every hit (us) | sphere cast 0.5 m (us) | "
              "capsule cast 0.3 x 1.2 m (us) | box cast 0.5 m (us) | overlap_box 10 m (us) | rays meeting something |\n"

@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <limits>
 
-#include "tools/file_output.h"
+#include "tools/cli/file_output.h"
 
 namespace bitstep::bench {
 

@@ -29,7 +29,8 @@
 
 #include "replay/rollback_state.h"
 #include "replay/session.h"
-#include "tools/exit_codes.h"
+#include "tools/cli/options.h"
+#include "tools/cli/exit_codes.h"
 
 namespace bitstep {
 
@@ -149,16 +150,11 @@ std::string pyramid_scene(int base) {
 int run_bench_session(int argc, char** argv) {
   bool quick = false;
   std::string scenes = "scenes";
-  for (int i = 0; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--quick") == 0) {
-      quick = true;
-    } else if (std::strcmp(argv[i], "--scenes") == 0 && i + 1 < argc) {
-      scenes = argv[++i];
-    } else {
-      fmt::print(stderr, "bitstep bench session: unknown option '{}'\n", argv[i]);
-      return exit_code::usage;
-    }
-  }
+  CLI::App app("what a session adds to a tick; the largest world lockstep and rollback sustain",
+               "bitstep bench session");
+  app.add_flag("--quick", quick, "fewer samples and ticks");
+  app.add_option("--scenes", scenes, "the scenes' folder (default scenes)")->type_name("DIR");
+  if (const std::optional<int> code = cli::parse(app, "bench session", argc, argv)) return *code;
   const int samples = quick ? 2 : 5, ticks = quick ? 10 : 30;
   try {
     fmt::print("| scene | bodies | step (ms) | lockstep session (ms/tick) | rollback session (ms/tick) | "

@@ -21,7 +21,8 @@
 #include "core/world.h"
 #include "replay/replay.h"
 #include "replay/scene.h"
-#include "tools/exit_codes.h"
+#include "tools/cli/options.h"
+#include "tools/cli/exit_codes.h"
 
 namespace bitstep {
 
@@ -100,19 +101,11 @@ int run_bench_sleep(int argc, char** argv) {
   std::string scenes_dir = "scenes";
   SleepMethod method = SleepMethod::motion;
   std::vector<std::string> scenes = {"stack20.json", "pyramid20.json", "thrown.json", "wall128.json"};
-  for (int i = 0; i < argc; ++i) {
-    const std::string_view arg = argv[i];
-    if (arg == "--quick") {
-      scenes = {"stack20.json", "pyramid20.json"};
-    } else if (arg == "--still") {
-      method = SleepMethod::still;
-    } else if (arg == "--scenes" && i + 1 < argc) {
-      scenes_dir = argv[++i];
-    } else {
-      fmt::print(stderr, "bitstep bench sleep: unknown option '{}' (options: --quick, --still, --scenes DIR)\n", arg);
-      return exit_code::usage;
-    }
-  }
+  CLI::App app("ms/step of scenes awake and asleep", "bitstep bench sleep");
+  app.add_flag_callback("--quick", [&scenes] { scenes = {"stack20.json", "pyramid20.json"}; }, "two scenes");
+  app.add_flag_callback("--still", [&method] { method = SleepMethod::still; }, "JigLib's still pose, not motion");
+  app.add_option("--scenes", scenes_dir, "the scenes' folder (default scenes)")->type_name("DIR");
+  if (const std::optional<int> code = cli::parse(app, "bench sleep", argc, argv)) return *code;
   fmt::print("| scene | dynamic bodies | sleep | all asleep at step | awake ms/step | asleep ms/step | awake / asleep |\n");
   fmt::print("|---|---:|---|---:|---:|---:|---:|\n");
   for (const std::string& name : scenes) {

@@ -1,21 +1,21 @@
 #!/usr/bin/env bash
 # The cross-build matrix: builds the known-answer program (fixed/ +
-# tools/known_answer.cpp) and the golden-replay verifier (fixed/, core/,
-# replay/ + tools/verify_replays_main.cpp; xxhash inlined, nlohmann
+# tools/measure/known_answer.cpp) and the golden-replay verifier (fixed/, core/,
+# replay/ + tools/crosscheck/verify_replays_main.cpp; xxhash inlined, nlohmann
 # header-only) with every compiler, option set, 128-bit backend and CPU
 # below, runs each (foreign CPUs under qemu-user, statically linked; Windows
-# under wine, tools/wine_run.sh) and fails
+# under wine, tools/crosscheck/wine_run.sh) and fails
 # unless every build prints the frozen known-answer hash and reproduces every
 # golden replay's hash chain at every step. Prints two tables.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 out=build/crosscheck
 mkdir -p "$out"
 
-sources=(fixed/*.cpp tools/known_answer.cpp tools/known_answer_main.cpp)
+sources=(fixed/*.cpp tools/measure/known_answer.cpp tools/crosscheck/known_answer_main.cpp)
 # The verifier links neither sessions, the C API, render poses, Simulation
 # nor the thread pool: leaving them out saves ~15% of each compile.
-replay_sources=(fixed/*.cpp core/*.cpp tools/verify_replays_main.cpp)
+replay_sources=(fixed/*.cpp core/*.cpp tools/crosscheck/verify_replays_main.cpp)
 for f in replay/*.cpp; do
   case "$f" in replay/session*|replay/bitstep_c.cpp|replay/render_pose.cpp|replay/simulation.cpp|replay/sync_test.cpp|replay/thread_pool.cpp) ;; *) replay_sources+=("$f") ;; esac
 done
@@ -63,7 +63,7 @@ builds=(
   "riscv64 gcc -O2|riscv64-linux-gnu-g++|-O2 -static|qemu-riscv64"
   "ppc64le gcc -O2|powerpc64le-linux-gnu-g++|-O2 -static|qemu-ppc64le"
   "wasm32 emscripten -O3 (node)|wasm|-|tools/node_wasm.sh"
-  "Windows x86-64 mingw-w64 gcc -O2 portable 128-bit (wine)|x86_64-w64-mingw32-g++-posix|-O2 -static -DBITSTEP_PORTABLE_128=1|tools/wine_run.sh"
+  "Windows x86-64 mingw-w64 gcc -O2 portable 128-bit (wine)|x86_64-w64-mingw32-g++-posix|-O2 -static -DBITSTEP_PORTABLE_128=1|tools/crosscheck/wine_run.sh"
 )
 
 slug() { echo "$1" | tr -c 'A-Za-z0-9\n' '_'; }
@@ -120,12 +120,12 @@ for_each_build() {
   return $status
 }
 # wine's prefix, made once per run beside the compiles (~10 s).
-timeout 300 tools/wine_run.sh wineboot --init >"$out/wineboot.log" 2>&1 &
+timeout 300 tools/crosscheck/wine_run.sh wineboot --init >"$out/wineboot.log" 2>&1 &
 wineboot=$!
 for_each_build compile || exit 1
 wait "$wineboot" || { echo "crosscheck: wine's prefix failed:" >&2; cat "$out/wineboot.log" >&2; exit 1; }
 
-expected=$(sed -n 's/.*expected_known_answer_hash = 0x\([0-9a-f]*\);.*/\1/p' tools/known_answer.h)
+expected=$(sed -n 's/.*expected_known_answer_hash = 0x\([0-9a-f]*\);.*/\1/p' tools/measure/known_answer.h)
 printf '| build | 128-bit backend | byte order | known-answer hash | result |\n|---|---|---|---|---|\n'
 failed=0
 for b in "${builds[@]}"; do

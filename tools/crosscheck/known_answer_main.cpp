@@ -1,5 +1,5 @@
-// Standalone known-answer program for tools/crosscheck.sh: built by each
-// cross compiler from fixed/ and tools/known_answer.cpp alone, it prints
+// Standalone known-answer program for tools/crosscheck/crosscheck.sh: built by each
+// cross compiler from fixed/ and tools/measure/known_answer.cpp alone, it prints
 // "<hash> <operations> <128-bit backend> <byte order>" and exits 0 only if the
 // hash is the frozen value.
 #include <bit>
@@ -7,7 +7,7 @@
 #include <cstdio>
 
 #include "fixed/u128.h"
-#include "tools/known_answer.h"
+#include "tools/measure/known_answer.h"
 
 int main() {
   const bitstep::KnownAnswer answer = bitstep::run_known_answer();

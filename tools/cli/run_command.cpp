@@ -1,4 +1,4 @@
-#include "tools/run_command.h"
+#include "tools/cli/run_command.h"
 
 #include <fmt/core.h>
 
@@ -19,10 +19,12 @@
 #include "replay/scene.h"
 #include "replay/snapshot.h"
 #include "replay/state_hash.h"
-#include "tools/body_trace.h"
-#include "tools/exit_codes.h"
-#include "tools/file_output.h"
-#include "tools/thread_option.h"
+#include "tools/cli/body_trace.h"
+#include "tools/cli/options.h"
+#include "tools/cli/shared_options.h"
+#include "tools/cli/exit_codes.h"
+#include "tools/cli/file_output.h"
+#include "tools/cli/thread_option.h"
 
 namespace bitstep {
 
@@ -59,54 +61,43 @@ std::string event_line(uint64_t step, const WorldEvent& e, const Scene& scene) {
 
 double to_double(Fixed f) { return static_cast<double>(f.raw()) * 0x1p-32; }
 
-bool parse_count(const char* text, long long& out) {
-  char* end = nullptr;
-  out = std::strtoll(text, &end, 10);
-  return end != text && *end == '\0' && out >= 0;
-}
-
-// Returns an error message, empty on success.
-std::string parse_options(int argc, char** argv, RunOptions& o) {
-  for (int i = 0; i < argc; ++i) {
-    if (std::string trace_error; o.trace.parse(argc, argv, i, trace_error)) {
-      if (!trace_error.empty()) return trace_error;
-      continue;
-    }
-    const std::string arg = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (arg == "--json") {
-      o.json = true;
-    } else if (arg == "--threads" && has_value) {
-      if (!parse_threads(argv[++i], o.threads)) {
-        return fmt::format("--threads needs an integer 1..{}, got '{}'", max_threads, argv[i]);
-      }
-    } else if (arg == "--steps" && has_value) {
-      if (!parse_count(argv[++i], o.steps)) return fmt::format("--steps needs a non-negative integer, got '{}'", argv[i]);
-    } else if (arg == "--seconds" && has_value) {
-      o.seconds = argv[++i];
-    } else if (arg == "--hash-every" && has_value) {
-      if (!parse_count(argv[++i], o.hash_every)) {
-        return fmt::format("--hash-every needs a non-negative integer, got '{}'", argv[i]);
-      }
-    } else if (arg == "--snapshot-at" && i + 2 < argc) {
-      if (!parse_count(argv[++i], o.snapshot_at)) {
-        return fmt::format("--snapshot-at needs a non-negative step, got '{}'", argv[i]);
-      }
-      o.snapshot_path = argv[++i];
-    } else if (arg == "--restore" && has_value) {
-      o.restore_path = argv[++i];
-    } else if (arg == "--settings" && has_value) {
-      o.settings = argv[++i];
-    } else if (arg == "--events") {
-      o.events = true;
-    } else if (!arg.empty() && arg[0] != '-' && o.scene_path.empty()) {
-      o.scene_path = arg;
-    } else {
-      return fmt::format("unknown or incomplete option '{}'", arg);
-    }
+// The command line into `o`: nullopt, or the exit status (--help, a usage error).
+std::optional<int> parse_options(int argc, char** argv, RunOptions& o) {
+  CLI::App app("run a scene: a line per second and the final state hash", "bitstep run");
+  app.add_option("SCENE", o.scene_path, "a bitstep-scene JSON file")->required();
+  cli::add_read(app, "--steps", "a non-negative integer",
+                [&o](const std::string& text) { return cli::read_integer(text, 0, INT64_MAX, o.steps); },
+                "steps to run (default: --seconds of them)")
+      ->type_name("N");
+  app.add_option("--seconds", o.seconds, "seconds of simulated time (default 10)")->type_name("S");
+  cli::add_read(app, "--hash-every", "a non-negative integer",
+                [&o](const std::string& text) { return cli::read_integer(text, 0, INT64_MAX, o.hash_every); },
+                "print the state hash every K-th step")
+      ->type_name("K");
+  app.add_flag("--json", o.json, "one JSON object instead of the table");
+  app.add_option("--settings", o.settings, "scene settings over the scene's: '{\"sleep\": \"still\"}'")
+      ->type_name("JSON");
+  app.add_option_function<std::pair<std::string, std::string>>(
+         "--snapshot-at",
+         [&o](const std::pair<std::string, std::string>& value) {
+           if (!cli::read_integer(value.first, 0, INT64_MAX, o.snapshot_at)) {
+             cli::refuse("--snapshot-at", "a non-negative step", value.first);
+           }
+           o.snapshot_path = value.second;
+         },
+         "write a snapshot of the world after step K to FILE")
+      ->type_name("K FILE");
+  app.add_option("--restore", o.restore_path, "start from this snapshot instead of the scene's start")
+      ->type_name("FILE");
+  cli::add_trace(app, o.trace);
+  cli::add_threads(app, o.threads, 1, "N workers step the world (the same bits for any N)");
+  app.add_flag("--events", o.events, "print each step's contact and sensor begin and end events");
+  if (const std::optional<int> code = cli::parse(app, "run", argc, argv)) return code;
+  if (const std::string error = o.trace.check(); !error.empty()) {
+    fmt::print(stderr, "bitstep run: {}\n", error);
+    return exit_code::usage;
   }
-  if (o.scene_path.empty()) return "missing SCENE (a bitstep-scene JSON file)";
-  return o.trace.check();
+  return std::nullopt;
 }
 
 struct SecondSummary {
@@ -192,10 +183,7 @@ std::string all_asleep_json(long long step) { return step < 0 ? "null" : std::to
 
 int run_scene_command(int argc, char** argv) {
   RunOptions options;
-  if (const std::string error = parse_options(argc, argv, options); !error.empty()) {
-    fmt::print(stderr, "bitstep run: {}\n", error);
-    return exit_code::usage;
-  }
+  if (const std::optional<int> code = parse_options(argc, argv, options)) return *code;
   auto loaded = load_scene_file(options.scene_path);
   if (const SceneError* error = std::get_if<SceneError>(&loaded)) {
     fmt::print(stderr, "bitstep run: {}\n", error->message());

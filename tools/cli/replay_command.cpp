@@ -1,4 +1,4 @@
-#include "tools/replay_command.h"
+#include "tools/cli/replay_command.h"
 
 #include <fmt/core.h>
 
@@ -12,34 +12,24 @@
 #include "replay/json_tree.h"
 #include "replay/limits.h"
 #include "replay/replay.h"
-#include "tools/file_output.h"
+#include "tools/cli/file_output.h"
 #include "replay/state_dump.h"
 #include "replay/state_hash.h"
-#include "tools/body_trace.h"
-#include "tools/exit_codes.h"
-#include "tools/thread_option.h"
+#include "tools/cli/body_trace.h"
+#include "tools/cli/options.h"
+#include "tools/cli/shared_options.h"
+#include "tools/cli/exit_codes.h"
+#include "tools/cli/thread_option.h"
 
 namespace bitstep {
 
 namespace {
 
 // A step count 0..limits::max_replay_steps.
-bool parse_steps(const char* text, int64_t& out) {
-  char* end = nullptr;
-  const long long value = std::strtoll(text, &end, 10);
-  if (end == text || *end != '\0' || value < 0 || value > limits::max_replay_steps) return false;
+bool parse_steps(const std::string& text, int64_t& out) {
+  long long value = 0;
+  if (!cli::read_integer(text, 0, limits::max_replay_steps, value)) return false;
   out = value;
-  return true;
-}
-
-// --trace's options at argv[i] (true: taken, `failed` set on a bad value).
-bool take_trace_option(const char* command, int argc, char** argv, int& i, TraceOptions& trace, bool& failed) {
-  std::string error;
-  if (!trace.parse(argc, argv, i, error)) return false;
-  if (!error.empty()) {
-    fmt::print(stderr, "bitstep {}: {}\n", command, error);
-    failed = true;
-  }
   return true;
 }
 
@@ -57,45 +47,20 @@ int record_command(int argc, char** argv, const char* engine_version) {
   int threads = 1;
   bool embed_scene = false;
   TraceOptions trace_options;
-  for (int i = 0; i < argc; ++i) {
-    if (bool failed = false; take_trace_option("record", argc, argv, i, trace_options, failed)) {
-      if (failed) return exit_code::usage;
-      continue;
-    }
-    const std::string arg = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (arg == "--threads" && has_value) {
-      if (!parse_threads(argv[++i], threads)) {
-        fmt::print(stderr, "bitstep record: --threads needs an integer 1..{}, got '{}'\n", max_threads, argv[i]);
-        return exit_code::usage;
-      }
-    } else if (arg == "--inputs" && has_value) {
-      inputs_path = argv[++i];
-    } else if (arg == "--steps" && has_value) {
-      if (!parse_steps(argv[++i], steps)) {
-        fmt::print(stderr, "bitstep record: --steps needs an integer 0..{}, got '{}'\n", limits::max_replay_steps,
-                   argv[i]);
-        return exit_code::usage;
-      }
-    } else if (arg == "-o" && has_value) {
-      output = argv[++i];
-    } else if (arg == "--settings" && has_value) {
-      settings_text = argv[++i];
-    } else if (arg == "--embed-scene") {
-      embed_scene = true;
-    } else if (!arg.empty() && arg[0] != '-' && scene_path.empty()) {
-      scene_path = arg;
-    } else {
-      fmt::print(stderr, "bitstep record: unknown or incomplete option '{}'\n", arg);
-      return exit_code::usage;
-    }
-  }
-  if (scene_path.empty() || steps < 0 || output.empty()) {
-    fmt::print(stderr,
-               "bitstep record: usage: bitstep record SCENE [--inputs FILE] [--settings JSON] [--embed-scene] "
-               "[--threads N] [--trace FILE [--trace-every K] [--trace-format csv|jsonl]] --steps N -o REPLAY\n");
-    return exit_code::usage;
-  }
+  CLI::App app("run a scene with inputs and write a replay with its hash chain", "bitstep record");
+  app.add_option("SCENE", scene_path, "a bitstep-scene JSON file")->required();
+  app.add_option("--inputs", inputs_path, "the inputs: a replay's, or an inputs file")->type_name("FILE");
+  app.add_option("--settings", settings_text, "scene settings the replay keeps (else those of --inputs' replay)")
+      ->type_name("JSON");
+  app.add_flag("--embed-scene", embed_scene, "put the scene itself in the replay");
+  cli::add_threads(app, threads, 1, "N workers step the world (the same bits for any N)");
+  cli::add_trace(app, trace_options);
+  cli::add_read(app, "--steps", "an integer 0.." + std::to_string(limits::max_replay_steps),
+                [&steps](const std::string& text) { return parse_steps(text, steps); }, "steps to record")
+      ->type_name("N")
+      ->required();
+  app.add_option("-o", output, "the replay to write")->type_name("REPLAY")->required();
+  if (const std::optional<int> code = cli::parse(app, "record", argc, argv)) return *code;
   if (const std::string error = trace_options.check(); !error.empty()) {
     fmt::print(stderr, "bitstep record: {}\n", error);
     return exit_code::usage;
@@ -188,32 +153,22 @@ int verify_command(int argc, char** argv) {
   std::string dump_path;
   int threads = 1;
   TraceOptions trace_options;
-  for (int i = 0; i < argc; ++i) {
-    if (bool failed = false; take_trace_option("verify", argc, argv, i, trace_options, failed)) {
-      if (failed) return exit_code::usage;
-      continue;
-    }
-    const std::string arg = argv[i];
-    if (arg == "--threads" && i + 1 < argc) {
-      if (!parse_threads(argv[++i], threads)) {
-        fmt::print(stderr, "bitstep verify: --threads needs an integer 1..{}, got '{}'\n", max_threads, argv[i]);
-        return exit_code::usage;
-      }
-    } else if (arg == "--dump-at" && i + 2 < argc) {
-      if (!parse_steps(argv[++i], dump_step)) {
-        fmt::print(stderr, "bitstep verify: --dump-at needs a step 0..{}, got '{}'\n", limits::max_replay_steps,
-                   argv[i]);
-        return exit_code::usage;
-      }
-      dump_path = argv[++i];
-    } else if (!arg.empty() && arg[0] != '-') {
-      paths.push_back(arg);
-    } else {
-      fmt::print(stderr, "bitstep verify: unknown or incomplete option '{}'\n", arg);
-      return exit_code::usage;
-    }
-  }
-  if (paths.empty() || ((!dump_path.empty() || !trace_options.path.empty()) && paths.size() != 1)) {
+  CLI::App app("re-run replays; exit 0 only if every step's hash matches", "bitstep verify");
+  app.add_option("REPLAY", paths, "replays to verify")->required();
+  app.add_option_function<std::pair<std::string, std::string>>(
+         "--dump-at",
+         [&dump_step, &dump_path](const std::pair<std::string, std::string>& value) {
+           if (!parse_steps(value.first, dump_step)) {
+             cli::refuse("--dump-at", "a step 0.." + std::to_string(limits::max_replay_steps), value.first);
+           }
+           dump_path = value.second;
+         },
+         "write the full state after STEP as exact JSON to FILE (one replay)")
+      ->type_name("STEP FILE");
+  cli::add_trace(app, trace_options);
+  cli::add_threads(app, threads, 1, "N workers step the world (the same bits for any N)");
+  if (const std::optional<int> code = cli::parse(app, "verify", argc, argv)) return *code;
+  if ((!dump_path.empty() || !trace_options.path.empty()) && paths.size() != 1) {
     fmt::print(stderr,
                "bitstep verify: usage: bitstep verify [--threads N] REPLAY... | bitstep verify REPLAY [--dump-at STEP "
                "FILE] [--trace FILE [--trace-every K] [--trace-format csv|jsonl]]\n");
@@ -290,14 +245,15 @@ int verify_command(int argc, char** argv) {
 }
 
 int diff_command(int argc, char** argv) {
-  if (argc != 2) {
-    fmt::print(stderr, "bitstep diff: usage: bitstep diff DUMP_A DUMP_B (from bitstep verify --dump-at)\n");
-    return exit_code::usage;
-  }
+  std::string paths[2];
+  CLI::App app("the first body, contact or field where two dumps (bitstep verify --dump-at) differ", "bitstep diff");
+  app.add_option("DUMP_A", paths[0], "a dump")->required();
+  app.add_option("DUMP_B", paths[1], "another dump")->required();
+  if (const std::optional<int> code = cli::parse(app, "diff", argc, argv)) return *code;
   std::string a, b, reason;
   for (int i = 0; i < 2; ++i) {
-    if (!read_text_file(argv[i], i == 0 ? a : b, reason)) {
-      fmt::print(stderr, "bitstep diff: {}: {}\n", argv[i], reason);
+    if (!read_text_file(paths[i], i == 0 ? a : b, reason)) {
+      fmt::print(stderr, "bitstep diff: {}: {}\n", paths[i], reason);
       return exit_code::bad_input;
     }
   }
@@ -307,7 +263,7 @@ int diff_command(int argc, char** argv) {
     std::string line = d.reason;
     for (int i = 0; i < 2; ++i) {
       const std::string which = i == 0 ? "first dump: " : "second dump: ";
-      if (line.rfind(which, 0) == 0) line = std::string(argv[i]) + ": " + line.substr(which.size());
+      if (line.rfind(which, 0) == 0) line = paths[i] + ": " + line.substr(which.size());
     }
     fmt::print(stderr, "bitstep diff: {}\n", line);
     return exit_code::bad_input;

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "core/world.h"
-#include "tools/file_output.h"
+#include "tools/cli/file_output.h"
 
 namespace bitstep {
 
@@ -52,15 +52,12 @@ class BodyTrace {
 };
 
 // The options --trace FILE, --trace-every K and --trace-format csv|jsonl,
-// the same for run, record and verify.
+// the same for run, record and verify (declared by tools/cli/shared_options.h).
 struct TraceOptions {
   std::string path;  // empty: no trace
   uint64_t every = 1;
   std::string format;  // "csv", "jsonl", or empty: from the extension
 
-  // When argv[i] is one of the three (with its value): reads it, advances i
-  // past the value and returns true; a bad value sets `error`.
-  bool parse(int argc, char** argv, int& i, std::string& error);
   // After the options: an error when a trace is asked for in no format.
   std::string check() const;
   // The trace of a run whose last step is `last_step`, opened, or an error

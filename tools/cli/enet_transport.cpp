@@ -1,4 +1,4 @@
-#include "tools/enet_transport.h"
+#include "tools/cli/enet_transport.h"
 
 #include <enet/enet.h>
 

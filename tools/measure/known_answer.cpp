@@ -1,4 +1,4 @@
-#include "tools/known_answer.h"
+#include "tools/measure/known_answer.h"
 
 #include "fixed/decimal.h"
 #include "fixed/mat33.h"

@@ -1,4 +1,4 @@
-// tools/body_trace: the rows `bitstep run --trace` writes, read back.
+// tools/cli/body_trace: the rows `bitstep run --trace` writes, read back.
 #include <catch2/catch.hpp>
 
 #include <filesystem>
@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "fixed/decimal.h"
-#include "tools/body_trace.h"
+#include "tools/cli/body_trace.h"
 
 namespace bitstep {
 

@@ -1,4 +1,4 @@
-#include "tools/body_trace.h"
+#include "tools/cli/body_trace.h"
 
 #include <fmt/core.h>
 
@@ -9,7 +9,7 @@
 #include <limits>
 
 #include "fixed/decimal.h"
-#include "tools/exit_codes.h"
+#include "tools/cli/exit_codes.h"
 
 namespace bitstep {
 
@@ -92,27 +92,6 @@ void BodyTrace::write_row(const World& world, uint32_t slot) {
 }
 
 bool BodyTrace::finish(std::string& reason) { return file_.commit(reason); }
-
-bool TraceOptions::parse(int argc, char** argv, int& i, std::string& error) {
-  const std::string arg = argv[i];
-  if (i + 1 >= argc || (arg != "--trace" && arg != "--trace-every" && arg != "--trace-format")) return false;
-  const std::string value = argv[++i];
-  if (arg == "--trace") {
-    path = value;
-  } else if (arg == "--trace-every") {
-    char* end = nullptr;
-    const long long n = std::strtoll(value.c_str(), &end, 10);
-    if (end == value.c_str() || *end != '\0' || n <= 0) {
-      error = fmt::format("--trace-every needs a positive integer, got '{}'", value);
-    } else {
-      every = static_cast<uint64_t>(n);
-    }
-  } else {
-    format = value;
-    if (format != "csv" && format != "jsonl") error = fmt::format("--trace-format needs csv or jsonl, got '{}'", value);
-  }
-  return true;
-}
 
 std::string TraceOptions::check() const {
   if (path.empty() || trace_format(format, path)) return {};

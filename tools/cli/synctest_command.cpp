@@ -1,26 +1,18 @@
-#include "tools/synctest_command.h"
+#include "tools/cli/synctest_command.h"
 
 #include <fmt/core.h>
 
-#include <cstdlib>
 #include <string>
 #include <variant>
 
 #include "replay/json_tree.h"
 #include "replay/sync_test.h"
-#include "tools/exit_codes.h"
+#include "tools/cli/options.h"
+#include "tools/cli/exit_codes.h"
 
 namespace bitstep {
 
 namespace {
-
-bool parse_count(const char* text, long long lo, long long hi, int64_t& out) {
-  char* end = nullptr;
-  const long long value = std::strtoll(text, &end, 10);
-  if (end == text || *end != '\0' || value < lo || value > hi) return false;
-  out = value;
-  return true;
-}
 
 // Whether the file is a replay (its "format"), as far as it can be read:
 // an unreadable file is taken for a scene, whose loader names the problem.
@@ -37,30 +29,12 @@ bool is_replay(const std::string& path) {
 int synctest_command(int argc, char** argv) {
   std::string path;
   int64_t frames = 8, steps = -1;
-  for (int i = 0; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const bool has_value = i + 1 < argc;
-    if (arg == "--frames" && has_value) {
-      if (!parse_count(argv[++i], 1, 64, frames)) {
-        fmt::print(stderr, "bitstep synctest: --frames needs an integer 1..64, got '{}'\n", argv[i]);
-        return exit_code::usage;
-      }
-    } else if (arg == "--steps" && has_value) {
-      if (!parse_count(argv[++i], 1, 1000000, steps)) {
-        fmt::print(stderr, "bitstep synctest: --steps needs an integer 1..1000000, got '{}'\n", argv[i]);
-        return exit_code::usage;
-      }
-    } else if (!arg.empty() && arg[0] != '-' && path.empty()) {
-      path = arg;
-    } else {
-      fmt::print(stderr, "bitstep synctest: unknown or incomplete option '{}'\n", arg);
-      return exit_code::usage;
-    }
-  }
-  if (path.empty()) {
-    fmt::print(stderr, "bitstep synctest: usage: bitstep synctest SCENE|REPLAY [--frames K] [--steps N]\n");
-    return exit_code::usage;
-  }
+  CLI::App app("after every tick roll back K ticks and simulate them again: every hash must be the same",
+               "bitstep synctest");
+  app.add_option("SCENE|REPLAY", path, "a scene, or a replay (its inputs and chain)")->required();
+  cli::add_integer(app, "--frames", 1, 64, frames, "ticks rolled back (default 8)")->type_name("K");
+  cli::add_integer(app, "--steps", 1, 1000000, steps, "ticks of a scene (default 600)")->type_name("N");
+  if (const std::optional<int> code = cli::parse(app, "synctest", argc, argv)) return *code;
   Scene scene;
   std::vector<Input> inputs;
   std::vector<uint64_t> golden;

@@ -1,4 +1,4 @@
-#include "tools/thread_option.h"
+#include "tools/cli/thread_option.h"
 
 #include <cstdlib>
 

@@ -1,6 +1,6 @@
-// The bitstep command line's failures: each exits with its code (tools/
-// exit_codes.h) and one line on stderr, and leaves no output file, whole
-// or partial, behind. The tests run the built binary.
+// The bitstep command line's failures: each exits with its code
+// (tools/cli/exit_codes.h) and one line on stderr, and leaves no output
+// file, whole or partial, behind. The tests run the built binary.
 #include <catch2/catch.hpp>
 #include <sys/wait.h>
 
@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "tests/tools/cli_support.h"
-#include "tools/exit_codes.h"
+#include "tests/tools/cli/cli_support.h"
+#include "tools/cli/exit_codes.h"
 
 namespace {
 
@@ -155,6 +155,37 @@ TEST_CASE("bitstep: usage errors exit 2, and help lists the exit codes", "[tools
   CHECK(r.status == 0);
   CHECK(r.out.find("  4  an input file refused") != std::string::npos);
   CHECK(r.out.find("  5  an output file could not be written") != std::string::npos);
+}
+
+TEST_CASE("bitstep: every command's usage error is one line and exit 2, its --help exit 0", "[tools][cli]") {
+  const TempDir dir("options");
+  for (const char* command : {"run", "record", "verify", "diff", "synctest", "peer", "selftest", "bench",
+                              "bench fixed", "bench queries", "bench session", "bench sleep", "version"}) {
+    INFO(command);
+    Run r = run_bitstep(dir, std::string(command) + " --no-such-option");
+    CHECK(r.status == bitstep::exit_code::usage);
+    CHECK(lines_of(r.err).size() == 1);
+    CHECK(r.err.find("--no-such-option") != std::string::npos);
+    r = run_bitstep(dir, std::string(command) + " --help");
+    CHECK(r.status == 0);
+    CHECK(r.out.find("bitstep " + std::string(command)) != std::string::npos);
+    CHECK(r.err.empty());
+  }
+  // A missing value, a bad number, a missing argument: one line naming what is wrong.
+  Run r = run_bitstep(dir, "run scene.json --steps");
+  CHECK(r.status == bitstep::exit_code::usage);
+  CHECK(lines_of(r.err).size() == 1);
+  CHECK(r.err.find("--steps") != std::string::npos);
+  r = run_bitstep(dir, "run scene.json --steps 1x");
+  CHECK(r.status == bitstep::exit_code::usage);
+  CHECK(r.err == "bitstep run: --steps needs a non-negative integer, got '1x'\n");
+  r = run_bitstep(dir, "verify --threads 65 a.replay.json");
+  CHECK(r.status == bitstep::exit_code::usage);
+  CHECK(r.err == "bitstep verify: --threads needs an integer 1..64, got '65'\n");
+  r = run_bitstep(dir, "run");
+  CHECK(r.status == bitstep::exit_code::usage);
+  CHECK(lines_of(r.err).size() == 1);
+  CHECK(r.err.find("SCENE") != std::string::npos);
 }
 
 namespace {

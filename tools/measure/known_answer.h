@@ -1,7 +1,7 @@
 // The fixed-point known-answer test: >= 10^6 mixed operations on operands from
 // a seeded integer generator, folded into one 64-bit hash. Every build of
 // bitstep (any compiler, optimisation level, 128-bit backend, CPU or byte
-// order) must print the same value; tools/crosscheck.sh checks it.
+// order) must print the same value; tools/crosscheck/crosscheck.sh checks it.
 #pragma once
 
 #include <cstdint>

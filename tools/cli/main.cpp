@@ -1,7 +1,9 @@
 // The bitstep command line.
 #include <fmt/core.h>
 
-#include <cstring>
+#include <cstdint>
+#include <optional>
+#include <string>
 #include <string_view>
 
 #include "fixed/checked.h"
@@ -11,18 +13,19 @@
 #include "tools/bench/queries.h"
 #include "tools/bench/session.h"
 #include "tools/bench/sleep.h"
-#include "tools/exit_codes.h"
-#include "tools/fixed_accuracy.h"
-#include "tools/known_answer.h"
-#include "tools/replay_command.h"
-#include "tools/peer_command.h"
-#include "tools/run_command.h"
-#include "tools/synctest_command.h"
+#include "tools/cli/options.h"
+#include "tools/cli/exit_codes.h"
+#include "tools/measure/fixed_accuracy.h"
+#include "tools/measure/known_answer.h"
+#include "tools/cli/replay_command.h"
+#include "tools/cli/peer_command.h"
+#include "tools/cli/run_command.h"
+#include "tools/cli/synctest_command.h"
 
 namespace {
 
 constexpr const char* usage =
-    "usage: bitstep <command> [options]\n"
+    "usage: bitstep <command> [options]   (bitstep <command> --help: that command's options)\n"
     "\n"
     "commands:\n"
     "  run SCENE [--steps N] [--seconds S] [--hash-every K] [--json] [--settings JSON]\n"
@@ -92,19 +95,18 @@ constexpr const char* usage =
 
 int selftest(int argc, char** argv) {
   uint64_t samples = 1000000;
-  for (int i = 0; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--samples") == 0 && i + 1 < argc) {
-      char* end = nullptr;
-      samples = std::strtoull(argv[++i], &end, 10);
-      if (*end != '\0' || samples == 0) {
-        fmt::print(stderr, "bitstep selftest: --samples needs a positive integer, got '{}'\n", argv[i]);
-        return bitstep::exit_code::usage;
-      }
-    } else {
-      fmt::print(stderr, "bitstep selftest: unknown option '{}'\n", argv[i]);
-      return bitstep::exit_code::usage;
-    }
-  }
+  CLI::App app("the fixed-point layer's known-answer hash and accuracy table", "bitstep selftest");
+  bitstep::cli::add_read(
+      app, "--samples", "a positive integer",
+      [&samples](const std::string& text) {
+        long long n = 0;
+        if (!bitstep::cli::read_integer(text, 1, INT64_MAX, n)) return false;
+        samples = static_cast<uint64_t>(n);
+        return true;
+      },
+      "inputs per function (default 1000000)")
+      ->type_name("N");
+  if (const std::optional<int> code = bitstep::cli::parse(app, "selftest", argc, argv)) return *code;
   const bitstep::KnownAnswer answer = bitstep::run_known_answer();
   const bool hash_ok = answer.hash == bitstep::expected_known_answer_hash;
   fmt::print("known-answer hash: {:016x} over {} operations ({}; expected {:016x})\n\n", answer.hash,
@@ -122,6 +124,59 @@ int selftest(int argc, char** argv) {
   return hash_ok && within ? bitstep::exit_code::success : bitstep::exit_code::check_failed;
 }
 
+int version(int argc, char** argv) {
+  CLI::App app("engine version and build options", "bitstep version");
+  if (const std::optional<int> code = bitstep::cli::parse(app, "version", argc, argv)) return *code;
+  fmt::print("bitstep {} (Q32.32, {} 128-bit arithmetic{})\n", BITSTEP_VERSION, bitstep::wide_backend_name,
+             bitstep::checked_build ? ", checked" : "");
+  return bitstep::exit_code::success;
+}
+
+int record(int argc, char** argv) { return bitstep::record_command(argc, argv, BITSTEP_VERSION); }
+
+int help(int, char**) {
+  fmt::print("{}", usage);
+  return bitstep::exit_code::success;
+}
+
+// A command's name and what runs it on the words after the name. Each
+// command declares its own options (tools/cli/options.h); this table only
+// picks the command.
+struct Command {
+  std::string_view name;
+  int (*run)(int argc, char** argv);
+};
+
+// `bitstep bench NAME` runs one of these; `bitstep bench` with options, the suite.
+constexpr Command bench_commands[] = {
+    {"fixed", bitstep::run_bench_fixed},
+    {"queries", bitstep::run_bench_queries},
+    {"session", bitstep::run_bench_session},
+    {"sleep", bitstep::run_bench_sleep},
+};
+
+int bench(int argc, char** argv) {
+  for (const Command& c : bench_commands) {
+    if (argc >= 1 && c.name == argv[0]) return c.run(argc - 1, argv + 1);
+  }
+  return bitstep::run_bench_suite(argc, argv);
+}
+
+constexpr Command commands[] = {
+    {"run", bitstep::run_scene_command},
+    {"record", record},
+    {"verify", bitstep::verify_command},
+    {"diff", bitstep::diff_command},
+    {"synctest", bitstep::synctest_command},
+    {"peer", bitstep::peer_command},
+    {"selftest", selftest},
+    {"bench", bench},
+    {"version", version},
+    {"help", help},
+    {"--help", help},
+    {"-h", help},
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -129,36 +184,9 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "{}", usage);
     return bitstep::exit_code::usage;
   }
-  const std::string_view command = argv[1];
-  if (command == "run") return bitstep::run_scene_command(argc - 2, argv + 2);
-  if (command == "record") return bitstep::record_command(argc - 2, argv + 2, BITSTEP_VERSION);
-  if (command == "verify") return bitstep::verify_command(argc - 2, argv + 2);
-  if (command == "diff") return bitstep::diff_command(argc - 2, argv + 2);
-  if (command == "synctest") return bitstep::synctest_command(argc - 2, argv + 2);
-  if (command == "peer") return bitstep::peer_command(argc - 2, argv + 2);
-  if (command == "selftest") return selftest(argc - 2, argv + 2);
-  if (command == "bench" && argc >= 3 && std::string_view(argv[2]) == "queries") {
-    return bitstep::run_bench_queries(argc - 3, argv + 3);
+  for (const Command& c : commands) {
+    if (c.name == argv[1]) return c.run(argc - 2, argv + 2);
   }
-  if (command == "bench" && argc >= 3 && std::string_view(argv[2]) == "session") {
-    return bitstep::run_bench_session(argc - 3, argv + 3);
-  }
-  if (command == "bench" && argc >= 3 && std::string_view(argv[2]) == "fixed") {
-    return bitstep::run_bench_fixed(argc - 3, argv + 3);
-  }
-  if (command == "bench" && argc >= 3 && std::string_view(argv[2]) == "sleep") {
-    return bitstep::run_bench_sleep(argc - 3, argv + 3);
-  }
-  if (command == "bench") return bitstep::run_bench_suite(argc - 2, argv + 2);
-  if (command == "version") {
-    fmt::print("bitstep {} (Q32.32, {} 128-bit arithmetic{})\n", BITSTEP_VERSION, bitstep::wide_backend_name,
-               bitstep::checked_build ? ", checked" : "");
-    return 0;
-  }
-  if (command == "help" || command == "--help" || command == "-h") {
-    fmt::print("{}", usage);
-    return 0;
-  }
-  fmt::print(stderr, "bitstep: unknown command '{}'\n{}", command, usage);
+  fmt::print(stderr, "bitstep: unknown command '{}'\n{}", argv[1], usage);
   return bitstep::exit_code::usage;
 }

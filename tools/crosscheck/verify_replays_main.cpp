@@ -1,4 +1,4 @@
-// Standalone golden-replay verifier for tools/crosscheck.sh: built by each
+// Standalone golden-replay verifier for tools/crosscheck/crosscheck.sh: built by each
 // compiler and cross compiler from fixed/, core/ and replay/ alone (xxhash
 // inlined, nlohmann header-only, no fmt), it prints one line per replay,
 // "<file> match <final hash> <final snapshot checksum>" or "<file> DIFFERS

@@ -3,7 +3,7 @@
 
 #include <atomic>
 
-#include "tools/thread_option.h"
+#include "tools/cli/thread_option.h"
 
 using namespace bitstep;
 

@@ -1,10 +1,11 @@
-#include "tools/peer_command.h"
+#include "tools/cli/peer_command.h"
 
 #include <fmt/core.h>
 
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
+#include <cstdint>
+#include <optional>
 #include <map>
 #include <string>
 #include <thread>
@@ -14,8 +15,9 @@
 #include "replay/replay.h"
 #include "replay/session_codec.h"
 #include "replay/session_roster.h"
-#include "tools/enet_transport.h"
-#include "tools/exit_codes.h"
+#include "tools/cli/enet_transport.h"
+#include "tools/cli/options.h"
+#include "tools/cli/exit_codes.h"
 
 namespace bitstep {
 
@@ -39,112 +41,8 @@ struct Options {
   int64_t corrupt_tick = 0;  // ... before this tick
 };
 
-bool parse_int(const char* text, long long lo, long long hi, long long& out) {
-  char* end = nullptr;
-  const long long value = std::strtoll(text, &end, 10);
-  if (end == text || *end != '\0' || value < lo || value > hi) return false;
-  out = value;
-  return true;
-}
-
-// Parses argv into `o`; an empty string, or the one-line error.
-std::string parse_options(int argc, char** argv, Options& o) {
-  long long v = 0;
-  for (int i = 0; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const bool has_value = i + 1 < argc;
-    const auto integer = [&](long long lo, long long hi) {
-      if (!has_value || !parse_int(argv[++i], lo, hi, v)) {
-        throw std::string(arg + " needs an integer " + std::to_string(lo) + ".." + std::to_string(hi));
-      }
-      return v;
-    };
-    try {
-      if (arg == "--scene" && has_value) {
-        o.scene_path = argv[++i];
-      } else if (arg == "--inputs" && has_value) {
-        o.inputs.push_back(argv[++i]);
-      } else if (arg == "--connect" && has_value) {
-        o.connect.push_back(argv[++i]);
-      } else if (arg == "--player") {
-        o.player = static_cast<int>(integer(0, 15));
-      } else if (arg == "--players") {
-        o.players = static_cast<int>(integer(1, 16));
-      } else if (arg == "--port") {
-        o.port = static_cast<int>(integer(1, 65535));
-      } else if (arg == "--mode" && has_value) {
-        const std::string mode = argv[++i];
-        if (mode != "lockstep" && mode != "rollback") return "--mode is lockstep or rollback, got '" + mode + "'";
-        o.session.mode = mode == "lockstep" ? SessionMode::lockstep : SessionMode::rollback;
-      } else if (arg == "--delay") {
-        o.session.input_delay = static_cast<int>(integer(0, 32));
-      } else if (arg == "--max-prediction") {
-        o.session.max_prediction = static_cast<int>(integer(1, 64));
-      } else if (arg == "--checksum-every") {
-        o.session.checksum_interval = static_cast<int>(integer(1, 3600));
-      } else if (arg == "--ticks") {
-        o.ticks = integer(1, 1000000);
-      } else if (arg == "--hz") {
-        o.hz = static_cast<double>(integer(0, 1000));
-      } else if (arg == "--timeout") {
-        o.timeout_s = static_cast<double>(integer(1, 3600));
-      } else if (arg == "--loss") {
-        o.faults.loss_percent = static_cast<int>(integer(0, 100));
-      } else if (arg == "--duplicate") {
-        o.faults.duplicate_percent = static_cast<int>(integer(0, 100));
-      } else if (arg == "--jitter" && has_value) {
-        const std::string range = argv[++i];
-        const size_t dash = range.find('-');
-        long long lo = 0, hi = 0;
-        if (dash == std::string::npos || !parse_int(range.substr(0, dash).c_str(), 0, 10000, lo) ||
-            !parse_int(range.substr(dash + 1).c_str(), lo, 10000, hi)) {
-          return "--jitter needs MIN-MAX milliseconds (0..10000), got '" + range + "'";
-        }
-        o.faults.min_delay_ms = static_cast<int>(lo);
-        o.faults.max_delay_ms = static_cast<int>(hi);
-      } else if (arg == "--seed") {
-        o.faults.seed = static_cast<uint64_t>(integer(0, INT64_MAX));
-      } else if (arg == "--corrupt" && has_value) {
-        const std::string spec = argv[++i];  // BODY@TICK
-        const size_t at = spec.rfind('@');
-        long long tick = 0;
-        if (at == std::string::npos || at == 0 || !parse_int(spec.substr(at + 1).c_str(), 1, 1000000, tick)) {
-          return "--corrupt needs BODY@TICK, got '" + spec + "'";
-        }
-        o.corrupt_body = spec.substr(0, at);
-        o.corrupt_tick = tick;
-      } else if (arg == "--join") {
-        o.session.joining = true;
-      } else if (arg == "--leave-after") {
-        o.session.leave_after = static_cast<int>(integer(0, 100000));
-      } else if (arg == "--watch") {
-        o.session.joining = o.session.watching = true;
-      } else if ((arg == "--absent" || arg == "--present" || arg == "--watching") && has_value) {
-        const std::string spec = argv[++i];  // PLAYER@TICK
-        const size_t at = spec.find('@');
-        long long player = 0, tick = 0;
-        if (at == std::string::npos || !parse_int(spec.substr(0, at).c_str(), 1, 15, player) ||
-            !parse_int(spec.substr(at + 1).c_str(), 1, 1000000, tick)) {
-          return arg + " needs PLAYER@TICK (player 1..15, tick 1..1000000), got '" + spec + "'";
-        }
-        const Presence presence = arg == "--present"    ? Presence::present
-                                  : arg == "--watching" ? Presence::watching
-                                                        : Presence::absent;
-        o.roster.push_back({tick, tick, static_cast<int>(player), presence});
-      } else if (arg == "--chain-from") {
-        o.chain_from = integer(0, 1000000);
-      } else if (arg == "--json") {
-        o.json = true;
-      } else if (arg == "--reference") {
-        o.reference = true;
-      } else {
-        return "unknown or incomplete option '" + arg + "'";
-      }
-    } catch (const std::string& error) {
-      return error;
-    }
-  }
-  if (o.scene_path.empty()) return "--scene is required";
+// What the options say together: an empty string, or the one-line error.
+std::string check_options(Options& o) {
   if (o.player >= o.players) return "--player must be below --players";
   if (o.reference && o.inputs.size() > static_cast<size_t>(o.players)) return "--reference takes at most one --inputs per player";
   if (!o.reference && o.inputs.size() > 1) return "--inputs: one script, the local player's";
@@ -163,6 +61,111 @@ std::string parse_options(int argc, char** argv, Options& o) {
     if (const std::string error = config_error(o.session); !error.empty()) return error;
   }
   return {};
+}
+
+// PLAYER@TICK of --absent, --present and --watching, in the order given.
+void add_roster_option(CLI::App& app, const std::string& name, Presence presence, Options& o,
+                       const std::string& description) {
+  app.add_option_function<std::string>(
+         name,
+         [name, presence, &o](const std::string& spec) {
+           const size_t at = spec.find('@');
+           long long player = 0, tick = 0;
+           if (at == std::string::npos || !cli::read_integer(spec.substr(0, at), 1, 15, player) ||
+               !cli::read_integer(spec.substr(at + 1), 1, 1000000, tick)) {
+             cli::refuse(name, "PLAYER@TICK (player 1..15, tick 1..1000000)", spec);
+           }
+           o.roster.push_back({tick, tick, static_cast<int>(player), presence});
+         },
+         description)
+      ->type_name("P@TICK")
+      ->trigger_on_parse();  // each occurrence in turn: the roster keeps the command line's order
+}
+
+// Parses argv into `o`: nullopt, or the exit status (--help, a usage error).
+std::optional<int> parse_options(int argc, char** argv, Options& o) {
+  CLI::App app("play one player of a session over ENet on 127.0.0.1", "bitstep peer");
+  app.add_option("--scene", o.scene_path, "the scene")->type_name("SCENE")->required();
+  app.add_option("--inputs", o.inputs, "the local player's script (--reference: every player's, in order)")
+      ->type_name("FILE")
+      ->allow_extra_args(false);
+  app.add_option("--connect", o.connect, "a peer's address, 127.0.0.1:PORT")
+      ->type_name("ADDRESS")
+      ->allow_extra_args(false);
+  cli::add_integer(app, "--player", 0, 15, o.player, "the local player (default 0)")->type_name("K");
+  cli::add_integer(app, "--players", 1, 16, o.players, "players in the session (default 2)")->type_name("N");
+  cli::add_integer(app, "--port", 1, 65535, o.port, "the local port")->type_name("P");
+  cli::add_read(
+      app, "--mode", "lockstep or rollback",
+      [&o](const std::string& mode) {
+        o.session.mode = mode == "lockstep" ? SessionMode::lockstep : SessionMode::rollback;
+        return mode == "lockstep" || mode == "rollback";
+      },
+      "lockstep or rollback")
+      ->type_name("MODE");
+  cli::add_integer(app, "--delay", 0, 32, o.session.input_delay, "input delay in ticks")->type_name("D");
+  cli::add_integer(app, "--max-prediction", 1, 64, o.session.max_prediction, "ticks a peer may run ahead")
+      ->type_name("K");
+  cli::add_integer(app, "--checksum-every", 1, 3600, o.session.checksum_interval, "ticks between checksums")
+      ->type_name("K");
+  cli::add_integer(app, "--ticks", 1, 1000000, o.ticks, "ticks to play (default 600)")->type_name("N");
+  cli::add_integer(app, "--hz", 0, 1000, o.hz, "ticks per second (default 60; 0: as fast as it can)")
+      ->type_name("F");
+  cli::add_integer(app, "--timeout", 1, 3600, o.timeout_s, "seconds without progress before giving up (default 60)")
+      ->type_name("S");
+  cli::add_integer(app, "--loss", 0, 100, o.faults.loss_percent, "percent of packets dropped")->type_name("PCT");
+  cli::add_integer(app, "--duplicate", 0, 100, o.faults.duplicate_percent, "percent of packets sent twice")
+      ->type_name("PCT");
+  cli::add_read(
+      app, "--jitter", "MIN-MAX milliseconds (0..10000)",
+      [&o](const std::string& range) {
+        const size_t dash = range.find('-');
+        long long lo = 0, hi = 0;
+        if (dash == std::string::npos || !cli::read_integer(range.substr(0, dash), 0, 10000, lo) ||
+            !cli::read_integer(range.substr(dash + 1), lo, 10000, hi)) {
+          return false;
+        }
+        o.faults.min_delay_ms = static_cast<int>(lo);
+        o.faults.max_delay_ms = static_cast<int>(hi);
+        return true;
+      },
+      "each packet delayed MIN to MAX ms")
+      ->type_name("MIN-MAX");
+  cli::add_integer(app, "--seed", 0, INT64_MAX, o.faults.seed, "the faults' random seed")->type_name("S");
+  cli::add_read(
+      app, "--corrupt", "BODY@TICK",
+      [&o](const std::string& spec) {
+        const size_t at = spec.rfind('@');
+        long long tick = 0;
+        if (at == std::string::npos || at == 0 || !cli::read_integer(spec.substr(at + 1), 1, 1000000, tick)) {
+          return false;
+        }
+        o.corrupt_body = spec.substr(0, at);
+        o.corrupt_tick = tick;
+        return true;
+      },
+      "nudge a body's velocity before a tick (a desync to be found)")
+      ->type_name("BODY@TICK");
+  app.add_flag("--join", o.session.joining, "play the match in progress in --player's slot");
+  app.add_flag_callback(
+      "--watch", [&o] { o.session.joining = o.session.watching = true; },
+      "watch the match in progress in --player's slot");
+  cli::add_integer(app, "--leave-after", 0, 100000, o.session.leave_after,
+                   "the host marks a player silent this many frames absent")
+      ->type_name("FRAMES");
+  add_roster_option(app, "--absent", Presence::absent, o, "--reference: a player absent from TICK");
+  add_roster_option(app, "--present", Presence::present, o, "--reference: a player present from TICK");
+  add_roster_option(app, "--watching", Presence::watching, o, "--reference: a player watching from TICK");
+  cli::add_integer(app, "--chain-from", 0, 1000000, o.chain_from, "--reference: the chain after TICK")
+      ->type_name("TICK");
+  app.add_flag("--json", o.json, "the report as JSON");
+  app.add_flag("--reference", o.reference, "run every player's --inputs in one process (the chain peers must reach)");
+  if (const std::optional<int> code = cli::parse(app, "peer", argc, argv)) return code;
+  if (const std::string error = check_options(o); !error.empty()) {
+    fmt::print(stderr, "bitstep peer: {}\n", error);
+    return exit_code::usage;
+  }
+  return std::nullopt;
 }
 
 // A player's script: for each tick, its inputs (as a JSON array text).
@@ -311,10 +314,7 @@ int run_reference(const Options& o, const Scene& scene, Simulation sim) {
 
 int peer_command(int argc, char** argv) {
   Options o;
-  if (const std::string error = parse_options(argc, argv, o); !error.empty()) {
-    fmt::print(stderr, "bitstep peer: {}\n", error);
-    return 2;
-  }
+  if (const std::optional<int> code = parse_options(argc, argv, o)) return *code;
   std::string error;
   auto sim = Simulation::from_file(o.scene_path, error);
   if (!sim) {
