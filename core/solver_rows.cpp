@@ -25,8 +25,8 @@ bool none_pull(const Row& m) {
 // Two rows along an orthonormal pair (friction's tangents, rolling
 // resistance's axes) solved as one: the impulse j that stops the relative
 // rate along both is kept while |j| <= hold j_n, else scaled onto the disc
-// |j| = slide j_n. |j| <= |j0| + |j1|: inside by that bound needs no square
-// root.
+// |j| = slide j_n. Inside needs no square root: |j| <= |j0| + |j1| bounds
+// it, and length_exceeds compares squares.
 // Returns the disc's radius hold j_n.
 template <class Part>
 Fixed solve_disc(SolverBody& a, SolverBody& b, const Part* rows, Fixed (&impulse)[2], Fixed hold, Fixed slide,
@@ -35,8 +35,9 @@ Fixed solve_disc(SolverBody& a, SolverBody& b, const Part* rows, Fixed (&impulse
   Fixed new0 = old0 - mul_in_range(rows[0].mass, relative_velocity(a, b, rows[0]));
   Fixed new1 = old1 - mul_in_range(rows[1].mass, relative_velocity(a, b, rows[1]));
   const Fixed limit = mul_in_range(hold, normal);
-  const Fixed magnitude = abs(new0) + abs(new1) <= limit ? Fixed{} : length(Vec3{new0, new1, Fixed{}});
-  if (magnitude > limit) {
+  const Vec3 both{new0, new1, Fixed{}};
+  if (abs(new0) + abs(new1) > limit && length_exceeds(both, limit)) {
+    const Fixed magnitude = length(both);
     const Fixed onto = slide * normal;
     new0 = mul_div(new0, onto, magnitude);
     new1 = mul_div(new1, onto, magnitude);

@@ -47,6 +47,10 @@ constexpr Vec3 min(Vec3 a, Vec3 b) { return {min(a.x, b.x), min(a.y, b.y), min(a
 constexpr Vec3 max(Vec3 a, Vec3 b) { return {max(a.x, b.x), max(a.y, b.y), max(a.z, b.z)}; }
 
 Fixed length(Vec3 v);
+// Whether length(v) > limit, the same answer without the square root:
+// length rounds sqrt(S) to nearest (S the sum of the raw squares), and for
+// L >= 0, round(sqrt(S)) > L exactly when S > L^2 + L.
+bool length_exceeds(Vec3 v, Fixed limit);
 // v / |v|; the zero vector for the zero vector.
 Vec3 normalize(Vec3 v);
 // v / |v|; `fallback` for the zero vector.

@@ -246,6 +246,30 @@ TEST_CASE("length is correctly rounded: 3-4-5 exact, 2^30-scale and tiny vectors
   }
 }
 
+TEST_CASE("length_exceeds answers length(v) > limit exactly, at the rounding boundary and the range's ends",
+          "[geometry]") {
+  // Around each vector's own length, where the rounding decides: r - 1, r, r + 1.
+  SplitMix64 rng{0x1E8};
+  for (int i = 0; i < 100000; ++i) {
+    const Vec3 v = random_vec(rng, int64_t{1} << (i % 63));
+    const int64_t r = length(v).raw();
+    for (const int64_t limit : {r - 1, r, r + 1}) {
+      REQUIRE_QUIETLY(length_exceeds(v, raw(limit)) == (length(v) > raw(limit)), show(v) << " vs raw " << limit);
+    }
+  }
+  // Raw (1, 1, 0) rounds to 1: not beyond 1, beyond 0; (3, 4, 0) is exactly 5.
+  CHECK_FALSE(length_exceeds(Vec3{raw(1), raw(1), Fixed{}}, raw(1)));
+  CHECK(length_exceeds(Vec3{raw(1), raw(1), Fixed{}}, Fixed{}));
+  CHECK_FALSE(length_exceeds(vec(3, 4, 0), int_(5)));
+  CHECK(length_exceeds(vec(3, 4, 0), int_(5) - raw(1)));
+  CHECK_FALSE(length_exceeds(Vec3{}, Fixed{}));
+  CHECK(length_exceeds(Vec3{}, -raw(1)));  // a length is never negative
+  // The largest components: length saturates at max(), which nothing exceeds.
+  const Vec3 huge{Fixed::max(), Fixed::max(), Fixed::max()};
+  CHECK_FALSE(length_exceeds(huge, Fixed::max()));
+  CHECK(length_exceeds(huge, Fixed::max() - raw(1)));
+}
+
 TEST_CASE("normalize: each component within 1 ulp of v/|v|, unit length within 2 ulp, zero stays zero", "[geometry]") {
   CHECK(normalize(vec(0, 0, 0)) == Vec3{});
   CHECK(normalize(vec(3, 0, 0)) == vec(1, 0, 0));
