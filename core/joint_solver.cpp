@@ -212,12 +212,22 @@ void solve_tree(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, Jo
   }
 }
 
+// Whether a swing or limit row that binds in a pass joins the tree for the
+// rest of the step (Promote::binding), or stays a one-sided row of its own.
+// The velocity passes promote: a blow this step drives a limb into its
+// limit, and the tree must hold it against the limb's other joints. The
+// position passes do not: a limit that only the pushes reach is a small
+// correction, which its own row settles, and each row joining costs a new
+// factorisation of its whole tree (several a step in a tumbling ragdoll,
+// more than all of its other joint work).
+enum class Promote : bool { none, binding };
+
 // One pass over the joints on one rate: the rows the tree leaves out one
 // by one, then the tree (or, where the joints close a loop, every row one
 // by one).
 template <class Rate, class TargetsOf, class ImpulsesOf, class TakesPart>
 void solve_pass(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree, Rate rate_of,
-                TargetsOf targets_of, ImpulsesOf impulses_of, TakesPart takes_part) {
+                TargetsOf targets_of, ImpulsesOf impulses_of, TakesPart takes_part, Promote promote) {
   bool promoted = false;
   for (JointRow& row : rows) {
     if (!takes_part(row)) continue;
@@ -227,7 +237,7 @@ void solve_pass(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, Jo
     solve_rows(a, b, rate_of(a), rate_of(b), row, targets_of(row), impulse, tree.exact);
     // A swing or limit that the step's start did not engage and that now
     // binds (a blow this step drove the limb into it) joins the tree.
-    if (!tree.exact || row.released) continue;
+    if (!tree.exact || row.released || promote == Promote::none) continue;
     const bool swing_joins = row.swing_active && !row.swing_in_tree && impulse.hinge[0] != Fixed{};
     const bool limit_joins = row.limit_side != 0 && !row.limit_in_tree && impulse.limit != Fixed{};
     if (!swing_joins && !limit_joins) continue;
@@ -390,14 +400,14 @@ void solve_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, 
     with_joint_type(row.joint->type,
                     [&](auto type) { decltype(type)::solve_friction(a, b, a.velocity, b.velocity, row); });
   }
-  solve_pass(bodies, rows, tree, velocity_of, velocity_targets, velocity_impulses, takes_part);
+  solve_pass(bodies, rows, tree, velocity_of, velocity_targets, velocity_impulses, takes_part, Promote::binding);
 }
 
 void push_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree, int extra_pass) {
   const auto takes_part = [extra_pass](const JointRow& row) {
     return extra_pass < 0 || row.extra_position_passes > extra_pass;
   };
-  solve_pass(bodies, rows, tree, push_of, push_targets, push_impulses, takes_part);
+  solve_pass(bodies, rows, tree, push_of, push_targets, push_impulses, takes_part, Promote::none);
 }
 
 bool joints_to_push(const std::vector<JointRow>& rows) {
