@@ -32,7 +32,7 @@ BodyPair ordered(uint32_t a, uint32_t b) { return a < b ? BodyPair{a, b} : BodyP
 // from its lowest cell and the proxy number fit side by side in 64 bits
 // (any scene of a few kilometres), the sort runs over those packed keys,
 // whose order is the entries' order: the same result, without comparing
-// four fields a time (thrown's 600 entries took 3% of its step).
+// four fields a time (which showed in a small scene's step).
 void sort_entries(std::vector<CellEntry>& entries, std::vector<uint64_t>& keys, size_t proxy_count) {
   if (entries.empty()) return;
   int64_t low[3] = {entries[0].x, entries[0].y, entries[0].z}, high[3] = {low[0], low[1], low[2]};

@@ -10,9 +10,9 @@ namespace bitstep {
 
 namespace {
 
-// The row setup's work per manifold is a tenth of the iterations': shared
-// among two workers, thrown's ~150 settled manifolds took 5% longer below
-// this many a worker.
+// The row setup's work per manifold is a fraction of the iterations': below
+// this many a worker, sharing it among two workers costs more in waking and
+// waiting than it saves.
 constexpr size_t min_parallel_row_setups = 128;
 
 // An orthonormal pair perpendicular to the unit vector n (fixed choice, so

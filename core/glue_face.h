@@ -15,7 +15,7 @@ namespace bitstep {
 // row asks the surfaces apart, the normals agree, three points or more not
 // on a line). Computed at a face's first glue of the step and kept for the
 // passes after it: the same values, so the same bits (a settled pile glues
-// each body ~25 times a step). glue_all's are also taken again the next
+// each body many times a step). glue_all's are also taken again the next
 // step where their inputs stand (shock_solve.cpp, recall_faces).
 struct GlueFace {
   enum class State : uint8_t { unmeasured, usable, never };
@@ -48,9 +48,9 @@ struct GluePoint {
 
 // The step's faces: glue_all's per body slot, glue's per position in the
 // shock order, made at their first glue of the step, so that only the faces
-// glued take room (wall128 glues 8,256 faces a step, one per brick; a face
-// of 184 bytes for each of its 24,512 order positions and 8,257 slots took
-// 6 MB). Workspace: a new step forgets every face by advancing the
+// glued take room (a wall glues about one face a brick a step, far fewer
+// than its order positions and slots, a face for each of which would take
+// megabytes). Workspace: a new step forgets every face by advancing the
 // generation, without touching the slots, and hands out faces, points and
 // middles from the start of the arrays again. What lies past what this step
 // has handed out is last step's, untouched: a step that glues as the last

@@ -52,11 +52,11 @@ bool on_manifolds(SweepKind kind) {
 // share w + 1, so share w + 1 can run a fraction of a sweep behind share w
 // and rarely waits: in a wall or a pyramid, built row by row, only bodies on
 // the rows where shares meet are touched by two. Shares cut across the
-// scene (slabs by position) made the workers hand bodies to each other on
-// every row, and two workers ran slower than one. A pile whose bodies'
-// slots are scattered in space shares most of its bodies; its workers wait
-// more. The shares decide only how fast the sweeps run, never what they
-// compute.
+// scene (slabs by position) would make the workers hand bodies to each
+// other on every row, and two workers would run slower than one. A pile
+// whose bodies' slots are scattered in space shares most of its bodies; its
+// workers wait more. The shares decide only how fast the sweeps run, never
+// what they compute.
 // Fills the shares of `workers` workers and each body's owner; returns
 // the bodies shared by two shares, `moved` the bodies the sweeps move.
 size_t assign_shares(size_t workers, const std::vector<uint8_t>& movable, const std::vector<PointRow>& rows,
@@ -94,8 +94,8 @@ size_t assign_shares(size_t workers, const std::vector<uint8_t>& movable, const 
 
 // Whether the contact order is local enough to share: split in two, at
 // most 1 in 8 of the bodies the sweeps move are touched by both halves (a
-// wall64 shares 46 of 2,080, pyramid20 15 of 210, the thrown pile 45 of 75).
-// Then the shares of all the workers.
+// wall or a pyramid, built row by row, shares few; a small pile whose slots
+// are scattered in space, most). Then the shares of all the workers.
 bool share_out(int workers, const std::vector<uint8_t>& movable, const std::vector<PointRow>& rows,
                const std::vector<ManifoldRow>& manifolds, OrderedSweeps& plan) {
   size_t moved = 0;
@@ -262,8 +262,8 @@ bool run_ordered_sweeps(Executor& executor, const std::vector<SweepStep>& steps,
                         const std::vector<ManifoldRow>& manifolds, const SweepRows* sweep_rows, OrderedSweeps& plan) {
   const int workers = std::min(executor.workers(), max_workers);
   // The plan is a function of its inputs alone: made again only when one
-  // of them changed (a standing wall's every step is the same plan: 0.9 ms
-  // a step of wall64 on one thread while the workers waited).
+  // of them changed (a standing wall's every step is the same plan, and
+  // making it runs on one thread while the workers wait).
   const bool copies = sweep_rows != nullptr;
   plan_inputs(workers, steps, movable, rows, manifolds, copies, plan.key);
   if (plan.key != plan.last_key) {

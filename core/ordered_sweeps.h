@@ -5,8 +5,8 @@
 // that share no movable body commute exactly, so any schedule in which every
 // body sees its updates in the one-thread order computes the same integers:
 // the result does not depend on the number of workers or on timing, and no
-// sweep order changes (a graph-colouring order, Box2D v3's, moved the goldens
-// and collapsed wall128).
+// sweep order changes (a graph-colouring order, Box2D v3's, changes the
+// results, and a tall wall solved in it collapses).
 //
 // The plan numbers, for each movable body, its updates in the one-thread
 // order (a body's "places"); an update waits until its bodies' progress
@@ -66,8 +66,8 @@ struct OrderedSweeps {
   };
   // Per worker, its updates in one-thread order, sweep after sweep, each
   // worker's in one array it reads straight through (an update's record
-  // looked up through an index into shared arrays cost a worker running
-  // every update 40% over the one-thread loops); list_end[step * workers +
+  // looked up through an index into shared arrays made a worker running
+  // every update slower than the one-thread loops); list_end[step * workers +
   // w]: where worker w's updates of the step end.
   std::vector<Update> updates_of[max_workers];
   std::vector<uint32_t> list_end;

@@ -104,7 +104,7 @@ struct RowCache {
   // Last step's entry with exactly these inputs (both bodies still), or
   // null. Called in key order by each of the row setup's workers, each
   // walking the entries once from its own cursor (a binary search per
-  // manifold, probing a megabyte of entries, cost wall64 3%).
+  // manifold probes a big scene's entries far apart, missing the cache).
   const Entry* find(const RowInputs& inputs, size_t& cursor) const {
     if (!still[inputs.key.body_a] || !still[inputs.key.body_b]) return nullptr;
     while (cursor < entries.size() && entries[cursor].inputs.key < inputs.key) ++cursor;

@@ -105,8 +105,8 @@ void gather(Solve& s) {
 // The joints' and tyres' rows (they read no contact row; not in the
 // collision pass, whose restitution acts on contacts alone). With joints
 // the sweeps stay on this thread, and so do the rows and their copies:
-// made on other workers they would only have to move here (the playground
-// ran 5-8% slower on two workers than on one).
+// made on other workers they would only have to move here, and a scene
+// with joints runs slower on two workers than on one.
 void prepare_joints(Solve& s) {
   const SolveContext& c = s.context;
   s.joint_rows().clear();

@@ -138,9 +138,9 @@ inline ContactPoint& point_of(const ManifoldRow& m, size_t i) { return m.manifol
 // iterations sweeps the manifolds three times (friction, the centroid row,
 // rocking) and the free point rows once; over whole ManifoldRows (1,152
 // bytes, streamed whole by the prefetcher) and the contacts' manifolds
-// (their impulses 56 bytes apart) each sweep read everything: wall64's
-// 6,200 manifolds streamed ~25 MB a pass from beyond the core's cache.
-// Each sweep now streams only the part it reads, and the accumulated
+// (their impulses 56 bytes apart) each sweep would read everything, and a
+// big wall's manifolds would stream from beyond the core's cache every pass.
+// Each sweep streams only the part it reads, and the accumulated
 // impulses lie together (ManifoldImpulses), read from the manifolds once
 // and written back once a solve. The same arithmetic on the same values.
 struct ManifoldImpulses {
@@ -242,8 +242,8 @@ Fixed (&rolling_impulse(const Copy& m))[2] {
 // J (a, b) for either rate of the two bodies: nine exact products, rounded
 // once; six when one body is still (its angular rate's three are 0, its
 // linear rate adds 0 to the difference). Inlined always, as apply_rate:
-// with the still cases gcc called both out of line, and the calls cost
-// wall64 3% a step.
+// with the still cases gcc calls both out of line, and the calls show in
+// the iterations' time.
 [[gnu::always_inline]] inline Fixed relative_rate(const BodyRates& a, const BodyRates& b, const Jacobian& j,
                                                   bool a_still = false, bool b_still = false) {
   const Vec3 dv = b.linear - a.linear;

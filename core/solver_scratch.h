@@ -67,8 +67,8 @@ struct SolverScratch {
   // sweep: made from this many manifold rows (their 1,152 bytes each then
   // outgrow a core's cache, and the copy costs less than the rows streamed
   // three times a pass), on one thread or on several. Below it the sweeps
-  // read the rows (a copy cost pyramid20's 400 manifolds 6% on one thread,
-  // 27% on two). The same bits either way (replay_tests runs both).
+  // read the rows (there a copy costs more than it saves, the more so on two
+  // threads). The same bits either way (replay_tests runs both).
   SweepRows sweep_rows;
   size_t sweep_copies_from = 2048;
   // The iterations and position passes on several workers (ordered_sweeps.h).
