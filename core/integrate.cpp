@@ -23,7 +23,8 @@ Mat33 skew(Vec3 v) { return {{Vec3{Fixed{}, -v.z, v.y}, Vec3{v.z, Fixed{}, -v.x}
 // step of I (w' - w) + dt w' x I w' = 0 (Catto, "Numerical Methods", GDC
 // 2015), written with I^-1 so the matrix to invert is near the identity:
 //   M = 1 + dt I^-1 (skew(w) I - skew(I w)),  w' = w - M^-1 (dt I^-1 (w x I w)).
-// Without it a tumbling box's L drifted 15% in 20 s. M can turn singular
+// Without it a tumbling box's L drifts (tests/tools/bench_tests.cpp: the
+// drift shrinks with the step). M can turn singular
 // for a fast spin about the middle axis at a large step (det M = 1 -
 // dt^2 w^2 (..) ): then the step keeps w, as without the term.
 //
@@ -31,7 +32,7 @@ Mat33 skew(Vec3 v) { return {{Vec3{Fixed{}, -v.z, v.y}, Vec3{v.z, Fixed{}, -v.x}
 // 2^k, so I is brought under 2^15 kg m^2 first (k = 0, the plain bits, for
 // every body below it; then |w x I w| <= 100 x 300 x 2^15 < 2^30 at the speed
 // clamp): the heaviest, largest body of the envelope (I up to ~2.5e8 kg m^2)
-// took I w and skew(w) I past the number range at ~13 rad/s.
+// would take I w and skew(w) I past the number range at ~13 rad/s.
 // A body so thin that the step would be stiff (an entry of M or of the
 // residual beyond 128: a 100 m rod spun across its axis) keeps w too; below
 // that bound the cross products, det M and the correction stay far inside

@@ -16,8 +16,8 @@ namespace {
 // w . b (w = w_b - w_a) less the frame S's own turn about b, which is
 // -(a x b) . (w x b) / (1 + a . b) = -(w . a - (a . b)(w . b)) / (1 + a . b);
 // together (a + b) . w / (1 + a . b). b alone (the rate about b's axis)
-// left out a swing's sweep around the cone: a shoulder swung 80 degrees and
-// circling twisted 93 degrees past its limit while its row saw no twist.
+// leaves out a swing's sweep around the cone: a shoulder swung wide and
+// circling would twist far past its limit while its row saw no twist.
 // |t| = sqrt(2 / (1 + a . b)), 1.55 at the widest cone a ragdoll has (80
 // degrees); near a swing of 180 degrees, where the twist is undefined, b.
 Vec3 twist_rate_axis(Vec3 axis_a, Vec3 axis_b) {

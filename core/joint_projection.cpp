@@ -11,18 +11,16 @@ namespace {
 
 // The projection's pseudo-velocity cap (m/s along an anchor's gap, rad/s
 // about an axis): 1.7 m or 95 degrees a step at 60 Hz, a bound against a
-// joint torn far apart, not a rate (capped at the split impulse's 3,
-// limbs stayed 7 degrees past their limits, median of 24 heaps; at 10,
-// 2.6).
+// joint torn far apart, not a rate (capped at the split impulse's 3, or
+// even at 10, a heap of ragdolls keeps limbs degrees past their limits).
 constexpr Fixed projection_max_speed = 100.0_fx;
 
 // A pass that turned a body by more than this (rad) left an error of about
 // its square (the rows are linear at the poses they start from), so a
-// second pass follows. Over 96 ragdoll heaps with one pass, 5 joint-steps
-// ended 2.2-3.8 degrees past a limit (impacts at 5-20 rad/s); with the
-// second, none past 1.4 degrees. In 600 steps it ran in 32 of the 261
-// that ragdolls.json projects (22 in its first second), 41 of chains.json's
-// 600, 21 of bridge.json's and 52 of the playground's.
+// second pass follows. With one pass a hard impact leaves a limb degrees
+// past its limit; the second brings it back within a fraction of one. It
+// runs in few of the steps that project (mostly in a ragdoll's first
+// impacts), so it costs little.
 constexpr Fixed second_pass_turn = 0.02_fx;
 constexpr int max_passes = 2;
 

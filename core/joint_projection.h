@@ -10,14 +10,14 @@
 // rad is followed by a second, from the poses it left.
 //
 // Why: the solve's rows are linear in the step's start. A limb turning at
-// 20-36 rad/s in a ragdoll's fall turns 20-35 degrees a step, and the
-// linearised limit let the integrated angle pass it by as much; the
-// split impulse then took it back at max_push_out_speed (3 rad/s, 3
-// degrees a step). Over 96 ragdoll heaps the heaps' worst limb was 10.5
-// degrees past a limit (median; 31 at most); projected once, 0.5 (2.6).
-// With ragdolls.json's later settings (sleep average 0.9, 40 + 24
-// passes), one pass: 0.5 (3.8), two where needed: 0.2 (1.4). Off when
-// the scene asks for Baumgarte (its bias is the joints' correction then).
+// 30 rad/s in a ragdoll's fall turns ~30 degrees a step at 60 Hz, and the
+// linearised limit lets the integrated angle pass it by as much; the
+// split impulse alone would take it back at max_push_out_speed (3 rad/s,
+// 3 degrees a step), leaving a heap of ragdolls with limbs degrees past
+// their limits. Projected, a limb ends the step within a fraction of a
+// degree of its limit (tests/core/joint_tests.cpp: a hinge tumbling fast
+// ends every step within half a degree of it). Off when the scene asks
+// for Baumgarte (its bias is the joints' correction then).
 // Internal to core/.
 #pragma once
 

@@ -24,15 +24,15 @@
 // J_block M^-1 J_x^T; the pair's effective mass 1 / (J_x M^-1 J_x^T + g . c),
 // the Schur complement), so that holding the axis does not undo the limit.
 //
-// The block, and the limit where the step's start engages it, are a node
-// of the tree solve (joint_tree.h): solved block by block, a light link
-// between two sliders holding 100 times its mass converged by ~1% a pass,
-// and swung sideways at 0.5 m/s it slid off along its axis at 42 m/s within
-// ten seconds. Where the tree cannot take the joints (a loop among movable
-// bodies) the block is solved whole here, exact for one slider in one pass,
-// which is also what the projection after the integration runs
-// (joint_projection.h). The motor, a limit that engages mid-step and
-// friction are rows of their own.
+// The block, and the limit where the step's start engages it, are a node of
+// the tree solve (joint_tree.h): solved block by block, a light link
+// between two sliders holding 100 times its mass converges only slowly over
+// the passes, and swung sideways it slides off along its axis
+// (tests/core/joint_range_tests.cpp: it stays on its axes). Where the tree
+// cannot take the joints (a loop among movable bodies) the block is solved
+// whole here, exact for one slider in one pass, which is also what the
+// projection after the integration runs (joint_projection.h). The motor, a
+// limit that engages mid-step and friction are rows of their own.
 #include "core/joint_types.h"
 
 namespace bitstep {

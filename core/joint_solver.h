@@ -47,22 +47,23 @@ struct JointRow {
   // the anchors' rate as it was (`anchor`, per unit of its impulse) and
   // has the effective mass of the pair (`mass`, below the part's own), so
   // turning a body about the hinge does not pull the anchors apart: an
-  // arm's limit row alone took the arm's inertia about its centre, the
-  // point row then turned it about the pivot, and under a 1,000 N m torque
-  // the two passed the arm back and forth 11 degrees past its limit.
+  // arm's limit row alone would take the arm's inertia about its centre,
+  // the point row then turn it about the pivot, and under a strong torque
+  // the two would pass the arm back and forth degrees past its limit
+  // (tests/core/joint_tests.cpp: driven by 1,000 N m it passes by at most
+  // 1 degree).
   AngularPart hinge[2];
   Vec3 hinge_anchor[2];
   Fixed hinge_mass[2];
   // In the tree solve (joint_tree.h) a joint is one node of tree_size
   // rows: the point block, a hinge's two angular rows, then the swing and
   // the twist limit where they are engaged this step (swing_in_tree,
-  // limit_in_tree). Row by row, the point block turned an arm back after
-  // the angular rows stopped it (a 5 N s blow at a 1 m arm's tip tilted its
-  // axis 9 degrees); a ragdoll's limits, solved row by row against the
-  // tree's points, were passed by up to 37 degrees in a pile: the twist of
-  // an upper arm (0.002 kg m^2 about its axis) is tied to the forearm's
-  // swing by the elbow's rows, and sequential impulses between the two
-  // converge by a few percent per pass.
+  // limit_in_tree). Row by row, the point block turns an arm back after
+  // the angular rows stopped it (a blow at an arm's tip tilts its axis by
+  // degrees); a ragdoll's limits, solved row by row against the tree's
+  // points, are passed by tens of degrees in a pile: the twist of an upper
+  // arm (0.002 kg m^2 about its axis) is tied to the forearm's swing by the
+  // elbow's rows, and sequential impulses between the two converge slowly.
   TreeAxis tree_axes[max_tree_axes];
   uint8_t tree_size = 0;
   bool swing_in_tree = false, limit_in_tree = false;

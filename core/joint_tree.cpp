@@ -51,7 +51,7 @@ Block coupling(const SolverBody& body, const JointRow& ri, const JointRow& rj, u
 
 // Block products over the used n x m parts (n, m <= 6), each entry a sum
 // of products rounded once per three terms (dot3: one rounding for n <= 3,
-// as the 3x3 point blocks had; two above).
+// as the 3x3 point blocks have; two above).
 inline Fixed dot_n(const Fixed* a, const Fixed* b, int n) {
   const Fixed low = dot(Vec3{a[0], a[1], a[2]}, Vec3{b[0], b[1], b[2]});
   if (n <= 3) return low;
@@ -334,7 +334,7 @@ Block inverse_spd(const Block& k, int n, const Column& floor) {
       l[i][j] = kij / dj;
     }
   }
-  // A point block of independent rows: the 3x3 form (its bits as before).
+  // A point block of independent rows: the 3x3 form (the same bits).
   if (n == 3 && !dropped) return block_of(inverse_spd(mat33(k)));
   // L^-1, unit lower triangular: a_ij = -sum_{m=j}^{i-1} l_im a_mj.
   Fixed a[max_tree_axes][max_tree_axes] = {};
@@ -435,7 +435,7 @@ void factor_positions(const std::vector<SolverBody>& bodies, const std::vector<J
     // pivot may keep of its K_ii diagonal and still be a row of its own,
     // 2^-24 of it and 64 raw units (rounding leaves a dependent row's
     // pivot within ~2^-25 of its diagonal of 0: 11 raw units for a 128 kg
-    // box, 3,000 for a 0.05 kg one); elsewhere 0, as before. (A 0.01 kg
+    // box, 3,000 for a 0.05 kg one); elsewhere 0. (A 0.01 kg
     // link holding 1e5 kg keeps 2^-36 of its diagonal: exact, as a tree
     // held once is, but under any floor that catches rounding.)
     const bool may_depend = tree.holds_to_immovable[tree.component[p]] >= 2;
