@@ -142,8 +142,8 @@ void drive_cars(const WorldQuery& query, Fixed dt, std::vector<Body>& bodies, st
       // the body under the wheel at its ground point, the pair's
       // coefficients mixed as contacts mix them. The ground pushes back
       // along its normal (as Bullet's raycast vehicle does): along the
-      // chassis's tilted up, a car squatting as it accelerates lost part of
-      // its drive to the spring's slant.
+      // chassis's tilted up, a car squatting as it accelerates would lose
+      // part of its drive to the spring's slant.
       const Body& ground = bodies[state.ground];
       if (ground.type == BodyType::dynamic && ground.asleep) to_wake.push_back(state.ground);
       const Vec3 n = state.normal;

@@ -155,11 +155,10 @@ struct CapsuleBox {
   // A capsule lying across a box's edge, tilted by a hair outward, touches
   // at the edge alone, and tilted by a hair inward the face clips it to its
   // inner end and the edge: one point, then two. A forearm resting across
-  // a stair's edge (tilted 0.01 degrees) lost its inner point and the
-  // impulse it held every few steps, dropped and swung at 0.5 rad/s (in one
-  // resting ragdoll heap, 35 such jolts in 3 s; 11 now). Now the inner end
-  // is a point either way, under the same feature id; the edge point keeps
-  // its exact depth.
+  // a stair's edge (tilted by a hair either way) would lose its inner
+  // point and the impulse it held every few steps, drop and swing, jolting
+  // a resting ragdoll heap. So the inner end is a point either way, under
+  // the same feature id; the edge point keeps its exact depth.
   int with_face_ends(int count, Vec3 n) const {
     if (count == 0) return 0;
     const Vec3 a = abs(n);

@@ -47,11 +47,11 @@ inline constexpr Fixed parallel_cross_sq_tolerance = 0.000001_fx;  // 1 (sin^2 o
 // face's contact, clipped. Two nearly parallel edges, one lying along the other
 // box's face, touch along a segment; their closest points jump from one end
 // of it to the other as the angle between them changes sign. A ragdoll's
-// chest lying across a stair's edge (1.7 degrees between the edges, the
-// normal 0.3 degrees from the chest's face normal) rocked between two
-// points 32 cm apart, lost its warm start every step and crept on for ever.
-// The edge axis won on separation there only because the face axis counts
-// the whole box: the stair, 4 m long, reached 8.7 mm deeper at its far
+// chest lying across a stair's edge (the edges a degree or two apart, the
+// normal a fraction of a degree from the chest's face normal) would rock
+// between two points far apart, lose its warm start every step and creep
+// on for ever. The edge axis wins on separation there only because the
+// face axis counts the whole box: a long stair reaches deeper at its far
 // ends, which the clipping leaves out.
 inline constexpr Fixed face_aligned_edge_sq_tolerance = 0.0004_fx;  // 1
 

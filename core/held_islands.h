@@ -3,9 +3,9 @@
 // The shock step (shock.h) gives a standing structure its velocities from
 // the ground up after the iterations: in a pile at rest it recomputes what
 // the later passes would refine. Standing scenes keep 0 drift and 0
-// penetration with 4 velocity passes instead of 10, at two thirds of the
-// step's instructions (a pyramid, a wall, jenga: -33 to -40%); a pile in
-// motion needs all of them (a thrown pile sinks twice as deep at 4). So an
+// penetration with 4 velocity passes instead of 10, at a good deal fewer
+// of the step's instructions (a pyramid, a wall, jenga); a pile in motion
+// needs all of them (a thrown pile sinks deeper at 4). So an
 // island whose bodies all start the step at rest (every movable body's
 // velocity before this step's forces exactly zero, as the shock step
 // leaves a standing structure), whose every
@@ -14,11 +14,12 @@
 // normal degrees of freedom at once, contact_rows.cpp) and which has no
 // impact, joint or tyre runs Settings::held_velocity_iterations passes;
 // every other island the world's velocity_iterations. Heaps resting on
-// edges and corners need their passes: held at 4, 4 of 32 heaps crept
-// over 1 mm in 10 s, 2 at 10. And a pile that trembles (thrown's settles
-// at 2-6 mm/s with sleep off) is not at rest: held at 4 whenever it slowed
-// below 1 cm/s, it lost bit-exact rest, and with it the reuse of its rows
-// and shape pairs (core/row_cache.h), at 11% more time a step.
+// edges and corners need their passes: held at 4, more of them creep than
+// at 10. And a pile that trembles (a thrown pile with sleep off keeps
+// trembling) is not at rest: held at 4 whenever it slowed below some speed,
+// it would lose bit-exact rest, and with it the reuse of its rows and shape
+// pairs (core/row_cache.h), costing more time a step than the skipped
+// passes save.
 //
 // The first held passes sweep every row; the passes after them sweep only
 // the rows of the islands in motion, in the same order. Rows of different

@@ -7,8 +7,8 @@
 // Why: a limb's contact row is a sequential impulse that sees the limb's
 // own mass, while its joints are solved exactly (joint_tree.h), which
 // spreads each push over the whole ragdoll. The two converge over passes:
-// at the world's 10 velocity and 4 position passes a heap of ragdolls kept
-// moving and kept limbs millimetres inside each other (ragdoll generator:
+// at the world's 10 velocity and 4 position passes a heap of ragdolls keeps
+// moving and keeps limbs millimetres inside each other (ragdoll generator:
 // replay/generators.h sets its passes).
 //
 // The extra passes run after the world's (velocity) and before them

@@ -47,9 +47,9 @@ struct Manifold {
 // physics. A speculative contact lands a falling body exactly (its row lets
 // the gap close by depth / dt, no more), so a body at rest on a support sits
 // at a depth of 0 to the penetration slop (default 0), never above it by more
-// than a few ulps. This is NOT the penetration slop: counting gaps up to the
-// slop (then 5 mm) as touching let the shock step hold bodies up in the air
-// (a box released 3 mm above the ground stayed there for ever).
+// than a few ulps. This is NOT the penetration slop: counting gaps up to a
+// slop of millimetres as touching lets the shock step hold bodies up in the
+// air (a box released a few mm above the ground would stay there for ever).
 inline constexpr Fixed touch_tolerance = 0.00001_fx;
 
 // A point of the manifold touches: depth >= -touch_tolerance. Islands, sleep

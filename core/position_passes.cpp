@@ -23,19 +23,18 @@ void sweep(std::vector<SolverBody>& bodies, const std::vector<PointRow>& rows, i
 
 // The last position pass pushes the contacts of jointed bodies one way.
 // The position passes end with the joints' exact push, so a limb pressed
-// into a box, or a box lying on a limb, was pushed apart at the mass ratio
-// and pulled back by its joints in every pass: ragdoll heaps kept limbs
-// 4.5 mm deep in boxes and each other (median over 96 heaps at 10 s; 34 mm
-// at worst). The shock step, which settles such mass ratios for the
-// velocities, leaves jointed bodies alone (shock.h). Here, as in its
-// passes (after Guendelman, Bridson and Fedkiw, whose shock propagation is
-// their last pass), a contact between two movable bodies, at least one of
-// them jointed and not both of one joint tree, whose normal lies within 60
-// degrees of up has the lower body stand still for the upper one, which is
-// pushed out alone: 2.7 mm (34 at worst, a forearm between a box and a
-// thigh). In every pass it was 2.0 mm, but 20 of the 96 heaps were still
-// awake at 10 s (14 so). Rows of bodies no joint holds are pushed as
-// before.
+// into a box, or a box lying on a limb, would be pushed apart at the mass
+// ratio and pulled back by its joints in every pass, and ragdoll heaps
+// would keep limbs millimetres deep in boxes and each other. The shock
+// step, which settles such mass ratios for the velocities, leaves jointed
+// bodies alone (shock.h). Here, as in its passes (after Guendelman, Bridson
+// and Fedkiw, whose shock propagation is their last pass), a contact
+// between two movable bodies, at least one of them jointed and not both of
+// one joint tree, whose normal lies within 60 degrees of up has the lower
+// body stand still for the upper one, which is pushed out alone. Only in
+// the last pass: one-way pushes in every pass leave shallower overlaps but
+// keep more heaps awake. Rows of bodies no joint holds are pushed both
+// ways, as in the other passes.
 void one_way_pushes(const Settings& settings, const std::vector<SolverBody>& bodies, const std::vector<PointRow>& rows,
                     const std::vector<JointRow>& joint_rows, std::vector<uint8_t>& jointed,
                     std::vector<uint32_t>& tree, std::vector<OneWayPush>& out) {
@@ -63,8 +62,8 @@ void one_way_pushes(const Settings& settings, const std::vector<SolverBody>& bod
     if (immovable(bodies[row.a]) || immovable(bodies[row.b])) continue;  // one way already
     if (!jointed[row.a] && !jointed[row.b]) continue;
     // Two bodies of one tree (a ragdoll's forearm under its own pelvis):
-    // its joints' exact push undid the one-way push each step, and the
-    // forearm stayed 14 mm inside.
+    // its joints' exact push would undo the one-way push each step, and the
+    // forearm would stay inside.
     if (jointed[row.a] && jointed[row.b] && find_root(tree, row.a) == find_root(tree, row.b)) continue;
     const Jacobian& j = row.normal;
     if (holds_up(j.direction)) {
@@ -102,11 +101,9 @@ void push_apart(const Settings& settings, std::vector<SolverBody>& bodies, const
   one_way_pushes(settings, bodies, rows, joint_rows, scratch.jointed, scratch.joint_trees, scratch.one_way);
   run_extra_position_passes(bodies, rows, joint_rows, tree, island_passes);
   for (int pass = 0; pass < settings.position_iterations; ++pass) {
-    // The joints last: contacts pushed after them pressed ragdoll
-    // limbs past their limits (an elbow 20 degrees for a second in a
-    // pile; in 12 piles of ragdolls.json, 263 joint-steps of 60,000
-    // more than 2 degrees past, 71 with the joints last) and left
-    // deeper overlaps at 10 s (4.7 mm on average, 3.9 mm).
+    // The joints last: contacts pushed after them press ragdoll limbs
+    // past their limits (an elbow held degrees past for a second in a
+    // pile) and leave deeper overlaps.
     if (pass + 1 == settings.position_iterations && !scratch.one_way.empty()) {
       sweep_last_push(bodies, rows, scratch.one_way, pass);
     } else {

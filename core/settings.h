@@ -30,9 +30,9 @@ inline constexpr Fixed max_angular_speed = 100.0_fx; // rad/s
 // core/envelope.h), so that the angular impulses the solver forms from them
 // (a twist row's mu j_n r, a face's moment about its centroid, a joint's
 // I dw, two such bodies meeting) stay inside Q32.32. At the world's speeds
-// a 1e5 kg box 100 m wide formed ~1e10 (range 2.1e9): the checked build
-// aborted in its first contact. Every corner of the envelope ran at limits
-// from 2^30 (the range's largest power of two); 2^28 leaves 4x for two
+// a 1e5 kg box 100 m wide would form ~1e10 (range 2.1e9): the checked build
+// would abort in its first contact. Every corner of the envelope runs at
+// limits from 2^30 (the range's largest power of two); 2^28 leaves 4x for two
 // bodies meeting. A 1e5 kg body 87 m in reach moves at most 31 m/s and
 // 0.36 rad/s; below m R = 537,000 kg m and m R^2 = 2.7e6 kg m^2 (a 1e5 kg
 // body within 5 m, a 1,000 kg one within 50 m) the world's clamps stand.
@@ -103,8 +103,8 @@ struct Settings {
   Fixed contact_hertz = 30.0_fx;          // Hz, soft step: the contact spring's frequency
   Fixed contact_damping_ratio = 10.0_fx;  // 1, soft step: its damping ratio (overdamped)
   Fixed penetration_slop = Fixed{};                  // m, overlap left alone (no push-out below it); 0: resting
-                                                     // shapes sit at their true geometry (a 5 mm slop left
-                                                     // uneven overlaps that tilted a capsule pile into rolling)
+                                                     // shapes sit at their true geometry (a slop of mm leaves
+                                                     // uneven overlaps that tilt a capsule pile into rolling)
   Fixed split_impulse_factor = 0.2_fx;               // 1, fraction of the overlap beyond the slop removed per step
   Fixed max_push_out_speed = 3.0_fx;                 // m/s, cap of the penetration-recovery speed
   bool baumgarte = false;                            // Kenwright's way: bias the real velocity instead of split impulse

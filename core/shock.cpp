@@ -108,11 +108,11 @@ ClusterPass cluster_pass(const std::vector<Body>& bodies, const std::vector<uint
             continue;
           }
           // Supports that part cannot all hold it, and glued to one after
-          // another the last wins over the others. In a cluster held
-          // already the passes then trade the body between its supports
-          // without end and the cluster is settled as it began (a
-          // collapsing pile ran most of its clusters through every pass
-          // so): it is given up at once. In motion, each support is tried.
+          // another the last wins over the others. In a cluster held already
+          // the passes then trade the body between its supports without end
+          // and the cluster is settled as it began (a collapsing pile would
+          // run most of its clusters through every pass so): it is given up
+          // at once. In motion, each support is tried.
           if (glued_to_all[mover] == GlueAll::supports_part && held_already()) return ClusterPass::given_up;
         }
         // A body on one support glued in the last pass and not moved since:
@@ -252,11 +252,10 @@ void order_manifolds(const Settings& settings, const ShockLevels& levels, const 
   // solved on its own), so the rank's bodies fall into clusters joined by
   // such manifolds, each solved on its own until it converges, a manifold
   // from below going with the body it holds. Judged across the whole rank,
-  // one heap that never converged made every stack and wall at its levels
-  // run all shock_iterations passes (the playground settled: 11,175
-  // manifold visits per step), and a box glued at rest took the
-  // iterations' sliding back because a box elsewhere in its rank still
-  // rocked (settle_unconverged_cluster).
+  // one heap that never converged would make every stack and wall at its
+  // levels run all shock_iterations passes, and a box glued at rest would
+  // take the iterations' sliding back because a box elsewhere in its rank
+  // still rocked (settle_unconverged_cluster).
   std::vector<uint32_t>& parent = workspace.parent;
   parent.resize(level.size());
   for (uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;

@@ -52,9 +52,9 @@ void order_manifolds(const Settings& settings, const ShockLevels& levels, const 
 // the cluster is given up, shock.cpp). One neither glue can hold (its supports move differently, or
 // its load's centre lies outside each contact alone) is left as the
 // iterations left it: solved against each support in turn, one-sided, it
-// was driven toward whichever rises fastest and, through the rotation that
-// gives it, the bodies above it faster still (that launched the top bricks
-// of wall128 at 90 m/s). Sideways contacts are not supports: a body pressed
+// would be driven toward whichever rises fastest and, through the rotation
+// that gives it, the bodies above it faster still (launching the top bricks
+// of a tall wall). Sideways contacts are not supports: a body pressed
 // against a wall or a frozen neighbour is solved against it one-sided.
 // Fills groups: several[body], and each such body's support manifolds
 // (positions in `order`, in order) at entries[begin[body] .. begin[body + 1]).
@@ -78,15 +78,15 @@ ManifoldRow& one_sided_copy(SolverScratch& scratch, size_t position, bool freeze
 // cluster at its velocities before its passes, with the ranks below as the
 // shock step left them: a box the iterations carried along on a rocking
 // support, once the shock step has stopped the support, slides on it, and
-// kept sliding at 0.6 mm/s for good while only approach was looked at.
+// would keep sliding slowly for good if only approach were looked at.
 bool moving_at_contact(const std::vector<SolverBody>& solver_bodies, const std::vector<PointRow>& rows,
                        const ManifoldRow& m, Fixed speed);
 
 // Passes that only go round a cycle. In settled piles most ranks never
 // converge: within a few passes their velocities cycle (a box pushed back
 // and forth by rows whose impulses grow in opposite directions), and the
-// rest of the shock_iterations passes go round and round (thrown, settled:
-// 28 passes per rank on average, two thirds of them in a cycle). Called
+// rest of the shock_iterations passes go round and round (in a settled
+// thrown pile, most of a rank's passes). Called
 // after pass `pass` of a rank has run, with the rank's bodies. When the
 // last `period` passes left the same velocities as the `period` before them
 // (a whole period repeated; periods 2 and 4: a pass's point rows run in the
@@ -94,18 +94,18 @@ bool moving_at_contact(const std::vector<SolverBody>& solver_bodies, const std::
 // to go on after, last_pass - (last_pass - pass) % period: the rank ends in
 // the phase of the cycle where running every pass would have left it. That
 // is the same result unless the growing impulses would have reached a bound
-// (a friction cone, the clamp at zero) in the passes skipped (13% of the
-// cycles in thrown). Else returns `pass`. history keeps the rank's
-// velocities after its last 8 passes.
+// (a friction cone, the clamp at zero) in the passes skipped (a minority of
+// the cycles in a settled pile). Else returns `pass`. history keeps the
+// rank's velocities after its last 8 passes.
 int skip_repeating_passes(const std::vector<SolverBody>& solver_bodies, const std::vector<RankBody>& rank,
                           std::vector<BodyRates>& history, int pass, int last_pass);
 
 // A cluster of a rank whose passes did not converge: they end at an
 // arbitrary point of an oscillation (a box on one corner leaning on a
-// glued box of its own rank loses ~1% of its rotation per pass; a row
-// whose point is a hair apart hands back the iterations' impulse and the
-// next glue undoes it), and settled heaps crept by ~1 mm/s on what the
-// last pass left. A cluster the iterations already hold (held_already: no
+// glued box of its own rank loses a little of its rotation each pass; a
+// row whose point is a hair apart hands back the iterations' impulse and
+// the next glue undoes it), and settled heaps would creep on what the last
+// pass left. A cluster the iterations already hold (held_already: no
 // sideways contact, and at every touching contact, against the ranks below
 // as the shock step left them, no point approaching and no sliding or
 // twisting faster than 1 mm/s) gets the iterations' velocities back

@@ -1,20 +1,19 @@
 // Where the shock step's answer is not kept. Its clusters' passes need not
 // converge: in settled heaps they go round cycles (a box pushed back and
 // forth by rows whose impulses grow in opposite directions), and the
-// velocities the last pass leaves are arbitrary. Settled heaps crept on
-// them: 40 of 96 surveyed heaps of 27 boxes (both pipelines) moved over
-// 1 mm in 10 s after 30 s of settling, one by 28 cm, while the iterations
+// velocities the last pass leaves are arbitrary. Settled heaps would creep
+// on them (in both pipelines, some by centimetres), while the iterations
 // alone bring such a heap to exact rest. So an island (dynamic bodies
 // joined by touching contacts) that the iterations already hold, none of
 // its touching contacts approaching, sliding or twisting faster than
 // `quiet`, and which the last pass of some cluster still changed, keeps the
-// iterations' velocities (4 of the 96 heaps then move over 1 mm, at most
-// 7 mm, 9 without the shock step). Convergence is judged island by
+// iterations' velocities (tests/core/resting_energy_tests.cpp: at most 3
+// of 32 heaps at rest move over 1 mm). Convergence is judged island by
 // island: judged rank by rank across the scene, a heap's unconverged ranks
-// sent a stack 5 m away back to the iterations' velocities every step (the
-// playground's second stack drifted 18 mm in 20 s). Stacks, pyramids and
-// walls converge and keep the shock step's answer: the iterations alone
-// let them drift (a 20-box stack 1.5 cm in 10 s). Internal to core/.
+// would send a stack metres away back to the iterations' velocities every
+// step, and it would drift (resting_energy_tests.cpp: a stack beside such a
+// heap stays put). Stacks, pyramids and walls converge and keep the shock
+// step's answer: the iterations alone let them drift. Internal to core/.
 #pragma once
 
 #include <vector>
