@@ -1,5 +1,6 @@
 // bitstep behind the benchmark's Engine interface (tools/bench/engine.h), in
-// its four variants: pipeline standard or guendelman, shock step off or on.
+// its five variants: pipeline standard or guendelman, shock step off or on,
+// and the soft step.
 #pragma once
 
 #include <vector>
@@ -9,7 +10,7 @@
 
 namespace bitstep::bench {
 
-// standard, standard+shock, guendelman, guendelman+shock.
+// standard, standard+shock, guendelman, guendelman+shock, soft.
 const std::vector<Variant>& bitstep_variants();
 
 // Doubles to Q32.32 by rounding to the nearest ulp (exact for every value a

@@ -1,7 +1,7 @@
 // `bitstep bench`: the suite that reports speed against error.
 //
 //   results      every experiment at 60 Hz and 10 iterations, on each of
-//                bitstep's four variants and on Bullet (when its peer program
+//                bitstep's five variants and on Bullet (when its peer program
 //                was built): the error, ms/step, the stability time series;
 //   sweep        the work-precision sweep: dt x iterations x variants for
 //                the cheap experiments, error against ms per simulated

@@ -81,8 +81,8 @@ std::vector<const Experiment*> Context::selected(bool sweep_only) const {
   return list;
 }
 
-// wall128 takes ~0.24 s a step for up to 2,000 steps: only bitstep's
-// default and Bullet run it (the others are in wall64).
+// wall128 is by far the slowest scene a step, for up to 2,000 steps: only
+// bitstep's default and Bullet run it (the others are in wall64).
 std::vector<std::string> Context::variants_for(const Experiment& e) const {
   if (e.name != "wall128") return variants;
   std::vector<std::string> some;

@@ -1,5 +1,5 @@
 // What every section of `bitstep bench` shares: the options, the variants
-// run (bitstep's four and the peer engine's when its program was built),
+// run (bitstep's five and the peer engine's when its program was built),
 // the peer program's path, the progress bar, one experiment run (here or in
 // the peer program), and writing a report file or drawing a gnuplot plot.
 #pragma once

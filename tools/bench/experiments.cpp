@@ -471,8 +471,8 @@ ExperimentResult overlap_recovery(const Variant& variant, const StepConfig& conf
 // turns the sizes round). After 30 s a settled heap should not move: error
 // = the farthest any cube moves from 30 s to 40 s (m), over the
 // arrangements; "fell" beyond 1 cm; also how many heaps moved over 1 mm.
-// Boxes leaning on boxes made bitstep's shock step creep by up to ~1 mm/s
-// here (core/README.md). Which heaps creep changes with any change of
+// Boxes leaning on boxes are where bitstep's shock step can let a heap
+// creep (core/README.md). Which heaps creep changes with any change of
 // rounding, so a change is judged on the count over many arrangements.
 ExperimentResult heap_rest(const Variant& variant, const StepConfig& config, const RunOptions& options) {
   const int arrangements = options.quick ? 2 : 24;
