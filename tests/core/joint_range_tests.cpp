@@ -10,8 +10,9 @@
 // light link between two of them slid off along its axis; their blocks are
 // now nodes of the tree. These run in both builds; in
 // the checked one any overflow aborts. Still open (core/README.md): hinges
-// and sliders near their speed limits, and a die anchored 50 of its sizes
-// away.
+// and sliders near their speed limits, and a small body anchored far from
+// its joint (a die whose anchor lies 50 of its sizes away); none of these
+// cases is run here.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
