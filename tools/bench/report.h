@@ -43,16 +43,18 @@ LogZeroRow log_y_with_zero_row(const std::vector<double>& values);
 std::vector<int> earlier_equal(const std::vector<std::vector<double>>& series);
 
 // A variant's dash type and marker, by its place in the variants run
-// (standard, standard+shock, guendelman, guendelman+shock, the peer): the
-// pairs that often give the same values (the two pipelines, with the shock
-// step or without) differ in both, an open marker against a cross.
-inline constexpr int dash_types[5] = {1, 2, 4, 5, 1};
-inline constexpr int point_types[5] = {4, 6, 2, 1, 9};
-// Colours: gnuplot's first four, then its red for the peer (not its yellow).
-inline constexpr int line_colours[5] = {1, 2, 3, 4, 7};
+// (standard, standard+shock, guendelman, guendelman+shock, soft, the peer):
+// the pairs that often give the same values (the two pipelines, with the
+// shock step or without) differ in both, an open marker against a cross.
+inline constexpr int variant_styles = 6;
+inline constexpr int dash_types[variant_styles] = {1, 2, 4, 5, 3, 1};
+inline constexpr int point_types[variant_styles] = {4, 6, 2, 1, 8, 9};
+// Colours: gnuplot's first four, its dark blue for the soft step, then its
+// red for the peer (not its yellow).
+inline constexpr int line_colours[variant_styles] = {1, 2, 3, 4, 6, 7};
 // Line widths by drawing order: a curve drawn on an earlier one shows inside
-// it (the fifth, the peer's, seldom lies on another and stays readable).
-inline constexpr double draw_widths[5] = {4, 3.2, 2.5, 1.8, 2};
+// it (the last, the peer's, seldom lies on another and stays readable).
+inline constexpr double draw_widths[variant_styles] = {4, 3.2, 2.5, 1.8, 1.4, 2};
 
 // The key of every plot: below the plot area, so no curve runs through it,
 // with the bottom margin its `entries` need at two or more a row.

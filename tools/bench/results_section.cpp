@@ -51,8 +51,8 @@ bool write_series(Context& context, const Experiment& e, const std::vector<Row>&
     lines += fmt::format(
         "{}'{}' using (strcol(1) eq '{}' ? $2 : NaN):(shown($3)) with linespoints lc {} lw {} dt {} pt {} ps 1.3 "
         "pi {} title '{}'",
-        lines.empty() ? "plot " : ", \\\n     ", file, r.variant, line_colours[style % 5], draw_widths[i % 5],
-        dash_types[style % 5], point_types[style % 5], 17 + 4 * static_cast<int>(i), title);
+        lines.empty() ? "plot " : ", \\\n     ", file, r.variant, line_colours[style % variant_styles],
+        draw_widths[i % variant_styles], dash_types[style % variant_styles], point_types[style % variant_styles], 17 + 4 * static_cast<int>(i), title);
   }
   const std::string commands = fmt::format(
       "set title '{}: {} (60 Hz, 10 iterations)' noenhanced\n"

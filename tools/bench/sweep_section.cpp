@@ -53,7 +53,7 @@ std::string plot_commands(const Context& context, const Experiment& e, const std
   }
   const std::vector<int> same = earlier_equal(errors);
   const LogZeroRow zero_row = log_y_with_zero_row(all);
-  static constexpr double sizes[5] = {1.9, 1.9, 1.5, 1.5, 1.3};
+  static constexpr double sizes[variant_styles] = {1.9, 1.9, 1.5, 1.5, 1.5, 1.3};
   std::string lines;
   for (size_t i = 0; i < context.variants.size(); ++i) {
     const std::string& variant = context.variants[i];
@@ -61,7 +61,8 @@ std::string plot_commands(const Context& context, const Experiment& e, const std
         same[i] < 0 ? variant : variant + " (same as " + context.variants[static_cast<size_t>(same[i])] + ")";
     lines += fmt::format(
         "{}'{}' using (strcol(1) eq '{}' ? $4 : NaN):(shown($5)) with points lc {} pt {} ps {} lw 1.5 title '{}'",
-        lines.empty() ? "plot " : ", \\\n     ", file, variant, line_colours[i % 5], point_types[i % 5], sizes[i % 5],
+        lines.empty() ? "plot " : ", \\\n     ", file, variant, line_colours[i % variant_styles], point_types[i % variant_styles],
+        sizes[i % variant_styles],
         title);
   }
   // Drawing the front's line resets `labelled`, the error last labelled
