@@ -360,20 +360,18 @@ bool build_world(const Scene& scene, World& world, std::string& reason) {
   std::vector<BodyId> ids;
   ids.reserve(scene.bodies.size());
   for (size_t i = 0; i < scene.bodies.size(); ++i) {
-    const CreateResult created = world.create_body(scene.bodies[i].def);
+    const Result<BodyId> created = world.create_body(scene.bodies[i].def);
     if (!created.ok()) {
-      reason = "body " + std::to_string(i) + ": " + created.error.field + ": " + created.error.reason;
+      reason = created.error().within("body " + std::to_string(i)).message();
       return false;
     }
-    ids.push_back(created.id);
+    ids.push_back(created.value());
   }
   for (size_t k = 0; k < scene.cars.size(); ++k) {
     CarDef def = scene.cars[k].def;
     def.chassis = scene.cars[k].chassis < ids.size() ? ids[scene.cars[k].chassis] : BodyId{};
-    std::string error;
-    world.create_car(def, error);
-    if (!error.empty()) {
-      reason = "car " + std::to_string(k) + " (" + json::quote(scene.cars[k].name) + "): " + error;
+    if (const Result<CarId> created = world.create_car(def); !created.ok()) {
+      reason = created.error().within("car " + std::to_string(k) + " (" + json::quote(scene.cars[k].name) + ")").message();
       return false;
     }
   }
@@ -383,10 +381,9 @@ bool build_world(const Scene& scene, World& world, std::string& reason) {
     // A scene made in code may name a body it does not have: the world refuses the handle.
     def.body_a = joint.body_a < ids.size() ? ids[joint.body_a] : BodyId{};
     def.body_b = joint.body_b < ids.size() ? ids[joint.body_b] : BodyId{};
-    const JointResult created = world.create_joint(def);
+    const Result<JointId> created = world.create_joint(def);
     if (!created.ok()) {
-      reason = "joint " + std::to_string(k) + (joint.name.empty() ? "" : " (" + json::quote(joint.name) + ")") + ": " +
-               created.error;
+      reason = created.error().within("joint " + std::to_string(k) + (joint.name.empty() ? "" : " (" + json::quote(joint.name) + ")")).message();
       return false;
     }
   }
@@ -410,9 +407,9 @@ void add_joint(World& world, const Input& input, InputRun& run) {
   JointDef def = joint_in_world(spec, frame(a), frame(b));
   def.body_a = a;
   def.body_b = b;
-  const JointResult created = world.create_joint(def);
+  const Result<JointId> created = world.create_joint(def);
   if (run.joints.size() <= input.joint_number) run.joints.resize(input.joint_number + size_t{1}, no_joint);
-  run.joints[input.joint_number] = created.ok() ? created.id : no_joint;
+  run.joints[input.joint_number] = created.ok() ? created.value() : no_joint;
 }
 
 }  // namespace

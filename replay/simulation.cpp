@@ -95,14 +95,13 @@ std::optional<BodyId> Simulation::add_body(std::string_view body_json, std::stri
     error = "add_body: $.name: " + json::quote(body.name) + " is already taken";
     return std::nullopt;
   }
-  const CreateResult created = world_.create_body(body.def);
+  const Result<BodyId> created = world_.create_body(body.def);
   if (!created.ok()) {
-    error = std::string("add_body: $.") + (created.error.field != nullptr ? created.error.field : "") + ": " +
-            created.error.reason;
+    error = "add_body: $." + created.error().message();
     return std::nullopt;
   }
-  remember(created.id, body.def, body.name);
-  return created.id;
+  remember(created.value(), body.def, body.name);
+  return created.value();
 }
 
 bool Simulation::remove_body(BodyId id) { return valid(id) && world_.remove_body(id); }
@@ -123,12 +122,12 @@ std::optional<JointId> Simulation::add_joint(std::string_view joint_json, std::s
   JointDef def = joint_in_world(spec, *pose(a), *pose(b));
   def.body_a = a;
   def.body_b = b;
-  const JointResult created = world_.create_joint(def);
+  const Result<JointId> created = world_.create_joint(def);
   if (!created.ok()) {
-    error = "add_joint: " + created.error;
+    error = "add_joint: " + created.error().message();
     return std::nullopt;
   }
-  return created.id;
+  return created.value();
 }
 
 bool Simulation::remove_joint(JointId id) { return world_.is_alive(id) && world_.remove_joint(id); }

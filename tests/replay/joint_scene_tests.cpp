@@ -533,7 +533,7 @@ TEST_CASE("hostile joint and chain values are refused, never a checked-build abo
   def.body_a = {near.joints[0].body_a, 0};
   def.body_b = {near.joints[0].body_b, 0};
   def.position_iterations = 1001;
-  CHECK(fine.create_joint(def).error == "iterations: outside 0..1000");
+  CHECK(fine.create_joint(def).error().message() == "iterations: outside 0..1000");
   def.position_iterations = 1000;
   CHECK(fine.create_joint(def).ok());
 }

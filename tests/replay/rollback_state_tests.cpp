@@ -45,9 +45,9 @@ TEST_CASE("a rollback state restores across a removed body and a reused slot, an
   BodyDef ball;
   ball.pose.position = {Fixed::from_int(3), Fixed::from_int(2), Fixed{}};
   ball.shapes.push_back({ShapeType::sphere, {}, 0.4_fx, {}, {}});
-  const CreateResult spawned = world.create_body(ball);
+  const Result<BodyId> spawned = world.create_body(ball);
   REQUIRE(spawned.ok());
-  REQUIRE(spawned.id.index == 10);  // the slot reused
+  REQUIRE(spawned.value().index == 10);  // the slot reused
   for (int i = 0; i < 12; ++i) world.step();
   (void)save(states, world);  // the ball remembered too
   // Back: the cube's shapes and mass come back from the states' memory.

@@ -503,7 +503,7 @@ TEST_CASE("generators take a per-body mass instead of a density", "[scene]") {
   // The world gives the body that mass, whatever its size.
   World world;
   const Scene light = load_ok(generated(R"({"type": "stack", "count": 1, "half_extents": [2, 2, 2], "mass": 2})"));
-  const BodyId id = world.create_body(light.bodies[0].def).id;
+  const BodyId id = world.create_body(light.bodies[0].def).value();
   CHECK(world.bodies()[id.index].inverse_mass == 0.5_fx);
   // Without "mass", the density as before.
   CHECK(load_ok(generated(R"({"type": "stack", "count": 1, "density": 500})")).bodies[0].def.mass == Fixed{});

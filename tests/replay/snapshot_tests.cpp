@@ -245,7 +245,7 @@ TEST_CASE("a world with collision filters restores and continues identically", "
   ghost.pose.position = {Fixed{}, 3.0_fx, 0.3_fx};
   ghost.shapes.push_back({ShapeType::box, {0.5_fx, 0.5_fx, 0.5_fx}, {}, {}, {}});
   ghost.filter = {2, 1};  // on layer 1, colliding with layer 0 (the ground): through the stack
-  const BodyId id = straight.create_body(ghost).id;
+  const BodyId id = straight.create_body(ghost).value();
   std::vector<uint64_t> chain;
   std::vector<uint8_t> image;
   for (int step = 1; step <= 60; ++step) {
@@ -314,16 +314,16 @@ TEST_CASE("a world with a driven car restores and continues identically", "[snap
   body.pose.position = {Fixed{}, 3.0_fx, -5.0_fx};
   body.mass = Fixed::from_int(1000);
   body.shapes.push_back({ShapeType::box, {0.9_fx, 0.3_fx, 2.0_fx}, {}, {}, {}});
-  const BodyId chassis = straight.create_body(body).id;
+  const BodyId chassis = straight.create_body(body).value();
   CarDef def;
   def.chassis = chassis;
   def.rays_per_wheel = 3;
   for (int w = 0; w < 4; ++w) {
     def.wheels.push_back({{w % 2 == 0 ? 0.8_fx : -0.8_fx, -0.3_fx, w < 2 ? 1.4_fx : -1.4_fx}, w >= 2, w < 2});
   }
-  std::string error;
-  const CarId car = straight.create_car(def, error);
-  REQUIRE(error.empty());
+  const Result<CarId> made = straight.create_car(def);
+  REQUIRE(made.ok());
+  const CarId car = made.value();
   CHECK(state_hash(straight) != before_car);
   std::vector<uint64_t> chain;
   std::vector<uint8_t> image;
