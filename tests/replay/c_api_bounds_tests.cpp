@@ -168,9 +168,8 @@ TEST_CASE("C API bounds: a stale handle is NOT_FOUND before its values are looke
 }
 
 TEST_CASE("the facade refuses what the C API refuses, with the same reason", "[simulation][bounds]") {
-  std::string error;
-  auto sim = Simulation::from_text(bounds_scene, "bounds.json", error);
-  REQUIRE(sim);
+  auto sim = Simulation::from_text(bounds_scene, "bounds.json");
+  REQUIRE(sim.ok());
   const BodyId ball = *sim->find_body("ball");
   const uint64_t before = sim->hash();
   const Vec3 fast{Fixed::from_int(501), Fixed{}, Fixed{}};
