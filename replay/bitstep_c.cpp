@@ -69,7 +69,7 @@ bitstep_status input_status(bitstep_simulation* sim, const bitstep::InputResult&
     case bitstep::InputResult::Status::not_found: return fail(sim, BITSTEP_NOT_FOUND, missing);
     case bitstep::InputResult::Status::refused: break;
   }
-  return fail(sim, BITSTEP_INVALID, result.reason);
+  return fail(sim, result.refusal);
 }
 
 std::string no_body_message(bitstep_body body) {

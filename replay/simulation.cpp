@@ -96,7 +96,7 @@ InputResult not_found() { return {InputResult::Status::not_found, {}}; }
 template <typename Apply>
 InputResult applied_unless(std::initializer_list<Result<void>> checks, const char* call, Apply&& apply) {
   for (const Result<void>& check : checks) {
-    if (!check.ok()) return {InputResult::Status::refused, check.error().within(call).message()};
+    if (!check.ok()) return {InputResult::Status::refused, check.error().within(call)};
   }
   apply();
   return {};

@@ -27,12 +27,14 @@
 namespace bitstep {
 
 // What an input call did: applied; nothing, for a body or car that is not
-// there; or nothing, for a value past its bound, `reason` saying which
-// ("set_velocity: linear: faster than 500 m/s"). True when applied.
+// there; or nothing, for a value past its bound, `refusal` saying which
+// (place "set_velocity: linear", reason "faster than 500 m/s"). True when
+// applied. A status, not a Result: a missing body is no error in a game
+// (it may have left the world) and the C API tells the two apart.
 struct InputResult {
   enum class Status { applied, not_found, refused };
   Status status = Status::applied;
-  std::string reason;  // refused: one line, "<call>: <argument>: <bound>"
+  Error refusal;  // refused: "<call>: <argument>" and the bound
 
   explicit operator bool() const { return status == Status::applied; }
 };
@@ -62,7 +64,7 @@ class Simulation {
   // +-1,000,000 N s or N per component, its point within +-16,000 m; a
   // velocity within 500 m/s and 100 rad/s (per component and in length); a
   // car's throttle and steer within -1..1, its brake 0..1. A value past its
-  // bound is refused and changes nothing (InputResult::refused, the reason
+  // bound is refused and changes nothing (InputResult::refused, the refusal
   // naming the call, the argument and the bound); so is a handle no body
   // has (not_found). A handle is checked before the values.
   InputResult apply_impulse(BodyId id, Vec3 impulse, Vec3 world_point);
