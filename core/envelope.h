@@ -17,6 +17,11 @@ struct EnvelopeError {
   int shape_index = -1;          // which shape, when the field belongs to one
   std::string reason;            // e.g. "outside 0.01..50 m"; empty when the definition is inside
   bool ok() const { return reason.empty(); }
+  // The field relative to the body: "mass", or "shapes[2].radius" for a shape's.
+  std::string place() const {
+    const std::string name = field != nullptr ? field : "";
+    return shape_index < 0 ? name : "shapes[" + std::to_string(shape_index) + "]." + name;
+  }
 };
 
 // Positions within +-16 km, sizes 0.01..50 m, parts within 50 m of the body

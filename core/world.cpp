@@ -131,10 +131,8 @@ World World::from_state(const Settings& settings, uint64_t step_count, std::vect
   return world;
 }
 
-CreateResult World::create_body(const BodyDef& def) {
-  CreateResult result;
-  result.error = check_envelope(def);
-  if (!result.error.ok()) return result;
+Result<BodyId> World::create_body(const BodyDef& def) {
+  if (const EnvelopeError outside = check_envelope(def); !outside.ok()) return Error{outside.place(), outside.reason};
 
   Body body;
   body.type = def.type;
@@ -175,7 +173,7 @@ CreateResult World::create_body(const BodyDef& def) {
     index = static_cast<uint32_t>(bodies_.size());
     bodies_.push_back(std::move(body));
   }
-  result.id = {index, bodies_[index].generation};
+  const BodyId id{index, bodies_[index].generation};
   count_special(bodies_[index], +1);
   reset_sleep(settings_, bodies_[index]);
   if (settings_.sleep_method != SleepMethod::off && !bodies_[index].asleep) {
@@ -187,7 +185,7 @@ CreateResult World::create_body(const BodyDef& def) {
     }
     wake_islands_of(touched);
   }
-  return result;
+  return id;
 }
 
 bool World::is_alive(BodyId id) const {
@@ -255,7 +253,12 @@ namespace {
 // the body's centre of mass): a joint's arms then stay within the
 // envelope's arms, which bound every solver product.
 bool within_joint_reach(Fixed arm, const Body& body) { return arm <= 2.0_fx * reach(body.shapes) + 1.0_fx; }
-constexpr const char* reach_reason = ": farther from the body than twice its reach and 1 m";
+constexpr const char* reach_reason = "farther from the body than twice its reach and 1 m";
+
+// The point a joint holds on body b: anchor_b (a rope's) or anchor_a (the others').
+const Vec3& anchor_on_b(const JointDef& def) {
+  return with_joint_type(def.type, [&](auto type) -> const Vec3& { return decltype(type)::anchor_b(def); });
+}
 
 // The checks of a JointDef that need no world (World::create_joint's, and
 // joint_state_error's of a joint read back): the type's own, then those
@@ -278,35 +281,9 @@ const char* joint_def_error(const JointDef& def) {
 
 }  // namespace
 
-JointResult World::create_joint(const JointDef& def) {
-  JointResult result;
-  if (!is_joint_type(def.type)) {
-    result.error = "type: not a joint type";
-    return result;
-  }
-  // The point joined on b: anchor_b (a rope's) or anchor_a (the others').
-  const Vec3& anchor_b = with_joint_type(def.type, [&](auto type) -> const Vec3& { return decltype(type)::anchor_b(def); });
-  const char* anchor_b_name = &anchor_b == &def.anchor_b ? "anchor_b" : "anchor_a";
-  const auto reach_error = [&](const char* field, BodyId body, Vec3 anchor) -> std::string {
-    const Body& b = bodies_[body.index];
-    return within_joint_reach(length(anchor - b.pose.position), b) ? std::string() : field + std::string(reach_reason);
-  };
-  if (!is_alive(def.body_a)) {
-    result.error = "body_a: not a live body";
-  } else if (!is_alive(def.body_b)) {
-    result.error = "body_b: not a live body";
-  } else if (def.body_a.index == def.body_b.index) {
-    result.error = "body_b: the same body as body_a";
-  } else if (bodies_[def.body_a.index].type != BodyType::dynamic && bodies_[def.body_b.index].type != BodyType::dynamic) {
-    result.error = "body_b: neither body is dynamic";
-  } else if (const char* error = joint_def_error(def)) {
-    result.error = error;
-  } else {
-    result.error = reach_error("anchor_a", def.body_a, def.anchor_a);
-    if (result.error.empty()) result.error = reach_error(anchor_b_name, def.body_b, anchor_b);
-  }
-  if (!result.ok()) return result;
-
+Result<JointId> World::create_joint(const JointDef& def) {
+  if (Result<void> refused = joint_error(def); !refused.ok()) return refused.error();
+  const Vec3& anchor_b = anchor_on_b(def);
   const Body& a = bodies_[def.body_a.index];
   const Body& b = bodies_[def.body_b.index];
   Joint joint;
@@ -332,14 +309,35 @@ JointResult World::create_joint(const JointDef& def) {
     index = static_cast<uint32_t>(joints_.size());
     joints_.push_back(joint);
   }
-  result.id = {index, joints_[index].generation};
+  const JointId id{index, joints_[index].generation};
   // Joined to an awake body, a sleeping one wakes (its island now moves
   // with it); two sleeping bodies, or one and a static body, stay asleep
   // (a ragdoll built asleep, as JigLib's are).
   if (is_awake_dynamic(bodies_[def.body_a.index]) || is_awake_dynamic(bodies_[def.body_b.index])) {
     wake_islands_of({def.body_a.index, def.body_b.index});
   }
-  return result;
+  return id;
+}
+
+// create_joint's checks, first refusal first: the type, the bodies, the
+// definition, then each anchor's reach.
+Result<void> World::joint_error(const JointDef& def) const {
+  if (!is_joint_type(def.type)) return Error{"type", "not a joint type"};
+  if (!is_alive(def.body_a)) return Error{"body_a", "not a live body"};
+  if (!is_alive(def.body_b)) return Error{"body_b", "not a live body"};
+  if (def.body_a.index == def.body_b.index) return Error{"body_b", "the same body as body_a"};
+  if (bodies_[def.body_a.index].type != BodyType::dynamic && bodies_[def.body_b.index].type != BodyType::dynamic) {
+    return Error{"body_b", "neither body is dynamic"};
+  }
+  if (const char* error = joint_def_error(def)) return Error::from_line(error);
+  const Vec3& anchor_b = anchor_on_b(def);
+  const auto beyond = [&](BodyId body, Vec3 anchor) {
+    const Body& b = bodies_[body.index];
+    return !within_joint_reach(length(anchor - b.pose.position), b);
+  };
+  if (beyond(def.body_a, def.anchor_a)) return Error{"anchor_a", reach_reason};
+  if (beyond(def.body_b, anchor_b)) return Error{&anchor_b == &def.anchor_b ? "anchor_b" : "anchor_a", reach_reason};
+  return {};
 }
 
 namespace {
@@ -471,15 +469,14 @@ void World::apply_force(BodyId id, Vec3 force, Vec3 world_point) {
   add_force(bodies_[id.index], force, world_point, settings_.dt);
 }
 
-CarId World::create_car(const CarDef& def, std::string& error) {
-  error = car_def_error(def, bodies_);
-  if (!error.empty()) return {};
+Result<CarId> World::create_car(const CarDef& def) {
+  if (const std::string error = car_def_error(def, bodies_); !error.empty()) return Error::from_line(error);
   Car car;
   car.alive = true;
   car.def = def;
   car.tyre_impulses.assign(def.wheels.size(), TyreImpulse{});
   cars_.push_back(std::move(car));
-  return {static_cast<uint32_t>(cars_.size() - 1)};
+  return CarId{static_cast<uint32_t>(cars_.size() - 1)};
 }
 
 void World::set_car_controls(CarId id, CarControls controls) {

@@ -10,6 +10,7 @@
 #include "core/car.h"
 #include "core/contact.h"
 #include "core/envelope.h"
+#include "core/error.h"
 #include "core/executor.h"
 #include "core/joint.h"
 #include "core/sensor.h"
@@ -24,18 +25,6 @@ struct StepStats {
   int contact_points = 0;
   Fixed max_penetration;  // m
   Fixed kinetic_energy;   // J, at most 2^31 J (capped there: a report, never state)
-};
-
-struct CreateResult {
-  BodyId id;
-  EnvelopeError error;  // set when the definition is outside the world envelope
-  bool ok() const { return error.ok(); }
-};
-
-struct JointResult {
-  JointId id;
-  std::string error;  // "body_b: not a live body", "axis: shorter than 0.001", ...; empty on success
-  bool ok() const { return error.empty(); }
 };
 
 // A number for each world object, drawn anew for a copy (a copy's future
@@ -75,17 +64,18 @@ class World {
                           std::vector<Joint> joints = {}, std::vector<uint32_t> free_joint_slots = {},
                           std::vector<SensorOverlap> sensor_overlaps = {}, std::vector<Car> cars = {});
 
-  // Validates the definition against the world envelope first; on error the
-  // world is unchanged.
-  CreateResult create_body(const BodyDef& def);
+  // Validates the definition against the world envelope first; on error
+  // (its place the field: "mass", "shapes[0].radius") the world is unchanged.
+  Result<BodyId> create_body(const BodyDef& def);
   // Removes the body and every joint attached to it.
   bool remove_body(BodyId id);
 
   // Joins two bodies (core/joint.h): checked first (live, different bodies,
   // one of them dynamic, anchors within reach of the bodies, a usable axis
-  // and limits); on error the world is unchanged. A sleeping body joined
-  // to an awake one wakes with its island; two sleeping ones stay asleep.
-  JointResult create_joint(const JointDef& def);
+  // and limits); on error (its place the field: "body_b", "axis") the world
+  // is unchanged. A sleeping body joined to an awake one wakes with its
+  // island; two sleeping ones stay asleep.
+  Result<JointId> create_joint(const JointDef& def);
   // Sets a hinge's or a slider's motor (JointDef::motor_speed, motor_max;
   // max 0: none) from the next step on, and wakes its bodies. An error
   // (a dead joint, a type without a motor, a setting out of range; the
@@ -119,8 +109,9 @@ class World {
   void apply_force(BodyId id, Vec3 force, Vec3 world_point);
   void set_velocity(BodyId id, Vec3 linear, Vec3 angular);
   // A raycast car on a live dynamic chassis (core/car.h): checked first
-  // (car_def_error); on error the world is unchanged and the id invalid.
-  CarId create_car(const CarDef& def, std::string& error);
+  // (car_def_error); on error (its place the field: "chassis",
+  // "wheel_radius") the world is unchanged.
+  Result<CarId> create_car(const CarDef& def);
   // The driver's controls, clamped to their ranges, kept until changed.
   void set_car_controls(CarId id, CarControls controls);
   // Cars in creation order; a car whose chassis is removed is dead.
@@ -190,6 +181,8 @@ class World {
   uint64_t held_manifold_rows() const;
 
  private:
+  // create_joint's checks: the first refusal, or none.
+  Result<void> joint_error(const JointDef& def) const;
   // The step's parts (world.cpp). Those of a substep take its settings,
   // whose dt is the substep's; the rest run once per step.
   void substep(const Settings& s);

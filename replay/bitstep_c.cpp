@@ -38,6 +38,16 @@ bitstep_status fail(bitstep_simulation* sim, bitstep_status status, std::string 
   return status;
 }
 
+// The one mapping of the facade's Error to a status: every error it returns
+// is about the input (a malformed scene, body, joint or image), so
+// BITSTEP_INVALID, the message its one line.
+bitstep_status status_of(const bitstep::Error& error, std::string& message) {
+  message = error.message();
+  return BITSTEP_INVALID;
+}
+
+bitstep_status fail(bitstep_simulation* sim, const bitstep::Error& error) { return status_of(error, sim->last_error); }
+
 // Runs `call` (returning a status) with sim checked and exceptions caught.
 template <typename Call>
 bitstep_status guarded(bitstep_simulation* sim, Call&& call) {
@@ -59,7 +69,7 @@ bitstep_status input_status(bitstep_simulation* sim, const bitstep::InputResult&
     case bitstep::InputResult::Status::not_found: return fail(sim, BITSTEP_NOT_FOUND, missing);
     case bitstep::InputResult::Status::refused: break;
   }
-  return fail(sim, BITSTEP_INVALID, result.reason);
+  return fail(sim, result.refusal);
 }
 
 std::string no_body_message(bitstep_body body) {
@@ -70,13 +80,15 @@ bitstep_status no_body(bitstep_simulation* sim, bitstep_body body) {
   return fail(sim, BITSTEP_NOT_FOUND, no_body_message(body));
 }
 
-bitstep_status created(std::optional<bitstep::Simulation> made, const std::string& message, bitstep_simulation** out,
-                       char* error, size_t capacity) {
-  if (!made) {
+bitstep_status created(bitstep::Result<bitstep::Simulation> made, bitstep_simulation** out, char* error,
+                       size_t capacity) {
+  if (!made.ok()) {
+    std::string message;
+    const bitstep_status status = status_of(made.error(), message);
     copy_message(message, error, capacity);
-    return BITSTEP_INVALID;
+    return status;
   }
-  *out = new bitstep_simulation{std::move(*made), {}};
+  *out = new bitstep_simulation{std::move(made).value(), {}};
   return BITSTEP_OK;
 }
 
@@ -99,9 +111,7 @@ bitstep_status bitstep_create_from_file(const char* path, bitstep_simulation** o
   if (path == nullptr || out == nullptr) return BITSTEP_NULL_ARGUMENT;
   *out = nullptr;
   try {
-    std::string message;
-    auto made = bitstep::Simulation::from_file(path, message);
-    return created(std::move(made), message, out, error, error_capacity);
+    return created(bitstep::Simulation::from_file(path), out, error, error_capacity);
   } catch (const std::bad_alloc&) {
     copy_message("out of memory", error, error_capacity);
     return BITSTEP_OUT_OF_MEMORY;
@@ -113,9 +123,7 @@ bitstep_status bitstep_create_from_text(const char* json, size_t length, const c
   if (json == nullptr || name == nullptr || out == nullptr) return BITSTEP_NULL_ARGUMENT;
   *out = nullptr;
   try {
-    std::string message;
-    auto made = bitstep::Simulation::from_text(std::string_view(json, length), name, message);
-    return created(std::move(made), message, out, error, error_capacity);
+    return created(bitstep::Simulation::from_text(std::string_view(json, length), name), out, error, error_capacity);
   } catch (const std::bad_alloc&) {
     copy_message("out of memory", error, error_capacity);
     return BITSTEP_OUT_OF_MEMORY;
@@ -139,10 +147,9 @@ bitstep_status bitstep_find_body(bitstep_simulation* sim, const char* name, bits
 bitstep_status bitstep_add_body(bitstep_simulation* sim, const char* body_json, bitstep_body* out) {
   return guarded(sim, [&] {
     if (body_json == nullptr || out == nullptr) return BITSTEP_NULL_ARGUMENT;
-    std::string error;
-    const auto id = sim->sim.add_body(body_json, error);
-    if (!id) return fail(sim, BITSTEP_INVALID, error);
-    *out = body_to_c(*id);
+    const bitstep::Result<bitstep::BodyId> id = sim->sim.add_body(body_json);
+    if (!id.ok()) return fail(sim, id.error());
+    *out = body_to_c(id.value());
     return BITSTEP_OK;
   });
 }
@@ -154,9 +161,8 @@ bitstep_status bitstep_remove_body(bitstep_simulation* sim, bitstep_body body) {
 bitstep_status bitstep_add_joint(bitstep_simulation* sim, const char* joint_json, bitstep_joint* out) {
   return guarded(sim, [&] {
     if (joint_json == nullptr || out == nullptr) return BITSTEP_NULL_ARGUMENT;
-    std::string error;
-    const auto id = sim->sim.add_joint(joint_json, error);
-    if (!id) return fail(sim, BITSTEP_INVALID, error);
+    const bitstep::Result<bitstep::JointId> id = sim->sim.add_joint(joint_json);
+    if (!id.ok()) return fail(sim, id.error());
     *out = {id->index, id->generation};
     return BITSTEP_OK;
   });
@@ -287,7 +293,9 @@ bitstep_status bitstep_save(bitstep_simulation* sim, uint8_t* buffer, size_t cap
 bitstep_status bitstep_load(bitstep_simulation* sim, const uint8_t* image, size_t size) {
   return guarded(sim, [&] {
     if (image == nullptr) return BITSTEP_NULL_ARGUMENT;
-    if (const auto why = sim->sim.load({image, size})) return fail(sim, BITSTEP_INVALID, "load: " + *why);
+    if (const bitstep::Result<void> loaded = sim->sim.load({image, size}); !loaded.ok()) {
+      return fail(sim, loaded.error().within("load"));
+    }
     return BITSTEP_OK;
   });
 }
@@ -307,7 +315,9 @@ bitstep_status bitstep_save_state(bitstep_simulation* sim, uint8_t* buffer, size
 bitstep_status bitstep_load_state(bitstep_simulation* sim, const uint8_t* image, size_t size) {
   return guarded(sim, [&] {
     if (image == nullptr) return BITSTEP_NULL_ARGUMENT;
-    if (const auto why = sim->sim.load_state({image, size})) return fail(sim, BITSTEP_INVALID, "load_state: " + *why);
+    if (const bitstep::Result<void> loaded = sim->sim.load_state({image, size}); !loaded.ok()) {
+      return fail(sim, loaded.error().within("load_state"));
+    }
     return BITSTEP_OK;
   });
 }

@@ -13,24 +13,26 @@ std::string faster_than(Fixed limit, std::string_view unit) {
   return "faster than " + to_string(limit) + (unit.empty() ? "" : " ") + std::string(unit);
 }
 
-std::optional<std::string> check_within(Fixed value, Fixed lo, Fixed hi, std::string_view what, std::string_view unit) {
-  if (value >= lo && value <= hi) return std::nullopt;
-  return std::string(what) + ": " + outside(lo, hi, unit);
+Result<void> check_within(Fixed value, Fixed lo, Fixed hi, std::string_view what, std::string_view unit) {
+  if (value >= lo && value <= hi) return {};
+  return Error{std::string(what), outside(lo, hi, unit)};
 }
 
-std::optional<std::string> check_vec3(Vec3 v, Fixed limit, std::string_view what, std::string_view unit) {
+Result<void> check_vec3(Vec3 v, Fixed limit, std::string_view what, std::string_view unit) {
   const Fixed components[3] = {v.x, v.y, v.z};
   static constexpr const char* names[3] = {".x", ".y", ".z"};
   for (int i = 0; i < 3; ++i) {
-    if (auto why = check_within(components[i], -limit, limit, std::string(what) + names[i], unit)) return why;
+    if (Result<void> within = check_within(components[i], -limit, limit, std::string(what) + names[i], unit); !within.ok()) {
+      return within;
+    }
   }
-  return std::nullopt;
+  return {};
 }
 
-std::optional<std::string> check_speed(Vec3 v, Fixed limit, std::string_view what, std::string_view unit) {
-  if (auto why = check_vec3(v, limit, what, unit)) return why;
-  if (length(v) > limit) return std::string(what) + ": " + faster_than(limit, unit);
-  return std::nullopt;
+Result<void> check_speed(Vec3 v, Fixed limit, std::string_view what, std::string_view unit) {
+  if (Result<void> components = check_vec3(v, limit, what, unit); !components.ok()) return components;
+  if (length(v) > limit) return Error{std::string(what), faster_than(limit, unit)};
+  return {};
 }
 
 }  // namespace bitstep::input_bounds

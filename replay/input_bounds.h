@@ -8,10 +8,10 @@
 // the speed clamp's length; the checked build aborts on it).
 #pragma once
 
-#include <optional>
 #include <string>
 #include <string_view>
 
+#include "core/error.h"
 #include "core/settings.h"
 #include "fixed/vec3.h"
 
@@ -36,12 +36,12 @@ std::string outside(Fixed lo, Fixed hi, std::string_view unit);
 // "faster than 500 m/s": a velocity's length past its limit.
 std::string faster_than(Fixed limit, std::string_view unit);
 
-// nullopt when `value` is within lo..hi; else "<what>: outside ...".
-std::optional<std::string> check_within(Fixed value, Fixed lo, Fixed hi, std::string_view what, std::string_view unit);
-// Each component within -limit..limit ("<what>.y: outside +-1000000 N s").
-std::optional<std::string> check_vec3(Vec3 v, Fixed limit, std::string_view what, std::string_view unit);
+// Fine when `value` is within lo..hi; else an error at `what`: "outside ...".
+Result<void> check_within(Fixed value, Fixed lo, Fixed hi, std::string_view what, std::string_view unit);
+// Each component within -limit..limit ("<what>.y": "outside +-1000000 N s").
+Result<void> check_vec3(Vec3 v, Fixed limit, std::string_view what, std::string_view unit);
 // A velocity: its components within the limit (so that its length stays in
-// range), then its length ("<what>: faster than 100 rad/s").
-std::optional<std::string> check_speed(Vec3 v, Fixed limit, std::string_view what, std::string_view unit);
+// range), then its length ("<what>": "faster than 100 rad/s").
+Result<void> check_speed(Vec3 v, Fixed limit, std::string_view what, std::string_view unit);
 
 }  // namespace bitstep::input_bounds

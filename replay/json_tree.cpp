@@ -98,7 +98,7 @@ class TreeBuilder {
   }
 
   bool failed() const { return failed_; }
-  SyntaxError error() const { return error_; }
+  Error error() const { return error_; }
   Node take_root() { return std::move(root_); }
 
  private:
@@ -192,7 +192,7 @@ class TreeBuilder {
   size_t max_tree_bytes_;
   size_t tree_bytes_ = 0;
   bool failed_ = false;
-  SyntaxError error_;
+  Error error_;
 };
 
 }  // namespace
@@ -223,16 +223,16 @@ std::string member_path(const std::string& parent_path, std::string_view key) {
   return parent_path + "[" + quote(key) + "]";
 }
 
-std::variant<Node, SyntaxError> parse(std::string_view text, size_t max_tree_bytes) {
+Result<Node> parse(std::string_view text, size_t max_tree_bytes) {
   TreeBuilder builder(max_tree_bytes);
   try {
     const bool ok = nlohmann::json::sax_parse(text.begin(), text.end(), &builder);
     if (!ok || builder.failed()) {
       if (builder.failed()) return builder.error();
-      return SyntaxError{"$", "malformed JSON"};
+      return Error{"$", "malformed JSON"};
     }
   } catch (const std::exception& e) {  // only allocation failure can get here
-    return SyntaxError{"$", std::string("cannot parse: ") + e.what()};
+    return Error{"$", std::string("cannot parse: ") + e.what()};
   }
   return builder.take_root();
 }

@@ -9,9 +9,9 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
-#include <variant>
 #include <vector>
 
+#include "core/error.h"
 #include "replay/limits.h"
 
 namespace bitstep::json {
@@ -33,20 +33,15 @@ struct Node {
   const Node* member(std::string_view member_key) const;
 };
 
-// Where the text stopped being a well-formed tree: a byte position
-// ("byte 17") for syntax errors, a JSON path for duplicate keys and nesting.
-struct SyntaxError {
-  std::string where;
-  std::string reason;
-};
-
 // Nesting deeper than this is refused (it would only mean a hostile file).
 inline constexpr int max_depth = limits::max_json_depth;
 
 // Parses strict JSON (RFC 8259, UTF-8). A tree that would take more than
 // `max_tree_bytes` (its nodes, texts, keys and paths) is refused at the
-// value that crosses it. Never throws.
-std::variant<Node, SyntaxError> parse(std::string_view text, size_t max_tree_bytes = limits::max_json_tree_bytes);
+// value that crosses it. Never throws. An error's place is where the text
+// stopped being a well-formed tree: a byte ("byte 17") for syntax errors,
+// a JSON path for duplicate keys and nesting.
+Result<Node> parse(std::string_view text, size_t max_tree_bytes = limits::max_json_tree_bytes);
 
 // `text` in double quotes for a one-line message: quotes, backslashes and
 // control characters escaped as in JSON, cut to 60 bytes with "...".

@@ -202,26 +202,12 @@ std::vector<Input> read_inputs(const Node& node, const Scene& scene) {
   return inputs;
 }
 
-// Parses `text` (the file `path`'s) and reads the tree; never throws.
+// The file's text read by `read` (scene_reader::read_json); never throws.
 template <class Read>
-auto parse_text(std::string_view text, const std::string& path, Read read)
-    -> std::variant<decltype(read(std::declval<const Node&>())), ReplayError> {
-  try {
-    auto tree = json::parse(text);
-    if (const auto* error = std::get_if<json::SyntaxError>(&tree)) return ReplayError{path, error->where, error->reason};
-    return read(std::get<Node>(tree));
-  } catch (const ReadFailure& failure) {
-    return ReplayError{path, failure.path, failure.reason};
-  } catch (const std::exception& e) {  // allocation failure
-    return ReplayError{path, "$", std::string("cannot load: ") + e.what()};
-  }
-}
-
-template <class Read>
-auto parse_file(const std::string& path, Read read) -> std::variant<decltype(read(std::declval<const Node&>())), ReplayError> {
-  std::string text, reason;
-  if (!read_text_file(path, text, reason)) return ReplayError{path, "", reason};
-  return parse_text(text, path, read);
+auto parse_file(const std::string& path, Read read) -> Result<decltype(read(std::declval<const Node&>()))> {
+  Result<std::string> text = read_text_file(path);
+  if (!text.ok()) return text.error();
+  return read_json(text.value(), path, read);
 }
 
 std::string hex(uint64_t value) {
@@ -231,38 +217,42 @@ std::string hex(uint64_t value) {
   return out;
 }
 
+// A replay's scene (`node`, its "scene"): inline, or a file relative to
+// the replay's folder. An error inside an inline scene names the replay and
+// "$.scene..."; one inside a scene file names that file; a scene file that
+// cannot be read is named at "$.scene" of the replay that needs it.
+Result<Scene> read_replay_scene(const Node& node, const std::string& path, Replay& replay) {
+  if (node.kind == Kind::object) {
+    replay.inline_scene = json::write(node);
+    Result<Scene> loaded = parse_scene(replay.inline_scene, "");
+    if (loaded.ok()) return loaded;
+    Error error = loaded.error();
+    if (error.place.rfind('$', 0) == 0) error.place = "$.scene" + error.place.substr(1);
+    return error.within(path);
+  }
+  replay.scene_file = read_string(node);
+  const std::string file = (std::filesystem::path(path).parent_path() / replay.scene_file).string();
+  Result<std::string> text = read_text_file(file);
+  if (!text.ok()) return text.error().within(node.path).within(path);
+  return parse_scene(text.value(), file);
+}
+
 }  // namespace
 
-std::variant<std::vector<Input>, ReplayError> parse_inputs(std::string_view json_array, const Scene& scene,
-                                                           const std::string& name) {
-  try {
-    auto tree = json::parse(json_array);
-    if (const auto* error = std::get_if<json::SyntaxError>(&tree)) return ReplayError{name, error->where, error->reason};
-    return read_inputs(std::get<Node>(tree), scene);
-  } catch (const ReadFailure& failure) {
-    return ReplayError{name, failure.path, failure.reason};
-  } catch (const std::exception& e) {  // allocation failure
-    return ReplayError{name, "$", std::string("cannot read: ") + e.what()};
-  }
+Result<std::vector<Input>> parse_inputs(std::string_view json_array, const Scene& scene, const std::string& name) {
+  return read_json(json_array, name, [&](const Node& root) { return read_inputs(root, scene); });
 }
 
-std::string ReplayError::message() const {
-  if (path.empty()) return file + ": " + reason;
-  return file + ": " + path + ": " + reason;
+Result<Replay> load_replay_file(const std::string& path, bool require_hashes) {
+  Result<std::string> text = read_text_file(path);
+  if (!text.ok()) return text.error();
+  return parse_replay(text.value(), path, require_hashes);
 }
 
-std::variant<Replay, ReplayError> load_replay_file(const std::string& path, bool require_hashes) {
-  std::string text, reason;
-  if (!read_text_file(path, text, reason)) return ReplayError{path, "", reason};
-  return parse_replay(text, path, require_hashes);
-}
-
-std::variant<Replay, ReplayError> parse_replay(std::string_view json_text, const std::string& path,
-                                               bool require_hashes) {
+Result<Replay> parse_replay(std::string_view json_text, const std::string& path, bool require_hashes) {
   // The scene is loaded in the middle of reading the replay; its error, if
-  // any, is the one reported.
-  std::variant<Replay, ReplayError> scene_error;
-  bool scene_failed = false;
+  // any, is the one reported, as its own file names it.
+  std::optional<Error> scene_error;
   auto read = [&](const Node& root) {
     ObjectReader reader(root);
     const Node& format = reader.require("format");
@@ -275,32 +265,12 @@ std::variant<Replay, ReplayError> parse_replay(std::string_view json_text, const
     Replay replay;
     // The scene: a file relative to the replay's folder, or inline.
     const Node& scene = reader.require("scene");
-    std::variant<Scene, SceneError> loaded;
-    if (scene.kind == Kind::object) {
-      replay.inline_scene = json::write(scene);
-      loaded = parse_scene(replay.inline_scene, path);
-      if (SceneError* error = std::get_if<SceneError>(&loaded); error != nullptr && error->path.rfind('$', 0) == 0) {
-        error->path = "$.scene" + error->path.substr(1);
-      }
-    } else {
-      replay.scene_file = read_string(scene);
-      loaded = load_scene_file((std::filesystem::path(path).parent_path() / replay.scene_file).string());
-    }
-    if (const SceneError* error = std::get_if<SceneError>(&loaded)) {
-      scene_failed = true;
-      // A scene file that cannot be read is named with the replay that
-      // needs it; an error inside it names its own file and path.
-      // (Field by field: gcc 12's -Wmaybe-uninitialized misreads a
-      // conditional between two temporaries here under -fsanitize=thread.)
-      const bool unreadable = error->path.empty() && replay.inline_scene.empty();
-      ReplayError refused;
-      refused.file = unreadable ? path : error->file;
-      refused.path = unreadable ? scene.path : error->path;
-      refused.reason = unreadable ? error->file + ": " + error->reason : error->reason;
-      scene_error = std::move(refused);
+    Result<Scene> loaded = read_replay_scene(scene, path, replay);
+    if (!loaded.ok()) {
+      scene_error = loaded.error();
       return replay;
     }
-    replay.scene = std::move(std::get<Scene>(loaded));
+    replay.scene = std::move(loaded).value();
     if (const Node* settings = reader.find("settings")) {
       read_settings_onto(*settings, replay.scene.settings);
       replay.settings_override = json::write(*settings);
@@ -329,12 +299,12 @@ std::variant<Replay, ReplayError> parse_replay(std::string_view json_text, const
     reader.finish();
     return replay;
   };
-  auto result = parse_text(json_text, path, read);
-  if (scene_failed) return scene_error;
+  Result<Replay> result = read_json(json_text, path, read);
+  if (scene_error) return *scene_error;
   return result;
 }
 
-std::variant<InputsFile, ReplayError> load_inputs_file(const std::string& path, const Scene& scene) {
+Result<InputsFile> load_inputs_file(const std::string& path, const Scene& scene) {
   return parse_file(path, [&](const Node& root) {
     ObjectReader reader(root);
     InputsFile file;
@@ -356,25 +326,19 @@ std::variant<InputsFile, ReplayError> load_inputs_file(const std::string& path, 
   });
 }
 
-bool build_world(const Scene& scene, World& world, std::string& reason) {
+Result<void> build_world(const Scene& scene, World& world) {
   std::vector<BodyId> ids;
   ids.reserve(scene.bodies.size());
   for (size_t i = 0; i < scene.bodies.size(); ++i) {
-    const CreateResult created = world.create_body(scene.bodies[i].def);
-    if (!created.ok()) {
-      reason = "body " + std::to_string(i) + ": " + created.error.field + ": " + created.error.reason;
-      return false;
-    }
-    ids.push_back(created.id);
+    const Result<BodyId> created = world.create_body(scene.bodies[i].def);
+    if (!created.ok()) return created.error().within("body " + std::to_string(i));
+    ids.push_back(created.value());
   }
   for (size_t k = 0; k < scene.cars.size(); ++k) {
     CarDef def = scene.cars[k].def;
     def.chassis = scene.cars[k].chassis < ids.size() ? ids[scene.cars[k].chassis] : BodyId{};
-    std::string error;
-    world.create_car(def, error);
-    if (!error.empty()) {
-      reason = "car " + std::to_string(k) + " (" + json::quote(scene.cars[k].name) + "): " + error;
-      return false;
+    if (const Result<CarId> created = world.create_car(def); !created.ok()) {
+      return created.error().within("car " + std::to_string(k) + " (" + json::quote(scene.cars[k].name) + ")");
     }
   }
   for (size_t k = 0; k < scene.joints.size(); ++k) {
@@ -383,14 +347,12 @@ bool build_world(const Scene& scene, World& world, std::string& reason) {
     // A scene made in code may name a body it does not have: the world refuses the handle.
     def.body_a = joint.body_a < ids.size() ? ids[joint.body_a] : BodyId{};
     def.body_b = joint.body_b < ids.size() ? ids[joint.body_b] : BodyId{};
-    const JointResult created = world.create_joint(def);
+    const Result<JointId> created = world.create_joint(def);
     if (!created.ok()) {
-      reason = "joint " + std::to_string(k) + (joint.name.empty() ? "" : " (" + json::quote(joint.name) + ")") + ": " +
-               created.error;
-      return false;
+      return created.error().within("joint " + std::to_string(k) + (joint.name.empty() ? "" : " (" + json::quote(joint.name) + ")"));
     }
   }
-  return true;
+  return {};
 }
 
 namespace {
@@ -410,9 +372,9 @@ void add_joint(World& world, const Input& input, InputRun& run) {
   JointDef def = joint_in_world(spec, frame(a), frame(b));
   def.body_a = a;
   def.body_b = b;
-  const JointResult created = world.create_joint(def);
+  const Result<JointId> created = world.create_joint(def);
   if (run.joints.size() <= input.joint_number) run.joints.resize(input.joint_number + size_t{1}, no_joint);
-  run.joints[input.joint_number] = created.ok() ? created.id : no_joint;
+  run.joints[input.joint_number] = created.ok() ? created.value() : no_joint;
 }
 
 }  // namespace
@@ -467,8 +429,8 @@ Verification verify_replay(const Replay& replay, int64_t dump_step, std::string*
   Verification v;
   World world(replay.scene.settings);
   world.set_executor(executor);
-  v.built = build_world(replay.scene, world, v.reason);
-  if (!v.built) return v;
+  v.built = build_world(replay.scene, world);
+  if (!v.built.ok()) return v;
   v.scene_hash = state_hash(world);
   v.scene_matches = v.scene_hash == replay.scene_hash;
   if (!v.scene_matches) return v;

@@ -8,7 +8,6 @@
 #include <functional>
 #include <string>
 #include <string_view>
-#include <variant>
 #include <vector>
 
 #include "core/world.h"
@@ -53,21 +52,14 @@ struct Replay {
   std::vector<uint64_t> hashes; // state hash after each step; empty before recording
 };
 
-struct ReplayError {
-  std::string file;
-  std::string path;    // JSON path, or empty
-  std::string reason;
-  std::string message() const;  // "<file>: <path>: <reason>", one line
-};
-
 // Reads a replay file and the scene it names. With `require_hashes` the hash
 // chain must be there, one per step (for verify); a recording's input file
-// has none.
-std::variant<Replay, ReplayError> load_replay_file(const std::string& path, bool require_hashes);
+// has none. An error's place is "<file>: <JSON path>": the replay's, or the
+// scene file's for an error inside that file.
+Result<Replay> load_replay_file(const std::string& path, bool require_hashes);
 // The same from the file's text: `path` names it in errors, and a scene
 // file the replay names is read from `path`'s folder. Never throws.
-std::variant<Replay, ReplayError> parse_replay(std::string_view json_text, const std::string& path,
-                                               bool require_hashes);
+Result<Replay> parse_replay(std::string_view json_text, const std::string& path, bool require_hashes);
 
 // Reads an inputs file for `bitstep record`: {"inputs": [...]} against a
 // scene, or a replay file (its inputs, to record it again, and its settings
@@ -76,19 +68,19 @@ struct InputsFile {
   std::vector<Input> inputs;
   std::string settings_override;  // a replay's "settings" as compact JSON, or empty
 };
-std::variant<InputsFile, ReplayError> load_inputs_file(const std::string& path, const Scene& scene);
+Result<InputsFile> load_inputs_file(const std::string& path, const Scene& scene);
 
 // A JSON array of inputs (as a replay's "inputs") read against a scene:
 // for inputs that travel on their own (a session's). `name` stands for the
 // file in errors.
-std::variant<std::vector<Input>, ReplayError> parse_inputs(std::string_view json_array, const Scene& scene,
-                                                           const std::string& name);
+Result<std::vector<Input>> parse_inputs(std::string_view json_array, const Scene& scene, const std::string& name);
 
 // A world with the scene's bodies in order, then its joints in order (in a
-// new world scene body i is slot i and scene joint k joint slot k); false
-// (and the reason) when a body or a joint is refused: "body 3: <field>:
-// <reason>", "joint 2 (\"rope\"): <World::create_joint's error>".
-bool build_world(const Scene& scene, World& world, std::string& reason);
+// new world scene body i is slot i and scene joint k joint slot k); the
+// error when a body, a car or a joint is refused, World's with the object
+// in front of its place: "body 3: shapes[0].radius: <reason>", "joint 2
+// (\"rope\"): body_b: <reason>".
+Result<void> build_world(const Scene& scene, World& world);
 
 // A run of inputs: the next one to apply, and the joints inputs name, by
 // number: the scene's (the world's joint slots at step 0, as build_world
@@ -114,14 +106,13 @@ void run_inputs(World& world, const std::vector<Input>& inputs, int64_t steps, s
 
 // Re-runs a replay from its scene and compares every hash.
 struct Verification {
-  bool built = false;          // false: a scene body was refused (reason)
-  std::string reason;
+  Result<void> built;          // an error: a scene body, car or joint was refused (build_world's)
   uint64_t scene_hash = 0;     // of the world before step 1
   bool scene_matches = false;  // scene_hash equals the recorded one
   int64_t divergent_step = 0;  // first step whose hash differs, 0 when all match
   std::vector<uint64_t> hashes;
   uint64_t snapshot_checksum = 0;  // of the snapshot image after the last step (the same bytes in every build)
-  bool ok() const { return built && scene_matches && divergent_step == 0; }
+  bool ok() const { return built.ok() && scene_matches && divergent_step == 0; }
 };
 // `executor` (null: one thread) steps the world (World::set_executor).
 Verification verify_replay(const Replay& replay, int64_t dump_step = -1, std::string* dump = nullptr,

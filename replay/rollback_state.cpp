@@ -134,21 +134,24 @@ void RollbackStates::save(const World& world, std::vector<uint8_t>& buffer) {
   buffer.resize(size);
 }
 
-std::optional<std::string> RollbackStates::restore(std::span<const uint8_t> image, World& world) const {
+Result<void> RollbackStates::restore(std::span<const uint8_t> image, World& world) const {
+  const auto refuse = [](std::string reason) { return Error{{}, std::move(reason)}; };
   if (image.size() < header_bytes + 8 || !std::equal(magic, magic + 8, image.begin())) {
-    return std::string("not a rollback state");
+    return refuse("not a rollback state");
   }
-  if (get_le(image, 8, 4) != rollback_state_version) return "rollback state version " + std::to_string(get_le(image, 8, 4));
+  if (get_le(image, 8, 4) != rollback_state_version) {
+    return refuse("rollback state version " + std::to_string(get_le(image, 8, 4)));
+  }
   if (get_le(image, 12, 8) != world.instance() || world.instance() != instance_) {
-    return std::string("a rollback state of another world");
+    return refuse("a rollback state of another world");
   }
   if (get_le(image, 20, 8) < oldest_restorable_) {
-    return std::string("older than the states kept: a body it names was forgotten");
+    return refuse("older than the states kept: a body it names was forgotten");
   }
   const uint64_t payload = get_le(image, 28, 8);
-  if (payload != image.size() - header_bytes - 8) return std::string("truncated or padded");
+  if (payload != image.size() - header_bytes - 8) return refuse("truncated or padded");
   if (get_le(image, image.size() - 8, 8) != XXH3_64bits(image.data(), image.size() - 8)) {
-    return std::string("checksum mismatch: the image is corrupt");
+    return refuse("checksum mismatch: the image is corrupt");
   }
   // Our own bytes, intact. Read into a copy of the world's state (as in
   // place: a body still in its slot keeps its static fields), swapped in
@@ -158,12 +161,12 @@ std::optional<std::string> RollbackStates::restore(std::span<const uint8_t> imag
     state_bytes::ByteReader r(image.subspan(header_bytes, static_cast<size_t>(payload)), this, &marks_);
     describe_state(r, read_.refs());
     if (!r.done()) r.fail("bytes left after the state");
-  } catch (const state_bytes::Corrupt& corrupt) {
-    return "rollback state unreadable: " + corrupt.reason;
+  } catch (const Error& corrupt) {  // state_bytes::ByteReader's
+    return refuse("rollback state unreadable: " + corrupt.message());
   }
   WorldStateAccess::swap(world, read_);
   world.after_in_place_restore();
-  return std::nullopt;
+  return {};
 }
 
 }  // namespace bitstep

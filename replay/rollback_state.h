@@ -19,7 +19,6 @@
 
 #include <cstdint>
 #include <map>
-#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -48,7 +47,7 @@ class RollbackStates final : private state_bytes::BodyStatics {
   // it cannot (another world, a corrupt or truncated image) and changes
   // nothing: it is read into a copy of the world's state, swapped in only
   // when read whole (the copy's memory is kept for the next restore).
-  std::optional<std::string> restore(std::span<const uint8_t> image, World& world) const;
+  Result<void> restore(std::span<const uint8_t> image, World& world) const;
 
   // Forgets the static fields of the bodies that were in none of the last
   // `saves` states saved: those states still restore; older ones are then

@@ -76,13 +76,6 @@ Shape read_shape(const Node& node) {
   return shape;
 }
 
-// "field" or "shapes[2].field" of an envelope error, relative to its body.
-std::string envelope_field(const EnvelopeError& error) {
-  std::string field = error.field != nullptr ? error.field : "";
-  if (error.shape_index >= 0) field = "shapes[" + std::to_string(error.shape_index) + "]." + field;
-  return field;
-}
-
 // check_envelope refuses |v| > 500 m/s and |omega| > 100 rad/s; a component
 // beyond that fails it anyway, and refusing it first keeps the length that
 // check_envelope computes inside Q32.32 (a checked build aborts on saturation).
@@ -147,7 +140,7 @@ SceneBody read_body(const Node& node, const MaterialTable& materials) {
 
   check_speed_components(node, def);
   const EnvelopeError envelope = check_envelope(def);
-  if (!envelope.ok()) fail(node.path + "." + envelope_field(envelope), envelope.reason);
+  if (!envelope.ok()) fail(node.path + "." + envelope.place(), envelope.reason);
   return body;
 }
 
@@ -380,7 +373,7 @@ GeneratedStructure read_generator(const Node& node, const MaterialTable& materia
   for (const SceneBody& body : generated.bodies) {
     const EnvelopeError envelope = check_envelope(body.def);
     if (!envelope.ok()) {
-      fail(node, "generated body " + json::quote(body.name) + ": " + envelope_field(envelope) + " " + envelope.reason);
+      fail(node, "generated body " + json::quote(body.name) + ": " + envelope.place() + " " + envelope.reason);
     }
   }
   return generated;
@@ -709,72 +702,43 @@ void read_settings_onto(const Node& node, Settings& s) {
   reader.finish();
 }
 
-std::string SceneError::message() const {
-  if (path.empty()) return file + ": " + reason;
-  return file + ": " + path + ": " + reason;
+Result<Scene> parse_scene(std::string_view json_text, const std::string& file_name) {
+  return read_json(json_text, file_name, [](const Node& root) { return read_scene(root); });
 }
 
-std::variant<Scene, SceneError> parse_scene(std::string_view json_text, const std::string& file_name) {
-  try {
-    auto tree = json::parse(json_text);
-    if (const auto* error = std::get_if<json::SyntaxError>(&tree)) return SceneError{file_name, error->where, error->reason};
-    return read_scene(std::get<json::Node>(tree));
-  } catch (const ReadFailure& failure) {
-    return SceneError{file_name, failure.path, failure.reason};
-  } catch (const std::exception& e) {  // allocation failure
-    return SceneError{file_name, "$", std::string("cannot load: ") + e.what()};
-  }
-}
-
-std::variant<std::string, SceneError> apply_settings_text(std::string_view json_text, const std::string& source,
-                                                          Settings& settings) {
-  try {
-    auto tree = json::parse(json_text);
-    if (const auto* error = std::get_if<json::SyntaxError>(&tree)) return SceneError{source, error->where, error->reason};
-    const Node& node = std::get<Node>(tree);
-    Settings applied = settings;
+Result<std::string> apply_settings_text(std::string_view json_text, const std::string& source, Settings& settings) {
+  Settings applied = settings;
+  Result<std::string> written = read_json(json_text, source, [&](const Node& node) {
     read_settings_onto(node, applied);
-    settings = applied;
     return json::write(node);
-  } catch (const ReadFailure& failure) {
-    return SceneError{source, failure.path, failure.reason};
-  } catch (const std::exception& e) {  // allocation failure
-    return SceneError{source, "$", std::string("cannot load: ") + e.what()};
-  }
+  });
+  if (written.ok()) settings = applied;
+  return written;
 }
 
-std::string file_size_error(std::uintmax_t size, std::uintmax_t max_bytes) {
+Result<void> check_file_size(std::uintmax_t size, std::uintmax_t max_bytes) {
   if (size <= max_bytes) return {};
-  return std::to_string(size) + " bytes: more than the limit of " + std::to_string(max_bytes) + " bytes (" +
-         std::to_string(max_bytes >> 20) + " MiB)";
+  return Error{std::to_string(size) + " bytes", "more than the limit of " + std::to_string(max_bytes) + " bytes (" +
+                                                    std::to_string(max_bytes >> 20) + " MiB)"};
 }
 
-bool read_text_file(const std::string& path, std::string& text, std::string& reason, std::uintmax_t max_bytes) {
+Result<std::string> read_text_file(const std::string& path, std::uintmax_t max_bytes) {
   std::error_code error;
-  if (!std::filesystem::is_regular_file(path, error)) {
-    reason = "cannot read the file (no such regular file)";
-    return false;
-  }
+  if (!std::filesystem::is_regular_file(path, error)) return Error{path, "cannot read the file (no such regular file)"};
   // The size first: a file over the limit is refused without reading it.
   const std::uintmax_t size = std::filesystem::file_size(path, error);
-  if (error) {
-    reason = "cannot read the file (" + error.message() + ")";
-    return false;
-  }
-  if (reason = file_size_error(size, max_bytes); !reason.empty()) return false;
-  text.assign(static_cast<size_t>(size), '\0');
+  if (error) return Error{path, "cannot read the file (" + error.message() + ")"};
+  if (Result<void> fits = check_file_size(size, max_bytes); !fits.ok()) return fits.error().within(path);
+  std::string text(static_cast<size_t>(size), '\0');
   std::ifstream file(path, std::ios::binary);
-  if (!file.read(text.data(), static_cast<std::streamsize>(size))) {
-    reason = "cannot read the file";
-    return false;
-  }
-  return true;
+  if (!file.read(text.data(), static_cast<std::streamsize>(size))) return Error{path, "cannot read the file"};
+  return text;
 }
 
-std::variant<Scene, SceneError> load_scene_file(const std::string& path) {
-  std::string text, reason;
-  if (!read_text_file(path, text, reason)) return SceneError{path, "", reason};
-  return parse_scene(text, path);
+Result<Scene> load_scene_file(const std::string& path) {
+  Result<std::string> text = read_text_file(path);
+  if (!text.ok()) return text.error();
+  return parse_scene(text.value(), path);
 }
 
 SceneBody read_scene_body(const json::Node& node, const Scene& scene) { return read_body(node, scene.materials); }

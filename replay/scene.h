@@ -9,11 +9,11 @@
 #include <string>
 #include <string_view>
 #include <utility>
-#include <variant>
 #include <vector>
 
 #include "core/body.h"
 #include "core/car.h"
+#include "core/error.h"
 #include "core/joint.h"
 #include "core/settings.h"
 #include "replay/json_tree.h"
@@ -51,49 +51,41 @@ struct Scene {
   MaterialTable materials;          // "materials", for bodies spawned later
 };
 
-struct SceneError {
-  std::string file;
-  std::string path;    // "$.bodies[2].shapes[0].radius", "byte 17", or empty (unreadable file)
-  std::string reason;  // "outside 0.01..50 m"
-  // "<file>: <path>: <reason>", one line.
-  std::string message() const;
-};
-
-// Parses scene JSON; on error returns the first error found and no scene.
-// Never throws.
-std::variant<Scene, SceneError> parse_scene(std::string_view json_text, const std::string& file_name);
-// Reads the whole file into `text`; false with a reason. Its size is
-// checked first: a file over `max_bytes` is refused unread.
-bool read_text_file(const std::string& path, std::string& text, std::string& reason,
-                    std::uintmax_t max_bytes = limits::max_json_file_bytes);
-// The one-line reason a file of `size` bytes is over `max_bytes` ("N bytes:
-// more than the limit of M bytes (K MiB)"), or empty.
-std::string file_size_error(std::uintmax_t size, std::uintmax_t max_bytes);
+// Parses scene JSON; on error returns the first error found and no scene,
+// its place "<file_name>: <JSON path>" ("scene.json: $.bodies[2].shapes[0].radius",
+// "scene.json: byte 17"). Never throws.
+Result<Scene> parse_scene(std::string_view json_text, const std::string& file_name);
+// The whole file's text, or the error with the file as its place ("cannot
+// read the file (...)"). Its size is checked first: a file over `max_bytes`
+// is refused unread.
+Result<std::string> read_text_file(const std::string& path, std::uintmax_t max_bytes = limits::max_json_file_bytes);
+// Refuses a file of `size` bytes over `max_bytes`: "N bytes: more than the
+// limit of M bytes (K MiB)".
+Result<void> check_file_size(std::uintmax_t size, std::uintmax_t max_bytes);
 // Reads the file, then parse_scene.
-std::variant<Scene, SceneError> load_scene_file(const std::string& path);
+Result<Scene> load_scene_file(const std::string& path);
 
 // The keys of a scene's "settings" object, each applied over the value
 // `settings` already holds (a scene: over the defaults; a replay's override:
-// over the scene's). Throws scene_reader::ReadFailure with the JSON path.
+// over the scene's). Throws an Error with the JSON path (scene_reader::fail).
 void read_settings_onto(const json::Node& node, Settings& settings);
 
 // A settings override as JSON text (`--settings` of bitstep run and record):
 // an object of "settings" keys, applied onto `settings`. Returns the object
-// as compact JSON text, or the first error (its file `source`), leaving
-// `settings` as it was. Never throws.
-std::variant<std::string, SceneError> apply_settings_text(std::string_view json_text, const std::string& source,
-                                                          Settings& settings);
+// as compact JSON text, or the first error (`source` in front of its
+// place), leaving `settings` as it was. Never throws.
+Result<std::string> apply_settings_text(std::string_view json_text, const std::string& source, Settings& settings);
 
 // One body object in the scene format (as in "bodies"), material names
 // resolved against the scene's table: for bodies spawned by replay inputs.
-// Throws scene_reader::ReadFailure with the JSON path (callers catch it).
+// Throws an Error with the JSON path (callers read through read_json).
 SceneBody read_scene_body(const json::Node& node, const Scene& scene);
 
 // One joint object in the scene format (as in "joints"), for scenes and
 // add_joint inputs: its anchors as written, each in the world frame or in
 // its body's frame, and its bodies as `resolve_body` read them ("body_a",
 // "body_b"; it fails with the value's path). Throws
-// scene_reader::ReadFailure with the JSON path.
+// an Error with the JSON path.
 struct JointSpec {
   std::string name;
   JointDef def;  // body ids unset; anchor_a / anchor_b in the frames below

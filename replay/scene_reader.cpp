@@ -10,7 +10,7 @@ namespace bitstep::scene_reader {
 using json::Kind;
 using json::Node;
 
-void fail(const std::string& path, std::string reason) { throw ReadFailure{path, std::move(reason)}; }
+void fail(const std::string& path, std::string reason) { throw Error{path, std::move(reason)}; }
 void fail(const Node& at, std::string reason) { fail(at.path, std::move(reason)); }
 
 namespace {

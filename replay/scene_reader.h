@@ -1,25 +1,24 @@
 // Typed reads from the JSON tree for the scene loader: each either returns
 // an exact value or fails with the JSON path of the value and the reason
-// (a ReadFailure, caught by parse_scene: none leaves the loader).
+// (a thrown Error, caught by read_json: none leaves the readers).
 #pragma once
 
+#include <exception>
 #include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
 
 #include "core/body.h"
+#include "core/error.h"
 #include "fixed/quat.h"
 #include "replay/json_tree.h"
 #include "replay/material_table.h"
 
 namespace bitstep::scene_reader {
 
-struct ReadFailure {
-  std::string path;
-  std::string reason;
-};
-
+// Throws Error{path, reason}: the typed reads stop at the first bad value,
+// however deep, and read_json turns it into the reader's result.
 [[noreturn]] void fail(const std::string& path, std::string reason);
 [[noreturn]] void fail(const json::Node& at, std::string reason);
 
@@ -80,5 +79,22 @@ void read_optional_within(ObjectReader& reader, std::string_view key, Fixed& fie
                           std::string_view unit);
 void read_optional_within(ObjectReader& reader, std::string_view key, Vec3& field, Fixed lo, Fixed hi,
                           std::string_view unit);
+
+// JSON text read by `read` (from the tree's root, with the reads above):
+// its value, or the first error with `source` (a file, "add_body") in front
+// of its place. The one place the reads' throws are caught. Never throws.
+template <class Read>
+auto read_json(std::string_view text, const std::string& source, Read&& read)
+    -> Result<decltype(read(std::declval<const json::Node&>()))> {
+  try {
+    Result<json::Node> tree = json::parse(text);
+    if (!tree.ok()) return tree.error().within(source);
+    return read(tree.value());
+  } catch (const Error& error) {
+    return error.within(source);
+  } catch (const std::exception& e) {  // allocation failure
+    return Error{"$", std::string("cannot load: ") + e.what()}.within(source);
+  }
+}
 
 }  // namespace bitstep::scene_reader

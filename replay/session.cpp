@@ -33,15 +33,15 @@ void erase_before(Map& map, int64_t tick) {
 
 }  // namespace
 
-std::string config_error(const SessionConfig& c) {
-  if (c.players < 1 || c.players > 16) return "players: outside 1..16";
-  if (c.local_player < 0 || c.local_player >= c.players) return "local player: outside 0..players - 1";
-  if (c.input_delay < 0 || c.input_delay > 32) return "input delay: outside 0..32 ticks";
-  if (c.max_prediction < 1 || c.max_prediction > 64) return "max prediction: outside 1..64 ticks";
-  if (c.checksum_interval < 1 || c.checksum_interval > 3600) return "checksum interval: outside 1..3600 ticks";
-  if (c.leave_after != 0 && (c.leave_after < 10 || c.leave_after > 100000)) return "leave after: 0 or 10..100000 frames";
-  if (c.joining && c.local_player == 0) return "joining: the host (player 0) cannot join, it starts the match";
-  if (c.watching && !c.joining) return "watching: a spectator joins a match in progress (joining)";
+Result<void> check_config(const SessionConfig& c) {
+  if (c.players < 1 || c.players > 16) return Error{"players", "outside 1..16"};
+  if (c.local_player < 0 || c.local_player >= c.players) return Error{"local player", "outside 0..players - 1"};
+  if (c.input_delay < 0 || c.input_delay > 32) return Error{"input delay", "outside 0..32 ticks"};
+  if (c.max_prediction < 1 || c.max_prediction > 64) return Error{"max prediction", "outside 1..64 ticks"};
+  if (c.checksum_interval < 1 || c.checksum_interval > 3600) return Error{"checksum interval", "outside 1..3600 ticks"};
+  if (c.leave_after != 0 && (c.leave_after < 10 || c.leave_after > 100000)) return Error{"leave after", "0 or 10..100000 frames"};
+  if (c.joining && c.local_player == 0) return Error{"joining", "the host (player 0) cannot join, it starts the match"};
+  if (c.watching && !c.joining) return Error{"watching", "a spectator joins a match in progress (joining)"};
   return {};
 }
 
@@ -334,7 +334,7 @@ void Session::roll_back() {
   const int64_t from = rollback_from_, to = tick_;
   rollback_from_ = INT64_MAX;
   const size_t k = static_cast<size_t>(from - 1) % ring_.size();
-  if (ring_tick_[k] != from - 1 || states_.restore(ring_[k], sim_.world())) return;  // cannot happen: our own state
+  if (ring_tick_[k] != from - 1 || !states_.restore(ring_[k], sim_.world()).ok()) return;  // cannot happen: our own state
   for (int64_t t = from; t <= to; ++t) simulate(t);
   ++stats_.rollbacks;
   stats_.resimulated_ticks += to - from + 1;
@@ -455,7 +455,7 @@ void Session::check_checksum(int64_t tick, int player) {
 std::vector<uint8_t> Session::snapshot_of(const std::vector<uint8_t>& state) {
   std::vector<uint8_t> now;
   states_.save(sim_.world(), now);
-  if (states_.restore(state, sim_.world())) return {};
+  if (!states_.restore(state, sim_.world()).ok()) return {};
   std::vector<uint8_t> whole = sim_.save();
   (void)states_.restore(now, sim_.world());
   return whole;
@@ -497,10 +497,10 @@ bool Session::receive(const SessionMessage& m) {
       if (!desync_ || desync_->tick != m.tick || !desync_->difference.empty()) break;
       if (desync_snapshot_.empty()) break;
       World mine, theirs;
-      if (const auto why = restore(m.state, theirs)) {
-        desync_->difference = "the peer's state cannot be read: " + *why;
-      } else if (!restore(desync_snapshot_, mine)) {
-        desync_->difference = diff_dumps(dump_state(mine), dump_state(theirs)).first.value_or("no field differs");
+      if (const Result<void> read = restore(m.state, theirs); !read.ok()) {
+        desync_->difference = "the peer's state cannot be read: " + read.error().message();
+      } else if (restore(desync_snapshot_, mine).ok()) {
+        desync_->difference = diff_dumps(dump_state(mine), dump_state(theirs)).value().value_or("no field differs");
       }
       break;
     }
@@ -602,12 +602,12 @@ void Session::try_join() {
     if (check->second.first > m.tick) return refuse();  // a newer join: this state is stale
   }
   World candidate;
-  if (restore(m.state, candidate) || candidate.step_count() != static_cast<uint64_t>(m.tick)) return refuse();
+  if (!restore(m.state, candidate).ok() || candidate.step_count() != static_cast<uint64_t>(m.tick)) return refuse();
   const uint64_t hash = state_hash(candidate);
   for (const auto& [q, check] : join_checks_) {
     if (((m.present | m.watching) & (1u << q)) != 0 && check.second != hash) return refuse();  // not what they confirmed
   }
-  if (sim_.load(m.state)) return refuse();
+  if (!sim_.load(m.state).ok()) return refuse();
   // From the state on, as if the match had started there.
   const int64_t c = m.tick;
   roster_ = Roster(config_.players, m.present, m.watching);

@@ -81,8 +81,8 @@ struct SessionConfig {
   bool watching = false;       // joins as a spectator: follows the match, gives no input
 };
 
-// A sentence about what is wrong with a config, or empty.
-std::string config_error(const SessionConfig& config);
+// What is wrong with a config: the field ("input delay") and the bound.
+Result<void> check_config(const SessionConfig& config);
 
 struct SessionMessage {
   enum class Kind : uint8_t { inputs, checksum, state, relay, join_state, join_check };
@@ -124,7 +124,7 @@ using ApplyInput = std::function<void(Simulation& sim, int player, const PlayerI
 
 class Session {
  public:
-  // `config` must have no config_error.
+  // `config` must pass check_config.
   Session(Simulation sim, SessionConfig config, ApplyInput apply);
 
   // The local player's next input (for the tick input_delay after the last

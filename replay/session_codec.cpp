@@ -110,10 +110,10 @@ std::vector<uint8_t> encode(const Hello& h) {
   return out;
 }
 
-std::variant<SessionMessage, Hello, PacketError> decode(std::span<const uint8_t> packet) {
+Result<Packet> decode(std::span<const uint8_t> packet) {
   Reader r(packet);
-  if (r.take(1) != magic[0] || r.take(1) != magic[1]) return PacketError{"not a bitstep packet (bad magic)"};
-  if (const uint64_t v = r.take(1); v != version) return PacketError{"packet version " + std::to_string(v)};
+  if (r.take(1) != magic[0] || r.take(1) != magic[1]) return Error{{}, "not a bitstep packet (bad magic)"};
+  if (const uint64_t v = r.take(1); v != version) return Error{{}, "packet version " + std::to_string(v)};
   const uint64_t type = r.take(1);
   if (type == hello_type) {
     Hello h;
@@ -123,50 +123,50 @@ std::variant<SessionMessage, Hello, PacketError> decode(std::span<const uint8_t>
     h.input_delay = static_cast<int>(r.take(1));
     h.start_hash = r.take(8);
     const uint64_t joining = r.take(1);
-    if (mode > 1) return PacketError{"hello: mode out of range"};
-    if (joining > 2) return PacketError{"hello: joining is not 0, 1 or 2"};
+    if (mode > 1) return Error{"hello", "mode out of range"};
+    if (joining > 2) return Error{"hello", "joining is not 0, 1 or 2"};
     h.joining = joining >= 1;
     h.watching = joining == 2;
     h.mode = static_cast<SessionMode>(mode);
-    if (!r.ok() || !r.done()) return PacketError{"hello: wrong length"};
-    return h;
+    if (!r.ok() || !r.done()) return Error{"hello", "wrong length"};
+    return Packet{h};
   }
-  if (type > last_message_type) return PacketError{"packet type " + std::to_string(type)};
+  if (type > last_message_type) return Error{{}, "packet type " + std::to_string(type)};
   SessionMessage m;
   m.kind = static_cast<SessionMessage::Kind>(type);
   m.player = static_cast<int>(r.take(1));
   m.ack = static_cast<int64_t>(r.take(8));
   m.tick = static_cast<int64_t>(r.take(8));
-  const auto take_inputs = [&]() -> std::optional<PacketError> {
+  const auto take_inputs = [&]() -> Result<void> {
     const uint64_t count = r.take(1);
-    if (count > max_inputs_per_message) return PacketError{"inputs: more than 128"};
+    if (count > max_inputs_per_message) return Error{"inputs", "more than 128"};
     for (uint64_t i = 0; i < count && r.ok(); ++i) {
       const uint64_t length = r.take(2);
-      if (length > max_input_bytes) return PacketError{"inputs: an input longer than 1024 bytes"};
+      if (length > max_input_bytes) return Error{"inputs", "an input longer than 1024 bytes"};
       const auto bytes = r.bytes(static_cast<size_t>(length));
       m.inputs.emplace_back(bytes.begin(), bytes.end());
     }
-    return std::nullopt;
+    return {};
   };
-  const auto take_state = [&]() -> std::optional<PacketError> {
+  const auto take_state = [&]() -> Result<void> {
     const uint64_t length = r.take(4);
-    if (length > max_state_bytes) return PacketError{"state: longer than 64 MiB"};
+    if (length > max_state_bytes) return Error{"state", "longer than 64 MiB"};
     const auto bytes = r.bytes(static_cast<size_t>(length));
     m.state.assign(bytes.begin(), bytes.end());
-    return std::nullopt;
+    return {};
   };
   switch (m.kind) {
     case SessionMessage::Kind::inputs: {
-      if (auto error = take_inputs()) return *error;
+      if (Result<void> taken = take_inputs(); !taken.ok()) return taken.error();
       const uint64_t changes = r.take(1);
-      if (changes > max_roster_events) return PacketError{"inputs: more than 16 roster changes"};
+      if (changes > max_roster_events) return Error{"inputs", "more than 16 roster changes"};
       for (uint64_t i = 0; i < changes && r.ok(); ++i) {
         RosterEvent e;
         e.at = static_cast<int64_t>(r.take(8));
         e.from = static_cast<int64_t>(r.take(8));
         e.player = static_cast<int>(r.take(1));
         const uint64_t presence = r.take(1);
-        if (presence > 2) return PacketError{"inputs: a roster change's presence is not 0, 1 or 2"};
+        if (presence > 2) return Error{"inputs", "a roster change's presence is not 0, 1 or 2"};
         e.presence = static_cast<Presence>(presence);
         m.roster.push_back(e);
       }
@@ -174,27 +174,27 @@ std::variant<SessionMessage, Hello, PacketError> decode(std::span<const uint8_t>
     }
     case SessionMessage::Kind::checksum: m.checksum = r.take(8); break;
     case SessionMessage::Kind::state:
-      if (auto error = take_state()) return *error;
+      if (Result<void> taken = take_state(); !taken.ok()) return taken.error();
       break;
     case SessionMessage::Kind::relay:
       m.subject = static_cast<int>(r.take(1));
-      if (auto error = take_inputs()) return *error;
+      if (Result<void> taken = take_inputs(); !taken.ok()) return taken.error();
       break;
     case SessionMessage::Kind::join_state:
       m.subject = static_cast<int>(r.take(1));
       m.present = static_cast<uint32_t>(r.take(2));
       m.watching = static_cast<uint32_t>(r.take(2));
       m.start_hash = r.take(8);
-      if (auto error = take_state()) return *error;
+      if (Result<void> taken = take_state(); !taken.ok()) return taken.error();
       break;
     case SessionMessage::Kind::join_check:
       m.subject = static_cast<int>(r.take(1));
       m.checksum = r.take(8);
       break;
   }
-  if (!r.ok()) return PacketError{"truncated packet"};
-  if (!r.done()) return PacketError{"bytes left after the packet"};
-  return m;
+  if (!r.ok()) return Error{{}, "truncated packet"};
+  if (!r.done()) return Error{{}, "bytes left after the packet"};
+  return Packet{std::move(m)};
 }
 
 }  // namespace bitstep

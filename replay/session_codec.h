@@ -26,6 +26,7 @@
 #include <variant>
 #include <vector>
 
+#include "core/error.h"
 #include "replay/session.h"
 
 namespace bitstep {
@@ -46,9 +47,9 @@ inline constexpr size_t max_state_bytes = size_t{64} << 20;
 std::vector<uint8_t> encode(const SessionMessage& message);
 std::vector<uint8_t> encode(const Hello& hello);
 
-struct PacketError {
-  std::string reason;
-};
-std::variant<SessionMessage, Hello, PacketError> decode(std::span<const uint8_t> packet);
+// A packet is a session message or a hello; decode's error names the part
+// ("hello", "inputs", "state"; none for the header) and the reason.
+using Packet = std::variant<SessionMessage, Hello>;
+Result<Packet> decode(std::span<const uint8_t> packet);
 
 }  // namespace bitstep

@@ -11,54 +11,19 @@
 
 namespace bitstep {
 
-namespace {
-
-// One JSON object of the scene format read by `read`, or its one-line
-// error "<what>: <JSON path>: <reason>".
-template <typename Read>
-bool read_object(std::string_view text, const char* what, std::string& error, Read&& read) {
-  auto parsed = json::parse(text);
-  if (const auto* syntax = std::get_if<json::SyntaxError>(&parsed)) {
-    error = std::string(what) + ": " + syntax->where + ": " + syntax->reason;
-    return false;
-  }
-  try {
-    read(std::get<json::Node>(parsed));
-    return true;
-  } catch (const scene_reader::ReadFailure& failure) {
-    error = std::string(what) + ": " + failure.path + ": " + failure.reason;
-  } catch (const std::exception& e) {  // allocation failure
-    error = std::string(what) + ": " + e.what();
-  }
-  return false;
-}
-
-}  // namespace
-
 // A simulation of a read scene, or the scene's error; `name` its file.
-std::optional<Simulation> Simulation::built(std::variant<Scene, SceneError> read, const std::string& name,
-                                            std::string& error) {
-  if (const auto* failure = std::get_if<SceneError>(&read)) {
-    error = failure->message();
-    return std::nullopt;
-  }
-  Scene& scene = std::get<Scene>(read);
+Result<Simulation> Simulation::built(Result<Scene> read, const std::string& name) {
+  if (!read.ok()) return read.error();
+  Scene& scene = read.value();
   World world(scene.settings);
-  std::string reason;
-  if (!build_world(scene, world, reason)) {
-    error = name + ": " + reason;
-    return std::nullopt;
-  }
+  if (Result<void> made = build_world(scene, world); !made.ok()) return made.error().within(name);
   return Simulation(std::move(scene), std::move(world));
 }
 
-std::optional<Simulation> Simulation::from_file(const std::string& path, std::string& error) {
-  return built(load_scene_file(path), path, error);
-}
+Result<Simulation> Simulation::from_file(const std::string& path) { return built(load_scene_file(path), path); }
 
-std::optional<Simulation> Simulation::from_text(std::string_view scene_json, const std::string& name,
-                                                std::string& error) {
-  return built(parse_scene(scene_json, name), name, error);
+Result<Simulation> Simulation::from_text(std::string_view scene_json, const std::string& name) {
+  return built(parse_scene(scene_json, name), name);
 }
 
 // build_world made scene body i slot i and scene car k car k.
@@ -86,29 +51,22 @@ std::optional<BodyId> Simulation::find_body(std::string_view name) const {
   return found->second;
 }
 
-std::optional<BodyId> Simulation::add_body(std::string_view body_json, std::string& error) {
-  SceneBody body;
-  if (!read_object(body_json, "add_body", error, [&](const json::Node& node) { body = read_scene_body(node, scene_); })) {
-    return std::nullopt;
-  }
+Result<BodyId> Simulation::add_body(std::string_view body_json) {
+  Result<SceneBody> read = scene_reader::read_json(body_json, "add_body", [&](const json::Node& node) { return read_scene_body(node, scene_); });
+  if (!read.ok()) return read.error();
+  const SceneBody& body = read.value();
   if (!body.name.empty() && find_body(body.name)) {
-    error = "add_body: $.name: " + json::quote(body.name) + " is already taken";
-    return std::nullopt;
+    return Error{"add_body: $.name", json::quote(body.name) + " is already taken"};
   }
-  const CreateResult created = world_.create_body(body.def);
-  if (!created.ok()) {
-    error = std::string("add_body: $.") + (created.error.field != nullptr ? created.error.field : "") + ": " +
-            created.error.reason;
-    return std::nullopt;
-  }
-  remember(created.id, body.def, body.name);
-  return created.id;
+  const Result<BodyId> created = world_.create_body(body.def);
+  if (!created.ok()) return Error{"$." + created.error().place, created.error().reason}.within("add_body");
+  remember(created.value(), body.def, body.name);
+  return created.value();
 }
 
 bool Simulation::remove_body(BodyId id) { return valid(id) && world_.remove_body(id); }
 
-std::optional<JointId> Simulation::add_joint(std::string_view joint_json, std::string& error) {
-  JointSpec spec;
+Result<JointId> Simulation::add_joint(std::string_view joint_json) {
   std::vector<BodyId> bodies;  // the spec's body numbers index this
   const BodyResolver resolve = [&](const json::Node& node) {
     const std::optional<BodyId> id = find_body(scene_reader::read_string(node));
@@ -116,19 +74,15 @@ std::optional<JointId> Simulation::add_joint(std::string_view joint_json, std::s
     bodies.push_back(*id);
     return static_cast<uint32_t>(bodies.size() - 1);
   };
-  if (!read_object(joint_json, "add_joint", error, [&](const json::Node& node) { spec = read_joint_spec(node, resolve); })) {
-    return std::nullopt;
-  }
-  const BodyId a = bodies[spec.body_a], b = bodies[spec.body_b];
-  JointDef def = joint_in_world(spec, *pose(a), *pose(b));
+  Result<JointSpec> spec = scene_reader::read_json(joint_json, "add_joint", [&](const json::Node& node) { return read_joint_spec(node, resolve); });
+  if (!spec.ok()) return spec.error();
+  const BodyId a = bodies[spec->body_a], b = bodies[spec->body_b];
+  JointDef def = joint_in_world(spec.value(), *pose(a), *pose(b));
   def.body_a = a;
   def.body_b = b;
-  const JointResult created = world_.create_joint(def);
-  if (!created.ok()) {
-    error = "add_joint: " + created.error;
-    return std::nullopt;
-  }
-  return created.id;
+  const Result<JointId> created = world_.create_joint(def);
+  if (!created.ok()) return created.error().within("add_joint");
+  return created.value();
 }
 
 bool Simulation::remove_joint(JointId id) { return world_.is_alive(id) && world_.remove_joint(id); }
@@ -140,9 +94,9 @@ InputResult not_found() { return {InputResult::Status::not_found, {}}; }
 // Applied by `apply` unless a check gave a reason, then refused with it
 // ("<call>: <reason>") and `apply` not run.
 template <typename Apply>
-InputResult applied_unless(std::initializer_list<std::optional<std::string>> checks, const char* call, Apply&& apply) {
-  for (const auto& why : checks) {
-    if (why) return {InputResult::Status::refused, std::string(call) + ": " + *why};
+InputResult applied_unless(std::initializer_list<Result<void>> checks, const char* call, Apply&& apply) {
+  for (const Result<void>& check : checks) {
+    if (!check.ok()) return {InputResult::Status::refused, check.error().within(call)};
   }
   apply();
   return {};
@@ -207,13 +161,13 @@ std::optional<Pose> Simulation::pose(BodyId id) const {
 
 std::vector<uint8_t> Simulation::save() const { return snapshot(world_); }
 
-std::optional<std::string> Simulation::load(std::span<const uint8_t> image) { return restore(image, world_); }
+Result<void> Simulation::load(std::span<const uint8_t> image) { return restore(image, world_); }
 
 uint64_t Simulation::hash() const { return state_hash(world_); }
 
 size_t Simulation::save_state(std::span<uint8_t> buffer) { return states_.save(world_, buffer); }
 
-std::optional<std::string> Simulation::load_state(std::span<const uint8_t> image) {
+Result<void> Simulation::load_state(std::span<const uint8_t> image) {
   return states_.restore(image, world_);
 }
 

@@ -17,7 +17,6 @@
 #include <span>
 #include <string>
 #include <string_view>
-#include <variant>
 #include <vector>
 
 #include "core/query.h"
@@ -28,12 +27,14 @@
 namespace bitstep {
 
 // What an input call did: applied; nothing, for a body or car that is not
-// there; or nothing, for a value past its bound, `reason` saying which
-// ("set_velocity: linear: faster than 500 m/s"). True when applied.
+// there; or nothing, for a value past its bound, `refusal` saying which
+// (place "set_velocity: linear", reason "faster than 500 m/s"). True when
+// applied. A status, not a Result: a missing body is no error in a game
+// (it may have left the world) and the C API tells the two apart.
 struct InputResult {
   enum class Status { applied, not_found, refused };
   Status status = Status::applied;
-  std::string reason;  // refused: one line, "<call>: <argument>: <bound>"
+  Error refusal;  // refused: "<call>: <argument>" and the bound
 
   explicit operator bool() const { return status == Status::applied; }
 };
@@ -41,21 +42,21 @@ struct InputResult {
 class Simulation {
  public:
   // A world from a scene file, or from scene JSON text (`name` stands for
-  // the file in messages). nullopt and the scene's one-line error
-  // ("<file>: <JSON path>: <reason>") when it cannot be built.
-  static std::optional<Simulation> from_file(const std::string& path, std::string& error);
-  static std::optional<Simulation> from_text(std::string_view scene_json, const std::string& name,
-                                             std::string& error);
+  // the file in messages); or the scene's error (place "<file>: <JSON
+  // path>", or "<file>: body 3: <field>" for a body the world refuses).
+  static Result<Simulation> from_file(const std::string& path);
+  static Result<Simulation> from_text(std::string_view scene_json, const std::string& name);
 
   // Bodies. A scene body by its name; a new body from one body object of
   // the scene format ({"name": "crate", "position": [0, 2, 0], "shapes":
   // [...]}, the scene's materials known); removal. A removed body's handle
   // is refused by every call (its slot's generation moved on).
   std::optional<BodyId> find_body(std::string_view name) const;
-  std::optional<BodyId> add_body(std::string_view body_json, std::string& error);
+  // An error's place starts with the call: "add_body: $.shapes[0].radius".
+  Result<BodyId> add_body(std::string_view body_json);
   bool remove_body(BodyId id);
   // Joints: one joint object of the scene format, its bodies by name.
-  std::optional<JointId> add_joint(std::string_view joint_json, std::string& error);
+  Result<JointId> add_joint(std::string_view joint_json);
   bool remove_joint(JointId id);
 
   // Inputs, for the next step. Each is bounded as the replay reader bounds
@@ -63,7 +64,7 @@ class Simulation {
   // +-1,000,000 N s or N per component, its point within +-16,000 m; a
   // velocity within 500 m/s and 100 rad/s (per component and in length); a
   // car's throttle and steer within -1..1, its brake 0..1. A value past its
-  // bound is refused and changes nothing (InputResult::refused, the reason
+  // bound is refused and changes nothing (InputResult::refused, the refusal
   // naming the call, the argument and the bound); so is a handle no body
   // has (not_found). A handle is checked before the values.
   InputResult apply_impulse(BodyId id, Vec3 impulse, Vec3 world_point);
@@ -85,7 +86,7 @@ class Simulation {
   // says why it cannot and changes nothing. hash() is the state hash the
   // replays' chains hold.
   std::vector<uint8_t> save() const;
-  std::optional<std::string> load(std::span<const uint8_t> image);
+  Result<void> load(std::span<const uint8_t> image);
   uint64_t hash() const;
 
   // A rollback game's save and load (replay/rollback_state.h): the step's
@@ -93,7 +94,7 @@ class Simulation {
   // larger than the buffer, nothing usable written), restored in place.
   // Only into this simulation, and not across a load() (a new world).
   size_t save_state(std::span<uint8_t> buffer);
-  std::optional<std::string> load_state(std::span<const uint8_t> image);
+  Result<void> load_state(std::span<const uint8_t> image);
 
   // The world's queries as it stands (core/query.h): build after each step.
   WorldQuery query() const { return WorldQuery(world_); }
@@ -105,8 +106,7 @@ class Simulation {
 
  private:
   Simulation(Scene scene, World world);
-  static std::optional<Simulation> built(std::variant<Scene, SceneError> read, const std::string& name,
-                                         std::string& error);
+  static Result<Simulation> built(Result<Scene> read, const std::string& name);
   bool valid(BodyId id) const;
   void remember(BodyId id, const BodyDef& def, const std::string& name);
 

@@ -45,31 +45,32 @@ std::vector<uint8_t> snapshot(const World& world) {
   return image;
 }
 
-std::optional<std::string> restore(std::span<const uint8_t> image, World& world) {
-  if (image.size() < header_bytes + 8) return "truncated: " + std::to_string(image.size()) + " bytes is less than a header";
-  if (!std::equal(magic, magic + 8, image.begin())) return std::string("not a bitstep snapshot (bad magic)");
+Result<void> restore(std::span<const uint8_t> image, World& world) {
+  const auto refuse = [](std::string reason) { return Error{{}, std::move(reason)}; };
+  if (image.size() < header_bytes + 8) return refuse("truncated: " + std::to_string(image.size()) + " bytes is less than a header");
+  if (!std::equal(magic, magic + 8, image.begin())) return refuse("not a bitstep snapshot (bad magic)");
   state_bytes::ByteReader header(image.subspan(8, 12));
   const uint32_t version = header.u32();
   const uint64_t payload_size = header.u64();
   if (version != snapshot_version) {
-    return "snapshot format version " + std::to_string(version) + " (this build reads " +
-           std::to_string(snapshot_version) + ")";
+    return refuse("snapshot format version " + std::to_string(version) + " (this build reads " +
+                  std::to_string(snapshot_version) + ")");
   }
   if (payload_size != image.size() - header_bytes - 8) {
-    return "truncated or padded: the header says " + std::to_string(payload_size) + " payload bytes, the image has " +
-           std::to_string(image.size() - header_bytes - 8);
+    return refuse("truncated or padded: the header says " + std::to_string(payload_size) +
+                  " payload bytes, the image has " + std::to_string(image.size() - header_bytes - 8));
   }
   const size_t body_end = image.size() - 8;
   state_bytes::ByteReader trailer(image.subspan(body_end, 8));
-  if (trailer.u64() != XXH3_64bits(image.data(), body_end)) return std::string("checksum mismatch: the image is corrupt");
+  if (trailer.u64() != XXH3_64bits(image.data(), body_end)) return refuse("checksum mismatch: the image is corrupt");
   try {
     World restored = read_world(image.subspan(header_bytes, static_cast<size_t>(payload_size)));
     restored.set_executor(world.executor());  // how it steps, not state: kept
     world = std::move(restored);
-  } catch (const state_bytes::Corrupt& corrupt) {
-    return corrupt.reason;
+  } catch (const Error& corrupt) {  // state_bytes::ByteReader's
+    return corrupt;
   }
-  return std::nullopt;
+  return {};
 }
 
 }  // namespace bitstep

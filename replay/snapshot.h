@@ -7,7 +7,6 @@
 #pragma once
 
 #include <cstdint>
-#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -22,7 +21,8 @@ std::vector<uint8_t> snapshot(const World& world);
 
 // Restores an image into `world`, replacing it, or returns why it cannot (a
 // wrong magic or version, a checksum mismatch, a truncated image, a value
-// no world can hold) and leaves `world` untouched.
-std::optional<std::string> restore(std::span<const uint8_t> image, World& world);
+// no world can hold; the error's reason says it all, its place is empty)
+// and leaves `world` untouched.
+Result<void> restore(std::span<const uint8_t> image, World& world);
 
 }  // namespace bitstep

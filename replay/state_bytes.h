@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/body.h"
+#include "core/error.h"
 #include "fixed/mat33.h"
 #include "fixed/quat.h"
 
@@ -108,13 +109,10 @@ struct ByteWriter {
   }
 };
 
-struct Corrupt {
-  std::string reason;
-};
-
 // Reads the state description's bytes back, little-endian, bounds-checked:
 // a value outside its range, a count the bytes left could not hold, or a
-// failed requirement throws Corrupt naming the field and the byte. With
+// failed requirement throws an Error naming the field and the byte (in its
+// reason, "... (payload byte N)": the wording users and the docs know). With
 // `statics`, into a world's own vectors: a body whose serial is the one
 // read keeps its static fields, another gets them from `statics`.
 class ByteReader {
@@ -219,7 +217,7 @@ class ByteReader {
 
   bool done() const { return at_ == bytes_.size(); }
   [[noreturn]] void fail(const std::string& reason) const {
-    throw Corrupt{reason + " (payload byte " + std::to_string(at_) + ")"};
+    throw Error{{}, reason + " (payload byte " + std::to_string(at_) + ")"};
   }
 
  private:
@@ -228,7 +226,7 @@ class ByteReader {
     return value;
   }
   uint64_t take(int n) {
-    if (bytes_.size() - at_ < static_cast<size_t>(n)) throw Corrupt{"truncated payload"};
+    if (bytes_.size() - at_ < static_cast<size_t>(n)) throw Error{{}, "truncated payload"};
     uint64_t v = 0;
     for (int i = 0; i < n; ++i) v |= static_cast<uint64_t>(bytes_[at_ + static_cast<size_t>(i)]) << (8 * i);
     at_ += static_cast<size_t>(n);

@@ -2,7 +2,7 @@
 
 #include <array>
 #include <type_traits>
-#include <variant>
+#include <utility>
 
 #include "fixed/decimal.h"
 #include "replay/json_tree.h"
@@ -206,23 +206,23 @@ std::string dump_state(const World& world) {
   return writer.finish();
 }
 
-DumpDifference diff_dumps(const std::string& a, const std::string& b) {
-  auto tree_a = json::parse(a);
-  auto tree_b = json::parse(b);
-  if (const auto* e = std::get_if<json::SyntaxError>(&tree_a)) return {false, "first dump: " + e->where + ": " + e->reason, {}};
-  if (const auto* e = std::get_if<json::SyntaxError>(&tree_b)) return {false, "second dump: " + e->where + ": " + e->reason, {}};
-  const json::Node& root_a = std::get<json::Node>(tree_a);
-  const json::Node& root_b = std::get<json::Node>(tree_b);
-  for (const json::Node* root : {&root_a, &root_b}) {
+Result<DumpDifference> diff_dumps(const std::string& a, const std::string& b, const std::string& name_a,
+                                  const std::string& name_b) {
+  const Result<json::Node> tree_a = json::parse(a);
+  if (!tree_a.ok()) return tree_a.error().within(name_a);
+  const Result<json::Node> tree_b = json::parse(b);
+  if (!tree_b.ok()) return tree_b.error().within(name_b);
+  for (const auto& [root, name] : {std::pair{&tree_a.value(), &name_a}, std::pair{&tree_b.value(), &name_b}}) {
     const json::Node* format = root->member("format");
-    if (format == nullptr || format->text != "bitstep-state") return {false, "not a bitstep-state dump", {}};
+    if (format == nullptr || format->text != "bitstep-state") return Error{*name, "not a bitstep-state dump"};
   }
-  DumpDifference d{true, {}, first_difference(root_a, root_b)};
+  const json::Node& root_a = tree_a.value();
+  DumpDifference first = first_difference(root_a, tree_b.value());
   // Name the bodies of a contact or joint that differs.
   for (const char* list : {"contacts", "joints"}) {
     const std::string prefix = std::string("$.") + list + "[";
-    if (!d.first || d.first->compare(0, prefix.size(), prefix) != 0) continue;
-    const size_t index = std::stoul(d.first->substr(prefix.size()));
+    if (!first || first->compare(0, prefix.size(), prefix) != 0) continue;
+    const size_t index = std::stoul(first->substr(prefix.size()));
     const json::Node* items = root_a.member(list);
     if (items == nullptr || index >= items->children.size()) continue;
     const json::Node& item = items->children[index];
@@ -230,9 +230,9 @@ DumpDifference diff_dumps(const std::string& a, const std::string& b) {
     if (bodies == nullptr) continue;
     const json::Node* type = item.member("type");
     const std::string what = type != nullptr ? "the " + type->text + " joint" : "the contact";
-    *d.first += " (" + what + " between bodies " + json::write(*bodies) + ")";
+    *first += " (" + what + " between bodies " + json::write(*bodies) + ")";
   }
-  return d;
+  return first;
 }
 
 }  // namespace bitstep

@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "core/error.h"
 #include "core/world.h"
 
 namespace bitstep {
@@ -15,12 +16,10 @@ std::string dump_state(const World& world);
 
 // The first difference between two dumps, as "<JSON path>: <a> vs <b>" with
 // the path naming the body (slot), contact or field; nullopt when equal.
-// Fails with a reason when either text is not a dump.
-struct DumpDifference {
-  bool readable = true;
-  std::string reason;                // when not readable
-  std::optional<std::string> first;  // the first difference
-};
-DumpDifference diff_dumps(const std::string& a, const std::string& b);
+// An error when either text is not a dump, its place the dump's name
+// (`name_a`, `name_b`: a file) and where in it.
+using DumpDifference = std::optional<std::string>;
+Result<DumpDifference> diff_dumps(const std::string& a, const std::string& b, const std::string& name_a = "first dump",
+                                  const std::string& name_b = "second dump");
 
 }  // namespace bitstep

@@ -28,7 +28,7 @@ class Keeper {
     }
     states_.save(world, image);
   }
-  std::optional<std::string> restore(const std::vector<uint8_t>& image, World& world) const {
+  Result<void> restore(const std::vector<uint8_t>& image, World& world) const {
     return saves_ == SyncTestSaves::snapshots ? bitstep::restore(image, world) : states_.restore(image, world);
   }
 
@@ -65,9 +65,9 @@ SyncTestResult sync_test(World& world, const std::vector<Input>& inputs, int64_t
     if (tick < frames) continue;
     // Back `frames` ticks, and forward again.
     const Saved& start = saved.front();
-    if (const auto why = keeper.restore(start.image, world)) {
+    if (const Result<void> restored = keeper.restore(start.image, world); !restored.ok()) {
       result.mismatch_tick = tick - frames;
-      result.difference = "restore: " + *why;
+      result.difference = "restore: " + restored.error().message();
       return result;
     }
     InputRun again = start.run;
@@ -83,11 +83,12 @@ SyncTestResult sync_test(World& world, const std::vector<Input>& inputs, int64_t
       // This state dumped, then the world restored to the first one's.
       const std::string again_dump = dump_state(world);
       const Saved& then = saved[static_cast<size_t>(t - (tick - frames))];
-      if (const auto why = keeper.restore(then.image, world)) {
-        result.difference = "restore: " + *why;
+      if (const Result<void> restored = keeper.restore(then.image, world); !restored.ok()) {
+        result.difference = "restore: " + restored.error().message();
       } else {
-        const DumpDifference d = diff_dumps(dump_state(world), again_dump);
-        result.difference = d.first.value_or("the dumps are equal (a field hashed but not dumped)");
+        // Both dumps are dump_state's: readable.
+        const DumpDifference d = diff_dumps(dump_state(world), again_dump).value();
+        result.difference = d.value_or("the dumps are equal (a field hashed but not dumped)");
       }
       return result;
     }

@@ -68,9 +68,9 @@ inline SpeedLimits limits_of(const std::vector<Shape>& shapes, Fixed mass) {
   def.shapes = shapes;
   def.mass = mass;
   World world;
-  const CreateResult created = world.create_body(def);
+  const Result<BodyId> created = world.create_body(def);
   REQUIRE(created.ok());
-  return world.body(created.id).limits;
+  return world.body(created.value()).limits;
 }
 
 // Every size and mass corner of one shape list, thrown down and sideways

@@ -15,19 +15,20 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: cpp_consumer SCENE.json\n");
     return 2;
   }
-  std::string error;
-  std::optional<bitstep::Simulation> sim = bitstep::Simulation::from_file(argv[1], error);
-  if (!sim) {
-    std::fprintf(stderr, "%s\n", error.c_str());  // "<file>: <JSON path>: <reason>"
+  bitstep::Result<bitstep::Simulation> sim = bitstep::Simulation::from_file(argv[1]);
+  if (!sim.ok()) {
+    std::fprintf(stderr, "%s\n", sim.error().message().c_str());  // "<file>: <JSON path>: <reason>"
     return 1;
   }
   const char* ball_json = R"({"name": "ball", "position": [-8, 3, 0], "velocity": [15, 3, 0],
       "shapes": [{"type": "sphere", "radius": 0.5}], "density": 3000})";
   bitstep::RenderPose previous{}, current{};
   for (int tick = 1; tick <= 20; ++tick) {
-    if (tick == 10 && !sim->add_body(ball_json, error)) {  // an input, before tick 10
-      std::fprintf(stderr, "%s\n", error.c_str());
-      return 1;
+    if (tick == 10) {  // an input, before tick 10
+      if (const bitstep::Result<bitstep::BodyId> ball = sim->add_body(ball_json); !ball.ok()) {
+        std::fprintf(stderr, "%s\n", ball.error().message().c_str());
+        return 1;
+      }
     }
     sim->step();
     if (const std::optional<bitstep::BodyId> ball = sim->find_body("ball")) {

@@ -54,14 +54,14 @@ struct TestCar {
       slab.linear_velocity = platform_velocity;
       slab.shapes.push_back({ShapeType::box, {30.0_fx, 0.25_fx, 30.0_fx}, {}, {}, {}});
       slab.material = road;
-      platform = t.world.create_body(slab).id;
+      platform = t.world.create_body(slab).value();
     }
     BodyDef body;
     body.pose.position = {Fixed{}, spec.height, Fixed{}};
     body.linear_velocity = platform_velocity;
     body.mass = spec.mass;
     body.shapes.push_back({ShapeType::box, {0.9_fx, 0.3_fx, 2.0_fx}, {}, {}, {}});
-    chassis = t.world.create_body(body).id;
+    chassis = t.world.create_body(body).value();
     CarDef def;
     def.chassis = chassis;
     def.rays_per_wheel = rays_per_wheel;
@@ -71,9 +71,9 @@ struct TestCar {
       const bool front = w < 2;
       def.wheels.push_back({{w % 2 == 0 ? 0.8_fx : -0.8_fx, -0.3_fx, front ? 1.4_fx : -1.4_fx}, !front, front});
     }
-    std::string error;
-    car = t.world.create_car(def, error);
-    REQUIRE(error.empty());
+    const Result<CarId> made = t.world.create_car(def);
+    REQUIRE(made.ok());
+    car = made.value();
   }
   const Car& state() const { return t.world.cars()[car.index]; }
   const Body& body() const { return t.world.body(chassis); }
@@ -217,7 +217,7 @@ TEST_CASE("up a 5 cm step at 10 m/s the chassis's vertical speed stays bounded a
   step_body.pose.position = {Fixed{}, 0.025_fx, 35.0_fx};  // from z = 20 to 50, its top at 5 cm
   step_body.shapes.push_back({ShapeType::box, {5.0_fx, 0.025_fx, 15.0_fx}, {}, {}, {}});
   step_body.material = tarmac();
-  const BodyId step_id = t.world.create_body(step_body).id;
+  const BodyId step_id = t.world.create_body(step_body).value();
   t.simulate_steps(120);
   t.world.set_velocity(car.chassis, {Fixed{}, Fixed{}, 10.0_fx}, {});
   const CarDef& def = car.state().def;
@@ -367,7 +367,7 @@ TEST_CASE("over a 10 cm bump at 15 m/s no wheel ray starts inside the ground and
   bump.pose = {{Fixed{}, Fixed{}, 20.0_fx}, bitstep::test::about_degrees({Fixed{}, Fixed{}, Fixed::one()}, 90.0_fx)};
   bump.shapes.push_back({ShapeType::capsule, {}, 0.1_fx, 3.0_fx, {}});  // lying across the road, 10 cm high
   bump.material = tarmac();
-  const BodyId bump_id = t.world.create_body(bump).id;
+  const BodyId bump_id = t.world.create_body(bump).value();
   const BodyId chassis = car.chassis;
   t.simulate_steps(120);
   t.world.set_velocity(chassis, {Fixed{}, Fixed{}, 15.0_fx}, {});

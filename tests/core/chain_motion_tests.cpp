@@ -99,20 +99,20 @@ Chain build(const ChainDef& def) {
   anchor.type = BodyType::static_body;
   anchor.pose.position = top + Vec3{Fixed{}, 0.05_fx, Fixed{}};
   anchor.shapes.push_back({ShapeType::box, {0.05_fx, 0.05_fx, 0.05_fx}, {}, {}, {}});
-  BodyId above = world.create_body(anchor).id;
+  BodyId above = world.create_body(anchor).value();
   const auto hang = [&](BodyDef body, Vec3 joint_at, Fixed mass, double rest_depth) {
     body.mass = mass;
     if (!def.contacts) body.filter.collides_with = 0;
-    const CreateResult made = world.create_body(body);
+    const Result<BodyId> made = world.create_body(body);
     REQUIRE(made.ok());
     JointDef joint;
     joint.body_a = above;
-    joint.body_b = made.id;
+    joint.body_b = made.value();
     joint.anchor_a = joint_at;
     REQUIRE(world.create_joint(joint).ok());
     chain.rest_energy += to_double(mass) * g * (to_double(top.y) - rest_depth);
-    above = made.id;
-    return made.id;
+    above = made.value();
+    return made.value();
   };
   const Fixed half = def.link_length / 2.0_fx;
   for (int i = 0; i < def.links; ++i) {
@@ -363,18 +363,18 @@ TEST_CASE("a joint breaks on its impulse over the whole step whatever the subste
     anchor.type = BodyType::static_body;
     anchor.pose.position = {Fixed{}, 5.0_fx, Fixed{}};
     anchor.shapes.push_back({ShapeType::box, {0.05_fx, 0.05_fx, 0.05_fx}, {}, {}, {}});
-    const BodyId a = t.world.create_body(anchor).id;
+    const BodyId a = t.world.create_body(anchor).value();
     BodyDef ball;
     ball.pose.position = {Fixed{}, 4.0_fx, Fixed{}};
     ball.shapes.push_back({ShapeType::sphere, {}, 0.1_fx, {}, {}});
     ball.mass = 1.0_fx;
-    const BodyId b = t.world.create_body(ball).id;
+    const BodyId b = t.world.create_body(ball).value();
     JointDef joint;
     joint.body_a = a;
     joint.body_b = b;
     joint.anchor_a = {Fixed{}, 4.0_fx, Fixed{}};
     joint.break_impulse = break_impulse;
-    const JointId id = t.world.create_joint(joint).id;
+    const JointId id = t.world.create_joint(joint).value();
     t.simulate_steps(30);
     return t.world.is_alive(id);
   };

@@ -108,7 +108,7 @@ BodyId make_icy(TestWorld& t, BodyId body, Vec3 half_extents) {
   def.material.static_friction = 0.05_fx;
   def.material.dynamic_friction = 0.04_fx;
   REQUIRE(t.world.remove_body(body));
-  const BodyId icy = t.world.create_body(def).id;
+  const BodyId icy = t.world.create_body(def).value();
   REQUIRE(icy.index == body.index);
   return icy;
 }
@@ -141,7 +141,7 @@ TEST_CASE("a sphere created in a removed box's slot, at its pose, is tested afre
     BodyDef def;
     def.pose = pose;
     def.shapes.push_back({ShapeType::sphere, {}, 0.5_fx, {}, {}});
-    REQUIRE(t.world.create_body(def).id.index == 3);
+    REQUIRE(t.world.create_body(def).value().index == 3);
   });
   CHECK(c.first_difference == 0);
   CHECK(c.reused > 0);

@@ -17,7 +17,7 @@ BodyId add_filtered_box(TestWorld& t, Vec3 position, CollisionFilter filter) {
   def.pose.position = position;
   def.shapes.push_back({ShapeType::box, {0.5_fx, 0.5_fx, 0.5_fx}, {}, {}, {}});
   def.filter = filter;
-  return t.world.create_body(def).id;
+  return t.world.create_body(def).value();
 }
 
 }  // namespace

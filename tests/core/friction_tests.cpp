@@ -42,7 +42,7 @@ struct Incline {
     cube.pose = {normal * Fixed::one(), tilt};  // 0.5 m ramp half-thickness + 0.5 m cube half-size
     cube.shapes.push_back({ShapeType::box, {0.5_fx, 0.5_fx, 0.5_fx}, {}, {}, {}});
     cube.material = material;
-    block = t.world.create_body(cube).id;
+    block = t.world.create_body(cube).value();
   }
   double position_along_slope() const { return to_double(dot(t.body(block).pose.position, down_slope)); }
   double speed_along_slope() const { return to_double(dot(t.body(block).linear_velocity, down_slope)); }
@@ -96,7 +96,7 @@ TEST_CASE("a block sliding at 5 m/s with mu_d 0.5 stops within v0^2 / (2 mu_d g)
   def.linear_velocity = {5.0_fx, Fixed{}, Fixed{}};
   def.shapes.push_back({ShapeType::box, {0.5_fx, 0.5_fx, 0.5_fx}, {}, {}, {}});
   def.material = material;
-  const BodyId block = t.world.create_body(def).id;
+  const BodyId block = t.world.create_body(def).value();
   t.simulate_steps(180);
   const double distance = to_double(t.body(block).pose.position.x);
   const double expected = 25.0 / (2.0 * 0.5 * g);  // 2.548 m

@@ -44,12 +44,12 @@ struct Scene {
     box.pose = {ramp_def.pose.position + up_slope, tilt};
     box.shapes.push_back({ShapeType::box, {0.25_fx, 0.25_fx, 0.25_fx}, {}, {}, {}});
     box.material = slippery;
-    slider = w.world.create_body(box).id;
+    slider = w.world.create_body(box).value();
     // A tall plank standing on an edge's worth of its face, tipping over.
     BodyDef plank;
     plank.pose = {{-20.0_fx, 1.02_fx, Fixed{}}, from_axis_angle({Fixed{}, Fixed{}, Fixed::one()}, 0.2_fx)};
     plank.shapes.push_back({ShapeType::box, {0.1_fx, 1.0_fx, 0.5_fx}, {}, {}, {}});
-    tumbler = w.world.create_body(plank).id;
+    tumbler = w.world.create_body(plank).value();
     // A box dropped from 2 m onto a box on the ground (impacts, then a pile).
     t.add_box({20.0_fx, 0.25_fx, Fixed{}}, {0.25_fx, 0.25_fx, 0.25_fx});
     dropped = t.add_box({20.1_fx, 2.75_fx, 0.05_fx}, {0.25_fx, 0.25_fx, 0.25_fx});

@@ -61,7 +61,7 @@ void build_rig(Rig& rig, JointType type, double die_mass, double die_half, doubl
   post.type = BodyType::static_body;
   post.pose.position = {Fixed{}, 20.0_fx, Fixed{}};
   post.shapes.push_back({ShapeType::box, {0.5_fx, 0.5_fx, 0.5_fx}, {}, {}, {}});
-  const BodyId post_id = t.world.create_body(post).id;
+  const BodyId post_id = t.world.create_body(post).value();
   const Fixed half = fixed_of(die_half);
   const auto box = [&](Fixed y, Fixed h, double mass, Vec3 velocity) {
     BodyDef def;
@@ -69,7 +69,7 @@ void build_rig(Rig& rig, JointType type, double die_mass, double die_half, doubl
     def.shapes.push_back({ShapeType::box, {h, h, h}, {}, {}, {}});
     def.mass = fixed_of(mass);
     def.linear_velocity = velocity;
-    return t.world.create_body(def).id;
+    return t.world.create_body(def).value();
   };
   const Fixed v = fixed_of(speed);
   rig.upper = box(14.5_fx, 5.0_fx, heavy_mass, {v * 0.9487_fx, Fixed{}, v * 0.3162_fx});

@@ -27,13 +27,13 @@ BodyId add_ball(TestWorld& t, Vec3 position, Fixed radius, Fixed mass) {
   def.pose.position = position;
   def.shapes.push_back({ShapeType::sphere, {}, radius, {}, {}});
   def.mass = mass;
-  return t.world.create_body(def).id;
+  return t.world.create_body(def).value();
 }
 
 JointId join(TestWorld& t, JointType type, BodyId a, BodyId b, Vec3 anchor) {
-  const JointResult made = t.join(type, a, b, anchor);
+  const Result<JointId> made = t.join(type, a, b, anchor);
   REQUIRE(made.ok());
-  return made.id;
+  return made.value();
 }
 
 // The period of a swing about the anchor (s): the mean time between
@@ -91,7 +91,7 @@ TEST_CASE("a hinge pendulum swings about its axis with the same period and keeps
   def.pose.orientation = tilt;
   def.shapes.push_back({ShapeType::box, {0.05_fx, 0.05_fx, 0.05_fx}, {}, {}, {}});
   def.mass = 1.0_fx;
-  const BodyId bob = t.world.create_body(def).id;
+  const BodyId bob = t.world.create_body(def).value();
   join(t, JointType::hinge, anchor, bob, {Fixed{}, 5.0_fx, Fixed{}});
   const double inertia = length * length + side * side / 6;
   const double expected = 2 * pi * std::sqrt(inertia / (g * length)) * (1 + angle * angle / 16);
@@ -125,7 +125,7 @@ Chain hang_chain(TestWorld& t, int links, Fixed top, Fixed ball_mass, JointType 
     def.pose.position = {Fixed{}, joint_y - 0.25_fx, Fixed{}};
     def.shapes.push_back({ShapeType::box, {0.05_fx, 0.25_fx, 0.05_fx}, {}, {}, {}});
     def.mass = 1.0_fx;
-    const BodyId link = t.world.create_body(def).id;
+    const BodyId link = t.world.create_body(def).value();
     chain.joints.push_back(join(t, type, above, link, {Fixed{}, joint_y, Fixed{}}));
     chain.links.push_back(link);
     above = link;
@@ -183,7 +183,7 @@ TEST_CASE("a freely swinging chain loses less than 5% of its energy in 10 s", "[
     def.pose = {top + along * (Fixed::from_int(i) * 0.5_fx + 0.25_fx), tilt};
     def.shapes.push_back({ShapeType::box, {0.05_fx, 0.25_fx, 0.05_fx}, {}, {}, {}});
     def.mass = 1.0_fx;
-    const BodyId link = t.world.create_body(def).id;
+    const BodyId link = t.world.create_body(def).value();
     join(t, JointType::point, before, link, top + along * (Fixed::from_int(i) * 0.5_fx));
     before = link;
   }
@@ -288,7 +288,7 @@ HingedArm hinged_arm(TestWorld& t) {
   def.pose.position = {0.5_fx, 5.0_fx, Fixed{}};
   def.shapes.push_back({ShapeType::box, {0.5_fx, 0.05_fx, 0.05_fx}, {}, {}, {}});
   def.mass = 1.0_fx;
-  made.arm = t.world.create_body(def).id;
+  made.arm = t.world.create_body(def).value();
   JointDef& hinge = made.hinge;
   hinge.type = JointType::hinge;
   hinge.body_a = made.anchor;
@@ -309,9 +309,9 @@ TEST_CASE("a hinge driven against its limit by 1,000 N m never passes it by more
   const HingedArm parts = hinged_arm(t);
   const BodyId anchor = parts.anchor, arm = parts.arm;
   const JointDef& hinge = parts.hinge;
-  const JointResult made = t.world.create_joint(hinge);
+  const Result<JointId> made = t.world.create_joint(hinge);
   REQUIRE(made.ok());
-  const Joint& joint = t.world.joints()[made.id.index];
+  const Joint& joint = t.world.joints()[made.value().index];
   for (const int sign : {1, -1}) {
     double worst = 0;
     for (int i = 0; i < 180; ++i) {
@@ -348,8 +348,8 @@ TumblingHinge tumbling_hinge(TestWorld& t, int tumble, int close) {
   lower.angular_velocity = {Fixed::from_int(tumble), Fixed{}, Fixed::from_int(close)};
   lower.linear_velocity = {Fixed{}, Fixed::from_int(close) * 0.3_fx, Fixed{}};
   TumblingHinge made;
-  made.a = t.world.create_body(upper).id;
-  made.b = t.world.create_body(lower).id;
+  made.a = t.world.create_body(upper).value();
+  made.b = t.world.create_body(lower).value();
   JointDef hinge;
   hinge.type = JointType::hinge;
   hinge.body_a = made.a;
@@ -360,9 +360,9 @@ TumblingHinge tumbling_hinge(TestWorld& t, int tumble, int close) {
   const Fixed degree = "3.14159265358979/180"_fx;
   hinge.lower_angle = -30.0_fx * degree;
   hinge.upper_angle = 30.0_fx * degree;
-  const JointResult created = t.world.create_joint(hinge);
+  const Result<JointId> created = t.world.create_joint(hinge);
   REQUIRE(created.ok());
-  made.joint = created.id;
+  made.joint = created.value();
   return made;
 }
 
@@ -508,7 +508,7 @@ TEST_CASE("a cone joint keeps a flung arm within its cone and its twist limits t
     def.pose.position = {Fixed{}, 4.7_fx, Fixed{}};
     def.shapes.push_back({ShapeType::box, {0.05_fx, 0.3_fx, 0.05_fx}, {}, {}, {}});
     def.mass = 2.0_fx;
-    const BodyId arm = t.world.create_body(def).id;
+    const BodyId arm = t.world.create_body(def).value();
     JointDef cone;
     cone.type = JointType::cone;
     cone.body_a = shoulder;
@@ -519,9 +519,9 @@ TEST_CASE("a cone joint keeps a flung arm within its cone and its twist limits t
     cone.swing_angle = 60.0_fx * degree;
     cone.lower_angle = -20.0_fx * degree;
     cone.upper_angle = 40.0_fx * degree;
-    const JointResult made = t.world.create_joint(cone);
+    const Result<JointId> made = t.world.create_joint(cone);
     REQUIRE(made.ok());
-    const Joint& joint = t.world.joints()[made.id.index];
+    const Joint& joint = t.world.joints()[made.value().index];
     // At the elbow end, off the axis so that it twists as well as swings.
     t.world.apply_impulse(arm, blow, {0.05_fx, 4.4_fx, 0.05_fx});
     double worst_swing = 0, twist_high = 0, twist_low = 0;
@@ -653,7 +653,7 @@ TEST_CASE("joint friction slows a spin at tau / I and stops it", "[joint][fricti
     def.shapes.push_back({ShapeType::sphere, {}, 0.5_fx, {}, {}});
     def.mass = 2.0_fx;
     def.angular_velocity = axis * 10.0_fx;  // rad/s
-    const BodyId ball = t.world.create_body(def).id;
+    const BodyId ball = t.world.create_body(def).value();
     JointDef joint;
     joint.type = type;
     joint.body_a = anchor;

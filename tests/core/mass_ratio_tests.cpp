@@ -21,7 +21,7 @@ BodyId add_cube(TestWorld& t, Vec3 position, Fixed mass) {
   def.pose.position = position;
   def.mass = mass;
   def.shapes.push_back({ShapeType::box, {0.5_fx, 0.5_fx, 0.5_fx}, {}, {}, {}});
-  return t.world.create_body(def).id;
+  return t.world.create_body(def).value();
 }
 
 // A 1 kg unit cube on the ground under `heavy` cubes of `heavy_mass` kg.
@@ -92,7 +92,7 @@ void check_pinned_against_wall(Pipeline pipeline, bool shock) {
   car.mass = 2000.0_fx;
   car.linear_velocity = {-5.0_fx, Fixed{}, Fixed{}};
   car.shapes.push_back({ShapeType::box, {Fixed::one(), Fixed::one(), Fixed::one()}, {}, {}, {}});
-  const BodyId heavy = t.world.create_body(car).id;
+  const BodyId heavy = t.world.create_body(car).value();
   const double allowed = to_double(settings.penetration_slop) + 0.005;
   double into_wall = 0, into_cube = 0;
   for (int step = 1; step <= 120; ++step) {

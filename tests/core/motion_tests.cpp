@@ -87,7 +87,7 @@ TEST_CASE("a fast small body meets a thin wall: it neither passes through nor st
         body.shapes.push_back({type, {0.01_fx, 0.01_fx, 0.01_fx}, 0.01_fx, 0.01_fx, {}});
         body.mass = 0.1_fx;
         body.linear_velocity = {speed, Fixed{}, Fixed{}};
-        const BodyId id = t.world.create_body(body).id;
+        const BodyId id = t.world.create_body(body).value();
         REQUIRE(id.valid());
         const double front = 9.99 - 0.01;  // the wall's front face less the body's half-size
         double farthest = -1e9;
@@ -120,7 +120,7 @@ TEST_CASE("a cube thrown down at 100 m/s lands on the ground and stops at a thin
     body.pose.position = {Fixed{}, 2.0_fx, Fixed{}};
     body.shapes.push_back({ShapeType::box, {0.05_fx, 0.05_fx, 0.05_fx}, {}, {}, {}});
     body.linear_velocity = {100.0_fx, -20.0_fx, Fixed{}};
-    const BodyId id = t.world.create_body(body).id;
+    const BodyId id = t.world.create_body(body).value();
     double lowest = 1e9, farthest = -1e9;
     for (int step = 0; step < 180; ++step) {
       t.world.step();
@@ -149,7 +149,7 @@ TEST_CASE("a fast-spinning plank's tips meet the ground instead of sweeping into
       plank.pose.position = {Fixed{}, 0.9_fx, Fixed{}};
       plank.shapes.push_back({ShapeType::box, {1.0_fx, 0.05_fx, 0.25_fx}, {}, {}, {}});
       plank.angular_velocity = {Fixed{}, Fixed{}, spin};
-      const BodyId id = t.world.create_body(plank).id;
+      const BodyId id = t.world.create_body(plank).value();
       double deepest = 0;
       for (int step = 0; step < 60; ++step) {
         t.world.step();

@@ -31,7 +31,7 @@ BodyId add_plane(TestWorld& t) {
   BodyDef def;
   def.type = BodyType::static_body;
   def.shapes.push_back({ShapeType::plane, {}, {}, {}, {}});
-  return t.world.create_body(def).id;
+  return t.world.create_body(def).value();
 }
 
 }  // namespace
@@ -161,7 +161,7 @@ TEST_CASE("every hit comes nearest first, then by body slot and shape index", "[
   BodyDef compound;
   compound.shapes.push_back({ShapeType::box, {0.5_fx, 0.5_fx, 0.5_fx}, {}, {}, {{8.0_fx, Fixed{}, Fixed{}}, {}}});
   compound.shapes.push_back({ShapeType::box, {0.5_fx, 0.5_fx, 0.5_fx}, {}, {}, {{4.0_fx, Fixed{}, Fixed{}}, {}}});
-  const BodyId pair = t.world.create_body(compound).id;
+  const BodyId pair = t.world.create_body(compound).value();
   // Two spheres met at the same distance: by slot.
   const BodyId twin_a = t.add_sphere({10.0_fx, 0.0_fx, Fixed{}}, 0.5_fx);
   const BodyId twin_b = t.add_sphere({10.0_fx, 0.0_fx, Fixed{}}, 0.5_fx);
@@ -342,7 +342,7 @@ TEST_CASE("a query sees only the layers it asks for, and not the body it ignores
   def.pose.position = {4.0_fx, Fixed{}, Fixed{}};
   def.shapes.push_back({ShapeType::sphere, {}, 0.5_fx, {}, {}});
   def.filter.layers = 0b100;  // layer 2
-  const BodyId sphere = t.world.create_body(def).id;
+  const BodyId sphere = t.world.create_body(def).value();
   const WorldQuery query(t.world);
   const Vec3 origin{}, along{10.0_fx, Fixed{}, Fixed{}};
   CHECK(query.cast_ray(origin, along)->body == near_box);

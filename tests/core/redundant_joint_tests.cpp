@@ -86,7 +86,7 @@ TEST_CASE("two joints between the same two bodies hold a swinging box without ab
       bar_def.type = BodyType::static_body;
       bar_def.pose.position = {Fixed{}, 5.0_fx, Fixed{}};
       bar_def.shapes.push_back({ShapeType::box, {2.0_fx, 0.1_fx, 0.1_fx}, {}, {}, {}});
-      const BodyId bar = t.world.create_body(bar_def).id;
+      const BodyId bar = t.world.create_body(bar_def).value();
       BodyDef box_def;
       box_def.pose.position = {Fixed{}, 4.5_fx, Fixed{}};
       box_def.shapes.push_back({ShapeType::box, {0.4_fx, 0.4_fx, 0.1_fx}, {}, {}, {}});
@@ -95,7 +95,7 @@ TEST_CASE("two joints between the same two bodies hold a swinging box without ab
       // which the pins must stop.
       box_def.linear_velocity = {sideways ? 1.5_fx : Fixed{}, Fixed{}, 2.0_fx};
       box_def.angular_velocity = {Fixed{}, sideways ? 2.0_fx : Fixed{}, Fixed{}};
-      const BodyId box = t.world.create_body(box_def).id;
+      const BodyId box = t.world.create_body(box_def).value();
       for (const auto& [type, anchor] : {std::pair{pair.first, pair.first_anchor}, std::pair{pair.second, pair.second_anchor}}) {
         JointDef def;
         def.type = type;
@@ -155,12 +155,12 @@ TEST_CASE("a light link holding a heavy ball keeps its rows: only a tree held tw
     link_def.pose.position = {0.1_fx, 9.9_fx, Fixed{}};
     link_def.shapes.push_back({ShapeType::sphere, {}, link_radius, {}, {}});
     link_def.mass = link_mass;
-    const BodyId link = t.world.create_body(link_def).id;
+    const BodyId link = t.world.create_body(link_def).value();
     BodyDef ball_def;
     ball_def.pose.position = {1.0_fx, 9.0_fx, Fixed{}};
     ball_def.shapes.push_back({ShapeType::sphere, {}, 1.0_fx, {}, {}});
     ball_def.mass = ball_mass;
-    const BodyId ball = t.world.create_body(ball_def).id;
+    const BodyId ball = t.world.create_body(ball_def).value();
     for (const auto& [a, b, at] : {std::tuple{anchor, link, Vec3{Fixed{}, 10.0_fx, Fixed{}}},
                                    std::tuple{link, ball, Vec3{0.2_fx, 9.8_fx, Fixed{}}}}) {
       JointDef def;

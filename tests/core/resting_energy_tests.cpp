@@ -363,7 +363,7 @@ TEST_CASE("a box leaning on a smaller box in a pen does not push it away", "[res
                   {Fixed::from_raw(b[4]), Fixed::from_raw(b[5]), Fixed::from_raw(b[6]), Fixed::from_raw(b[7])}};
       const Fixed h = Fixed::from_raw(b[0]);
       def.shapes.push_back({ShapeType::box, {h, h, h}, {}, {}, {}});
-      ids.push_back(t.world.create_body(def).id);
+      ids.push_back(t.world.create_body(def).value());
     }
     std::vector<Vec3> start;
     for (BodyId id : ids) start.push_back(t.body(id).pose.position);

@@ -45,7 +45,7 @@ struct RollingBall {
     def.material = rolling(c);
     def.linear_velocity = {speed, Fixed{}, Fixed{}};
     def.angular_velocity = {Fixed{}, Fixed{}, -speed / 0.25_fx};
-    ball = t.world.create_body(def).id;
+    ball = t.world.create_body(def).value();
   }
   double speed() const { return to_double(t.body(ball).linear_velocity.x); }
 };

@@ -22,7 +22,7 @@ BodyId add_zone(TestWorld& t, Fixed height, CollisionFilter filter = {}) {
   def.filter = filter;
   def.pose.position = {Fixed{}, height, Fixed{}};
   def.shapes.push_back({ShapeType::box, {2.0_fx, 0.25_fx, 2.0_fx}, {}, {}, {}});
-  return t.world.create_body(def).id;
+  return t.world.create_body(def).value();
 }
 
 struct Logged {
@@ -96,9 +96,9 @@ TEST_CASE("a sensor respects collision filters and does not see other sensors", 
   ghost.shapes.push_back({ShapeType::sphere, {}, 0.2_fx, {}, {}});
   t.world.create_body(ghost);        // layer 0: not seen
   ghost.filter = {0b10, UINT32_MAX};  // layer 1: seen
-  const BodyId seen = t.world.create_body(ghost).id;
+  const BodyId seen = t.world.create_body(ghost).value();
   ghost.sensor = true;               // a sensor on layer 1: sensors do not see sensors
-  const BodyId other_sensor = t.world.create_body(ghost).id;
+  const BodyId other_sensor = t.world.create_body(ghost).value();
   t.world.step();
   std::vector<uint32_t> seen_by_zone, seen_by_other;
   for (const SensorOverlap& o : t.world.sensor_overlaps()) {

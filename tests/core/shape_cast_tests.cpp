@@ -244,7 +244,7 @@ TEST_CASE("the world's shape casts: nearest first, every shape kind, filters, th
   table.pose.position = {-12.0_fx, 0.5_fx, Fixed{}};
   table.shapes.push_back({ShapeType::box, {1.0_fx, 0.05_fx, 1.0_fx}, {}, {}, {{Fixed{}, 0.45_fx, Fixed{}}, {}}});
   table.shapes.push_back({ShapeType::box, {0.05_fx, 0.45_fx, 0.05_fx}, {}, {}, {}});
-  const BodyId table_id = t.world.create_body(table).id;
+  const BodyId table_id = t.world.create_body(table).value();
   const WorldQuery query(t.world);
   // A capsule lying along z, 0.6 m up, swept along -x: it clears the ground.
   const Shape pill = capsule(0.2_fx, 0.5_fx);

@@ -23,7 +23,7 @@ BodyId add_block(TestWorld& t, Vec3 position, Fixed mass) {
   def.pose.position = position;
   def.shapes.push_back({ShapeType::box, {0.2_fx, 0.1_fx, 0.15_fx}, {}, {}, {}});
   def.mass = mass;
-  return t.world.create_body(def).id;
+  return t.world.create_body(def).value();
 }
 
 JointDef joint_def(JointType type, BodyId a, BodyId b, Vec3 anchor, Vec3 axis) {
@@ -37,10 +37,9 @@ JointDef joint_def(JointType type, BodyId a, BodyId b, Vec3 anchor, Vec3 axis) {
 }
 
 JointId make_joint(TestWorld& t, const JointDef& def) {
-  const JointResult made = t.world.create_joint(def);
-  INFO(made.error);
-  REQUIRE(made.ok());
-  return made.id;
+  const Result<JointId> made = t.world.create_joint(def);
+  if (!made.ok()) FAIL(made.error().message());
+  return made.value();
 }
 
 const Joint& joint_of(const TestWorld& t, JointId id) { return t.world.joints()[id.index]; }
@@ -212,7 +211,7 @@ TEST_CASE("a hinge motor spins a wheel up to its speed, holds it under a load wi
   wheel_def.pose.position = {Fixed{}, 2.0_fx, Fixed{}};
   wheel_def.shapes.push_back({ShapeType::sphere, {}, 0.5_fx, {}, {}});
   wheel_def.mass = 1.0_fx;  // I = 2/5 m r^2 = 0.1 kg m^2
-  const BodyId wheel = t.world.create_body(wheel_def).id;
+  const BodyId wheel = t.world.create_body(wheel_def).value();
   JointDef def =
       joint_def(JointType::hinge, anchor, wheel, {Fixed{}, 2.0_fx, Fixed{}}, {Fixed{}, Fixed{}, Fixed::one()});
   def.motor_speed = 5.0_fx;  // rad/s
@@ -312,10 +311,10 @@ TEST_CASE("motors and slider settings out of range are refused", "[joint][slider
   point.type = JointType::point;
   point.limited = false;
   point.motor_speed = 1.0_fx;
-  CHECK(std::string(t.world.create_joint(point).error) == "motor: only hinges and sliders have one");
+  CHECK(t.world.create_joint(point).error().message() == "motor: only hinges and sliders have one");
   def.motor_speed = 1.0_fx;
-  const JointResult made = t.world.create_joint(def);
+  const Result<JointId> made = t.world.create_joint(def);
   REQUIRE(made.ok());
-  CHECK(t.world.set_joint_motor(made.id, 1.0_fx, -1.0_fx) != nullptr);
-  CHECK(joint_of(t, made.id).motor_max == 1.0_fx);
+  CHECK(t.world.set_joint_motor(made.value(), 1.0_fx, -1.0_fx) != nullptr);
+  CHECK(joint_of(t, made.value()).motor_max == 1.0_fx);
 }

@@ -23,7 +23,7 @@ struct TestWorld {
     def.pose.position = {Fixed{}, -1.0_fx, Fixed{}};
     def.shapes.push_back({ShapeType::box, {50.0_fx, 1.0_fx, 50.0_fx}, {}, {}, {}});
     def.material = material;
-    return world.create_body(def).id;
+    return world.create_body(def).value();
   }
 
   // A static ramp 20 x 1 x 6 m, its centre at the origin, tilted by `tilt`:
@@ -34,7 +34,7 @@ struct TestWorld {
     def.pose = {{}, tilt};
     def.shapes.push_back({ShapeType::box, {10.0_fx, 0.5_fx, 3.0_fx}, {}, {}, {}});
     def.material = material;
-    return world.create_body(def).id;
+    return world.create_body(def).value();
   }
 
   BodyId add_box(Vec3 position, Vec3 half_extents, Material material = {}) {
@@ -42,7 +42,7 @@ struct TestWorld {
     def.pose.position = position;
     def.shapes.push_back({ShapeType::box, half_extents, {}, {}, {}});
     def.material = material;
-    return world.create_body(def).id;
+    return world.create_body(def).value();
   }
 
   BodyId add_sphere(Vec3 position, Fixed radius, Material material = {}) {
@@ -50,7 +50,7 @@ struct TestWorld {
     def.pose.position = position;
     def.shapes.push_back({ShapeType::sphere, {}, radius, {}, {}});
     def.material = material;
-    return world.create_body(def).id;
+    return world.create_body(def).value();
   }
 
   BodyId add_capsule(Pose pose, Fixed radius, Fixed half_height, Material material = {}) {
@@ -58,7 +58,7 @@ struct TestWorld {
     def.pose = pose;
     def.shapes.push_back({ShapeType::capsule, {}, radius, half_height, {}});
     def.material = material;
-    return world.create_body(def).id;
+    return world.create_body(def).value();
   }
 
   // A small static block at `position` to join things to (it touches nothing).
@@ -67,12 +67,12 @@ struct TestWorld {
     def.type = BodyType::static_body;
     def.pose.position = position;
     def.shapes.push_back({ShapeType::box, {0.05_fx, 0.05_fx, 0.05_fx}, {}, {}, {}});
-    return world.create_body(def).id;
+    return world.create_body(def).value();
   }
 
   // A joint of `type` between a and b at the world point `anchor`, about
   // z where the type has an axis.
-  JointResult join(JointType type, BodyId a, BodyId b, Vec3 anchor) {
+  Result<JointId> join(JointType type, BodyId a, BodyId b, Vec3 anchor) {
     JointDef def;
     def.type = type;
     def.body_a = a;

@@ -38,16 +38,15 @@ TEST_CASE("bodies outside the world envelope are refused and the world is unchan
   TestWorld t;
   BodyDef def;
   def.shapes.push_back({ShapeType::box, {60.0_fx, 1.0_fx, 1.0_fx}, {}, {}, {}});
-  const CreateResult too_big = t.world.create_body(def);
+  const Result<BodyId> too_big = t.world.create_body(def);
   CHECK_FALSE(too_big.ok());
-  CHECK(std::string(too_big.error.field) == "half_extents");
-  CHECK(too_big.error.shape_index == 0);
+  CHECK(too_big.error().place == "shapes[0].half_extents");
   def.shapes[0].half_extents = {1.0_fx, 1.0_fx, 1.0_fx};
   def.pose.position = {20000.0_fx, Fixed{}, Fixed{}};
-  CHECK(std::string(t.world.create_body(def).error.field) == "position");
+  CHECK(t.world.create_body(def).error().place == "position");
   def.pose.position = {};
   def.density = 200000.0_fx;  // 8 m^3 x 2e5 kg/m^3 = 1.6e6 kg
-  CHECK(std::string(t.world.create_body(def).error.field) == "density");
+  CHECK(t.world.create_body(def).error().place == "density");
   CHECK(t.world.bodies().empty());
 }
 
@@ -66,7 +65,7 @@ TEST_CASE("a compound body moves its frame to the centre of mass", "[world][mass
   // Two equal cubes at x = 0 and x = 2: the centre of mass is at x = 1.
   def.shapes.push_back({ShapeType::box, {0.5_fx, 0.5_fx, 0.5_fx}, {}, {}, {}});
   def.shapes.push_back({ShapeType::box, {0.5_fx, 0.5_fx, 0.5_fx}, {}, {}, {{2.0_fx, Fixed{}, Fixed{}}, {}}});
-  const BodyId id = t.world.create_body(def).id;
+  const BodyId id = t.world.create_body(def).value();
   CHECK(t.body(id).pose.position.x == 1.0_fx);
   CHECK(t.body(id).shapes[0].local.position.x == -1.0_fx);
   CHECK(t.body(id).shapes[1].local.position.x == 1.0_fx);

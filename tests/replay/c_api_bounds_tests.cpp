@@ -168,18 +168,17 @@ TEST_CASE("C API bounds: a stale handle is NOT_FOUND before its values are looke
 }
 
 TEST_CASE("the facade refuses what the C API refuses, with the same reason", "[simulation][bounds]") {
-  std::string error;
-  auto sim = Simulation::from_text(bounds_scene, "bounds.json", error);
-  REQUIRE(sim);
+  auto sim = Simulation::from_text(bounds_scene, "bounds.json");
+  REQUIRE(sim.ok());
   const BodyId ball = *sim->find_body("ball");
   const uint64_t before = sim->hash();
   const Vec3 fast{Fixed::from_int(501), Fixed{}, Fixed{}};
   const InputResult refused = sim->set_velocity(ball, fast, {});
   CHECK(refused.status == InputResult::Status::refused);
-  CHECK(refused.reason == "set_velocity: linear.x: outside +-500 m/s");
+  CHECK(refused.refusal.message() == "set_velocity: linear.x: outside +-500 m/s");
   CHECK_FALSE(sim->apply_impulse(ball, {Fixed::from_int(1000001), Fixed{}, Fixed{}}, {}));
   CHECK_FALSE(sim->apply_force(ball, {}, {Fixed{}, Fixed::from_int(-16001), Fixed{}}));
-  CHECK(sim->drive("car", {Fixed{}, -Fixed::one(), Fixed{}}).reason == "drive: brake: outside 0..1");
+  CHECK(sim->drive("car", {Fixed{}, -Fixed::one(), Fixed{}}).refusal.message() == "drive: brake: outside 0..1");
   CHECK(sim->hash() == before);
   CHECK(sim->set_velocity(ball, {Fixed::from_int(500), Fixed{}, Fixed{}}, {}).status == InputResult::Status::applied);
   CHECK(sim->hash() != before);

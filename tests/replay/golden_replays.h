@@ -36,8 +36,7 @@ inline std::vector<uint64_t> replay_chain(const Replay& replay, uint64_t& scene_
                                           Executor* executor = nullptr, uint64_t* shared_sweep_runs = nullptr,
                                           bool copies_always = false) {
   World world(replay.scene.settings);
-  std::string reason;
-  REQUIRE(build_world(replay.scene, world, reason));
+  REQUIRE(build_world(replay.scene, world).ok());
   world.set_contact_reuse(contact_reuse);
   if (!contact_reuse || copies_always) world.set_sweep_copies_from(0);
   world.set_executor(executor);

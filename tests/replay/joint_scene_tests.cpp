@@ -40,13 +40,13 @@ std::string scene_with(const std::string& joints, const std::string& extra = "")
 
 Scene load_ok(const std::string& text) {
   auto result = parse_scene(text, "f.json");
-  if (const auto* error = std::get_if<SceneError>(&result)) FAIL(error->message());
-  return std::get<Scene>(std::move(result));
+  if (!result.ok()) FAIL(result.error().message());
+  return std::move(result).value();
 }
 
 std::string error_of(const std::string& text) {
   const auto result = parse_scene(text, "f.json");
-  if (const auto* error = std::get_if<SceneError>(&result)) return error->message();
+  if (!result.ok()) return result.error().message();
   return "no error";
 }
 
@@ -58,8 +58,7 @@ std::string chain_scene(const std::string& chain_keys, const std::string& joints
 
 World built(const Scene& scene) {
   World world(scene.settings);
-  std::string reason;
-  if (!build_world(scene, world, reason)) FAIL(reason);
+  if (const Result<void> built = build_world(scene, world); !built.ok()) FAIL(built.error().message());
   return world;
 }
 
@@ -85,22 +84,25 @@ size_t live_joints(const World& world) {
 // An inputs file, read against `scene`; removed at the end of the test.
 struct InputsFileOf {
   std::string path;
-  std::variant<InputsFile, ReplayError> loaded;
+  Result<InputsFile> loaded;
   InputsFileOf(const std::string& inputs, const Scene& scene)
-      : path((std::filesystem::temp_directory_path() / "bitstep_joint_inputs_test.json").string()) {
-    std::ofstream(path, std::ios::binary) << R"({"inputs": [)" + inputs + "]}";
-    loaded = load_inputs_file(path, scene);
+      : path(written((std::filesystem::temp_directory_path() / "bitstep_joint_inputs_test.json").string(), inputs)),
+        loaded(load_inputs_file(path, scene)) {}
+  static std::string written(const std::string& file, const std::string& inputs) {
+    std::ofstream(file, std::ios::binary) << R"({"inputs": [)" + inputs + "]}";
+    return file;
   }
   ~InputsFileOf() {
     std::error_code ignored;
     std::filesystem::remove(path, ignored);
   }
   const std::vector<Input>& inputs() {
-    if (const auto* error = std::get_if<ReplayError>(&loaded)) FAIL(error->message());
-    return std::get<InputsFile>(loaded).inputs;
+    if (!loaded.ok()) FAIL(loaded.error().message());
+    return loaded.value().inputs;
   }
   std::string error() {
-    if (const auto* error = std::get_if<ReplayError>(&loaded)) return error->path + ": " + error->reason;
+    // The message without the file's name: "<JSON path>: <reason>".
+    if (!loaded.ok()) return loaded.error().message().substr(path.size() + 2);
     return "no error";
   }
 };
@@ -268,8 +270,8 @@ TEST_CASE("a joint the world refuses fails build_world with its number and name"
   const auto build_error = [](const std::string& joints) {
     const Scene scene = load_ok(scene_with(joints));
     World world(scene.settings);
-    std::string reason;
-    return build_world(scene, world, reason) ? std::string("built") : reason;
+    const Result<void> built = build_world(scene, world);
+    return built.ok() ? std::string("built") : built.error().message();
   };
   const std::string fine = R"({"type": "point", "body_a": "a", "body_b": "b", "anchor": [0, 0.55, 0]})";
   CHECK(build_error(fine) == "built");
@@ -407,8 +409,8 @@ TEST_CASE("chain generator errors name the generator's keys", "[scene][joints][c
 
 TEST_CASE("chains.json: the generator and explicit joints together", "[scene][joints]") {
   auto loaded = load_scene_file(test::scenes_dir + "/chains.json");
-  if (const auto* error = std::get_if<SceneError>(&loaded)) FAIL(error->message());
-  const Scene& scene = std::get<Scene>(loaded);
+  if (!loaded.ok()) FAIL(loaded.error().message());
+  const Scene& scene = loaded.value();
   CHECK(scene.bodies.size() == 2 + 10 + 10 + 10 + 1);
   CHECK(scene.joints.size() == 2 + 9 + 9 + 10);
   const World world = test::world_of("chains.json");
@@ -522,18 +524,18 @@ TEST_CASE("hostile joint and chain values are refused, never a checked-build abo
   // Far but inside the bounds: loads, and the world refuses the joint when it is built.
   const Scene far = load_ok(scene_with(R"({"type": "point", "body_a": "a", "body_b": "b", "anchor": [16000, -16000, 16000]})"));
   World world(far.settings);
-  std::string reason;
-  CHECK_FALSE(build_world(far, world, reason));
-  CHECK(reason == "joint 0: anchor_a: farther from the body than twice its reach and 1 m");
+  const Result<void> built = build_world(far, world);
+  REQUIRE_FALSE(built.ok());
+  CHECK(built.error().message() == "joint 0: anchor_a: farther from the body than twice its reach and 1 m");
   // The world's own bound on a joint's passes (a game's JointDef).
   const Scene near = load_ok(scene_with(R"({"type": "point", "body_a": "a", "body_b": "b", "anchor": [0, 0, 0]})"));
   World fine(near.settings);
-  REQUIRE(build_world(near, fine, reason));
+  REQUIRE(build_world(near, fine).ok());
   JointDef def = near.joints[0].def;
   def.body_a = {near.joints[0].body_a, 0};
   def.body_b = {near.joints[0].body_b, 0};
   def.position_iterations = 1001;
-  CHECK(fine.create_joint(def).error == "iterations: outside 0..1000");
+  CHECK(fine.create_joint(def).error().message() == "iterations: outside 0..1000");
   def.position_iterations = 1000;
   CHECK(fine.create_joint(def).ok());
 }
@@ -797,10 +799,9 @@ TEST_CASE("joints' solver passes are their island's: other islands keep their bi
         {"type": "ragdoll", "position": [0.1, 1.6, 0], "asleep": false,
          "orientation": {"axis": [1, 0, 0], "degrees": -90})" + passes + R"(}]})";
     auto parsed = parse_scene(text, "passes.json");
-    if (const SceneError* error = std::get_if<SceneError>(&parsed)) FAIL(error->message());
-    World world(std::get<Scene>(parsed).settings);
-    std::string reason;
-    REQUIRE(build_world(std::get<Scene>(parsed), world, reason));
+    if (!parsed.ok()) FAIL(parsed.error().message());
+    World world(parsed.value().settings);
+    REQUIRE(build_world(parsed.value(), world).ok());
     return world;
   };
   World asks = world_with(""), none = world_with(R"(, "velocity_iterations": 0, "position_iterations": 0)"),
@@ -830,8 +831,8 @@ TEST_CASE("joints' solver passes are their island's: other islands keep their bi
 
 TEST_CASE("ragdolls.json: ragdolls onto a pile and down a staircase", "[scene][joints][ragdoll]") {
   auto loaded = load_scene_file(test::scenes_dir + "/ragdolls.json");
-  if (const auto* error = std::get_if<SceneError>(&loaded)) FAIL(error->message());
-  const Scene& scene = std::get<Scene>(loaded);
+  if (!loaded.ok()) FAIL(loaded.error().message());
+  const Scene& scene = loaded.value();
   CHECK(scene.bodies.size() < 200);
   CHECK(scene.joints.size() == 100);
   size_t dolls = 0;
@@ -863,8 +864,9 @@ TEST_CASE("ragdolls.json: ragdolls onto a pile and down a staircase", "[scene][j
 // made the change).
 TEST_CASE("ragdoll heaps: sixteen dropped heaps come to rest with shallow overlaps and limbs within limits",
           "[joint][ragdoll][slow]") {
-  std::string text, reason;
-  REQUIRE(read_text_file(test::scenes_dir + "/ragdolls.json", text, reason));
+  const Result<std::string> read = read_text_file(test::scenes_dir + "/ragdolls.json");
+  REQUIRE(read.ok());
+  const std::string& text = read.value();
   SplitMix64 random{0x7261676430u};
   const double degree = 3.14159265358979 / 180;
   std::vector<int> asleep_at;      // the step after which no body is awake, 601: never
@@ -892,10 +894,10 @@ TEST_CASE("ragdoll heaps: sixteen dropped heaps come to rest with shallow overla
       }
     }
     auto loaded = parse_scene(moved, "ragdolls.json");
-    if (const auto* error = std::get_if<SceneError>(&loaded)) FAIL(error->message());
-    const Scene& scene = std::get<Scene>(loaded);
+    if (!loaded.ok()) FAIL(loaded.error().message());
+    const Scene& scene = loaded.value();
     World world(scene.settings);
-    if (!build_world(scene, world, reason)) FAIL(reason);
+    if (const Result<void> built = build_world(scene, world); !built.ok()) FAIL(built.error().message());
     int asleep = 601, moving = 0;
     double heap_worst = 0;
     for (int step = 1; step <= 600; ++step) {
@@ -965,11 +967,10 @@ TEST_CASE("ragdoll heaps: sixteen dropped heaps come to rest with shallow overla
 // before them.
 TEST_CASE("the playground's ragdolls rest without sinking into each other or themselves", "[joint][ragdoll][slow]") {
   auto loaded = load_scene_file(test::scenes_dir + "/playground.json");
-  if (const auto* error = std::get_if<SceneError>(&loaded)) FAIL(error->message());
-  const Scene& scene = std::get<Scene>(loaded);
+  if (!loaded.ok()) FAIL(loaded.error().message());
+  const Scene& scene = loaded.value();
   World world(scene.settings);
-  std::string reason;
-  if (!build_world(scene, world, reason)) FAIL(reason);
+  if (const Result<void> built = build_world(scene, world); !built.ok()) FAIL(built.error().message());
   const auto is_ragdoll = [&](uint32_t slot) { return scene.bodies[slot].name.rfind("ragdoll.", 0) == 0; };
   double deepest_mm = 0;
   std::string where;

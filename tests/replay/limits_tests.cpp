@@ -42,7 +42,7 @@ struct TempDir {
 
 std::string scene_error(const std::string& text) {
   const auto result = parse_scene(text, "f.json");
-  if (const auto* error = std::get_if<SceneError>(&result)) return error->message();
+  if (!result.ok()) return result.error().message();
   return "no error";
 }
 
@@ -87,28 +87,29 @@ TEST_CASE("a JSON file over the size limit is refused without reading it", "[rep
   std::filesystem::resize_file(path, std::uintmax_t{1} << 30);
   const std::string limit = "1073741824 bytes: more than the limit of 67108864 bytes (64 MiB)";
   const auto scene = load_scene_file(path);
-  REQUIRE(std::holds_alternative<SceneError>(scene));
-  CHECK(std::get<SceneError>(scene).message() == path + ": " + limit);
+  REQUIRE(!scene.ok());
+  CHECK(scene.error().message() == path + ": " + limit);
   const auto replay = load_replay_file(path, true);
-  REQUIRE(std::holds_alternative<ReplayError>(replay));
-  CHECK(std::get<ReplayError>(replay).message() == path + ": " + limit);
+  REQUIRE(!replay.ok());
+  CHECK(replay.error().message() == path + ": " + limit);
   const auto inputs = load_inputs_file(path, Scene{});
-  REQUIRE(std::holds_alternative<ReplayError>(inputs));
-  CHECK(std::get<ReplayError>(inputs).message() == path + ": " + limit);
+  REQUIRE(!inputs.ok());
+  CHECK(inputs.error().message() == path + ": " + limit);
 
   // One byte over the limit is refused; at the limit the file is read (and
   // is then only malformed: zero bytes are not JSON).
   std::filesystem::resize_file(path, limits::max_json_file_bytes + 1);
-  std::string text, reason;
-  CHECK_FALSE(read_text_file(path, text, reason));
-  CHECK(reason == "67108865 bytes: more than the limit of 67108864 bytes (64 MiB)");
+  const Result<std::string> over = read_text_file(path);
+  REQUIRE_FALSE(over.ok());
+  CHECK(over.error().message() == path + ": 67108865 bytes: more than the limit of 67108864 bytes (64 MiB)");
   std::filesystem::resize_file(path, limits::max_json_file_bytes);
-  CHECK(read_text_file(path, text, reason));
-  CHECK(text.size() == limits::max_json_file_bytes);
+  const Result<std::string> at_limit = read_text_file(path);
+  REQUIRE(at_limit.ok());
+  CHECK(at_limit->size() == limits::max_json_file_bytes);
 
   // Snapshot images have their own limit (bitstep run --restore).
-  CHECK(file_size_error(limits::max_snapshot_file_bytes, limits::max_snapshot_file_bytes).empty());
-  CHECK(file_size_error(limits::max_snapshot_file_bytes + 1, limits::max_snapshot_file_bytes) ==
+  CHECK(check_file_size(limits::max_snapshot_file_bytes, limits::max_snapshot_file_bytes).ok());
+  CHECK(check_file_size(limits::max_snapshot_file_bytes + 1, limits::max_snapshot_file_bytes).error().message() ==
         "1073741825 bytes: more than the limit of 1073741824 bytes (1024 MiB)");
 }
 
@@ -120,19 +121,19 @@ TEST_CASE("JSON nesting and tree size are bounded", "[replay][limits]") {
           return path;
         }() + ": nesting deeper than 64 levels");
   const std::string legal = std::string(limits::max_json_depth, '[') + std::string(limits::max_json_depth, ']');
-  CHECK(std::holds_alternative<json::Node>(json::parse(legal)));
+  CHECK(json::parse(legal).ok());
 
   // The tree's bytes: a small budget shows the value that crosses it.
   std::string text = "[";
   text += repeated("0", 100);
   text += ']';
   const auto small = json::parse(text, 40 * sizeof(json::Node));
-  REQUIRE(std::holds_alternative<json::SyntaxError>(small));
-  const json::SyntaxError& error = std::get<json::SyntaxError>(small);
-  CHECK(error.where.rfind("$[", 0) == 0);
+  REQUIRE(!small.ok());
+  const Error& error = small.error();
+  CHECK(error.place.rfind("$[", 0) == 0);
   CHECK(error.reason == "the JSON tree would take more than the limit of " + std::to_string(40 * sizeof(json::Node)) +
                             " bytes in memory");
-  CHECK(std::holds_alternative<json::Node>(json::parse(text, 200 * (sizeof(json::Node) + 8))));
+  CHECK(json::parse(text, 200 * (sizeof(json::Node) + 8)).ok());
 }
 
 TEST_CASE("a scene's counts are bounded before its items are read", "[replay][limits]") {
@@ -179,8 +180,8 @@ TEST_CASE("bodies per scene: generators are counted before they make their bodie
         "f.json: $.generators[0]: would make 100128 bodies: more than the limit of 100000 in a scene");
   // The sum of every generator's: ten stacks of 10,000 are the limit exactly.
   const auto exact = parse_scene(stacks(10, 10000), "f.json");
-  REQUIRE(std::holds_alternative<Scene>(exact));
-  CHECK(std::get<Scene>(exact).bodies.size() == static_cast<size_t>(limits::max_scene_bodies));
+  REQUIRE(exact.ok());
+  CHECK(exact.value().bodies.size() == static_cast<size_t>(limits::max_scene_bodies));
   CHECK(scene_error(stacks(11, 10000)) == "f.json: $.generators[10]: more than 100000 bodies in the scene");
 }
 
@@ -194,7 +195,7 @@ TEST_CASE("replay steps, hashes and inputs are bounded before anything runs", "[
   };
   const auto error_of = [](const std::string& path) {
     const auto loaded = load_replay_file(path, true);
-    if (const auto* error = std::get_if<ReplayError>(&loaded)) return error->message();
+    if (!loaded.ok()) return loaded.error().message();
     return std::string("no error");
   };
   std::string path = replay("100000000", R"(, "hashes": [])");
@@ -207,8 +208,8 @@ TEST_CASE("replay steps, hashes and inputs are bounded before anything runs", "[
   // The largest step count, with its whole chain (19 MB), is read.
   path = replay("1000000", R"(, "hashes": [)" + repeated(hash, 1000000) + "]");
   const auto longest = load_replay_file(path, true);
-  REQUIRE(std::holds_alternative<Replay>(longest));
-  CHECK(std::get<Replay>(longest).hashes.size() == 1000000);
+  REQUIRE(longest.ok());
+  CHECK(longest.value().hashes.size() == 1000000);
   // Inputs: refused by the array's length.
   path = replay("1", R"(, "hashes": [)" + hash + R"(], "inputs": [)" + repeated("{}", 1000001) + "]");
   CHECK(error_of(path) == path + ": $.inputs: 1000001 inputs: more than the limit of 1000000");
@@ -233,8 +234,8 @@ void put_u32(std::vector<uint8_t>& bytes, size_t at, uint32_t value) {
 
 std::string restore_error(const std::vector<uint8_t>& image) {
   World world;
-  const auto error = restore(image, world);
-  return error ? *error : "no error";
+  const Result<void> restored = restore(image, world);
+  return restored.ok() ? "no error" : restored.error().message();
 }
 
 }  // namespace

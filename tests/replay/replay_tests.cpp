@@ -48,15 +48,15 @@ struct TempFile {
 };
 
 std::string read_all(const std::string& path) {
-  std::string text, reason;
-  REQUIRE(read_text_file(path, text, reason));
-  return text;
+  Result<std::string> text = read_text_file(path);
+  REQUIRE(text.ok());
+  return std::move(text).value();
 }
 
 std::string error_of(const std::string& path) {
   auto loaded = load_replay_file(path, true);
-  REQUIRE(std::holds_alternative<ReplayError>(loaded));
-  return std::get<ReplayError>(loaded).message();
+  REQUIRE(!loaded.ok());
+  return loaded.error().message();
 }
 
 }  // namespace
@@ -74,8 +74,8 @@ TEST_CASE("every golden replay gives the same chain with the pairs', narrowphase
   for (const std::string& path : paths) {
     INFO(path);
     auto loaded = load_replay_file(path, true);
-    if (const ReplayError* error = std::get_if<ReplayError>(&loaded)) FAIL(error->message());
-    const Replay& replay = std::get<Replay>(loaded);
+    if (!loaded.ok()) FAIL(loaded.error().message());
+    const Replay& replay = loaded.value();
     uint64_t scene_hash = 0;
     CHECK(first_divergent_step(replay.hashes, replay_chain(replay, scene_hash, false)) == 0);
   }
@@ -88,8 +88,8 @@ TEST_CASE("every golden replay reproduces its hash chain at every step", "[repla
     if (left_to_optimised_builds(path)) continue;
     INFO(path);
     auto loaded = load_replay_file(path, true);
-    if (const ReplayError* error = std::get_if<ReplayError>(&loaded)) FAIL(error->message());
-    const Replay& replay = std::get<Replay>(loaded);
+    if (!loaded.ok()) FAIL(loaded.error().message());
+    const Replay& replay = loaded.value();
     CHECK_FALSE(replay.inputs.empty());
     uint64_t scene_hash = 0;
     const std::vector<uint64_t> hashes = replay_chain(replay, scene_hash);
@@ -101,8 +101,8 @@ TEST_CASE("every golden replay reproduces its hash chain at every step", "[repla
 TEST_CASE("a changed hash is reported at its step", "[replay]") {
   std::string text = read_all(scenes_dir + "/bounce.replay.json");
   auto loaded = load_replay_file(scenes_dir + "/bounce.replay.json", true);
-  REQUIRE(std::holds_alternative<Replay>(loaded));
-  const Replay& replay = std::get<Replay>(loaded);
+  REQUIRE(loaded.ok());
+  const Replay& replay = loaded.value();
   // Flip one hex digit of step 77's hash.
   char hash77[17];
   for (int i = 15, shift = 0; i >= 0; --i, shift += 4) hash77[i] = "0123456789abcdef"[(replay.hashes[76] >> shift) & 15];
@@ -112,9 +112,9 @@ TEST_CASE("a changed hash is reported at its step", "[replay]") {
   text[at] = text[at] == '0' ? '1' : '0';
   const TempFile damaged("damaged_test.replay.json", text);
   auto reloaded = load_replay_file(damaged.path, true);
-  REQUIRE(std::holds_alternative<Replay>(reloaded));
+  REQUIRE(reloaded.ok());
   uint64_t scene_hash = 0;
-  CHECK(first_divergent_step(std::get<Replay>(reloaded).hashes, replay_chain(std::get<Replay>(reloaded), scene_hash)) == 77);
+  CHECK(first_divergent_step(reloaded.value().hashes, replay_chain(reloaded.value(), scene_hash)) == 77);
 }
 
 TEST_CASE("malformed replays are refused with the file, the JSON path and the reason", "[replay]") {
@@ -169,8 +169,8 @@ TEST_CASE("10,000 inputs naming bodies of a 10,000-body scene are read, each to 
   }
   const TempFile file("names_test.json", text + "]}");
   auto loaded = load_inputs_file(file.path, scene);
-  if (const ReplayError* error = std::get_if<ReplayError>(&loaded)) FAIL(error->message());
-  const std::vector<Input>& inputs = std::get<InputsFile>(loaded).inputs;
+  if (!loaded.ok()) FAIL(loaded.error().message());
+  const std::vector<Input>& inputs = loaded.value().inputs;
   REQUIRE(inputs.size() == 10000);
   CHECK(inputs.front().body == 9999);
   CHECK(inputs.back().body == 0);
@@ -196,14 +196,14 @@ TEST_CASE("diff names the first body and field where two states differ", "[repla
     a.step();
     b.step();
   }
-  CHECK_FALSE(diff_dumps(dump_state(a), dump_state(b)).first.has_value());
+  CHECK_FALSE(diff_dumps(dump_state(a), dump_state(b)).value().has_value());
   b.apply_impulse(BodyId{7, 0}, Vec3{Fixed{}, 50.0_fx, Fixed{}}, b.body(BodyId{7, 0}).pose.position);
-  const DumpDifference d = diff_dumps(dump_state(a), dump_state(b));
-  REQUIRE(d.readable);
-  REQUIRE(d.first.has_value());
-  INFO(*d.first);
-  CHECK(d.first->rfind("$.bodies[7].linear_velocity[1]: ", 0) == 0);
-  CHECK_FALSE(diff_dumps("{}", dump_state(a)).readable);
+  const Result<DumpDifference> d = diff_dumps(dump_state(a), dump_state(b));
+  REQUIRE(d.ok());
+  REQUIRE(d->has_value());
+  INFO(**d);
+  CHECK((*d)->rfind("$.bodies[7].linear_velocity[1]: ", 0) == 0);
+  CHECK(diff_dumps("{}", dump_state(a)).error().message() == "first dump: not a bitstep-state dump");
 }
 
 TEST_CASE("independence: key order and number spelling do not change the chain, a far-away body changes no other",
@@ -225,16 +225,15 @@ TEST_CASE("independence: key order and number spelling do not change the chain, 
           "settings": {"velocity_iterations": 10, "dt": "0.0166666666/1.0000000000"}})";
   auto chain = [](const std::string& text, bool far_body, std::vector<std::string>& dumps) {
     auto parsed = parse_scene(text, "inline.json");
-    if (const SceneError* error = std::get_if<SceneError>(&parsed)) FAIL(error->message());
-    Scene scene = std::get<Scene>(parsed);
+    if (!parsed.ok()) FAIL(parsed.error().message());
+    Scene scene = parsed.value();
     if (far_body) {
       SceneBody far = scene.bodies[1];
       far.def.pose.position = {1000.0_fx, 500.0_fx, 1000.0_fx};
       scene.bodies.push_back(far);
     }
     World world(scene.settings);
-    std::string reason;
-    REQUIRE(build_world(scene, world, reason));
+    REQUIRE(build_world(scene, world).ok());
     std::vector<uint64_t> hashes;
     for (int i = 0; i < 120; ++i) {
       world.step();
@@ -264,8 +263,8 @@ TEST_CASE("independence: key order and number spelling do not change the chain, 
 
 TEST_CASE("a replay may carry its scene inline", "[replay]") {
   auto golden = load_replay_file(scenes_dir + "/bounce.replay.json", true);
-  REQUIRE(std::holds_alternative<Replay>(golden));
-  Replay replay = std::get<Replay>(golden);
+  REQUIRE(golden.ok());
+  Replay replay = golden.value();
   // The first 30 steps come before the golden replay's first input.
   replay.steps = 30;
   replay.hashes.resize(30);
@@ -273,8 +272,8 @@ TEST_CASE("a replay may carry its scene inline", "[replay]") {
   replay.inline_scene = read_all(scenes_dir + "/bounce.json");
   const TempFile file("inline_test.replay.json", replay_json(replay, "test"));
   auto loaded = load_replay_file(file.path, true);
-  if (const ReplayError* error = std::get_if<ReplayError>(&loaded)) FAIL(error->message());
-  CHECK(verify_replay(std::get<Replay>(loaded)).ok());
+  if (!loaded.ok()) FAIL(loaded.error().message());
+  CHECK(verify_replay(loaded.value()).ok());
 
   std::string broken = read_all(file.path);
   const std::string radius = "\"half_extents\": [0.5, 0.5, 0.5]";
@@ -295,8 +294,8 @@ Replay record_bounce(const std::string& name, const std::string& settings) {
   const TempFile file(name, "{\"format\": \"bitstep-replay\", \"version\": 1, \"scene\": \"bounce.json\", " + settings +
                                 "\"scene_hash\": \"0000000000000000\", \"steps\": 30}");
   auto loaded = load_replay_file(file.path, false);
-  if (const ReplayError* error = std::get_if<ReplayError>(&loaded)) FAIL(error->message());
-  Replay replay = std::get<Replay>(loaded);
+  if (!loaded.ok()) FAIL(loaded.error().message());
+  Replay replay = loaded.value();
   replay.hashes = replay_chain(replay, replay.scene_hash);
   return replay;
 }
@@ -309,8 +308,8 @@ TEST_CASE("a replay's settings override the scene's and verify", "[replay][setti
   CHECK(plain.settings_override.empty());
   CHECK(fewer.settings_override == "{\"velocity_iterations\": 3}");
   auto scene = load_scene_file(scenes_dir + "/bounce.json");
-  REQUIRE(std::holds_alternative<Scene>(scene));
-  const Settings& scene_settings = std::get<Scene>(scene).settings;
+  REQUIRE(scene.ok());
+  const Settings& scene_settings = scene.value().settings;
   REQUIRE(scene_settings.velocity_iterations != 3);
   CHECK(plain.scene.settings.velocity_iterations == scene_settings.velocity_iterations);
   // Over the scene's settings: the keys the override does not name stay the scene's.
@@ -320,12 +319,11 @@ TEST_CASE("a replay's settings override the scene's and verify", "[replay][setti
 
   const TempFile file("fewer_verify_test.replay.json", replay_json(fewer, "test"));
   auto loaded = load_replay_file(file.path, true);
-  if (const ReplayError* error = std::get_if<ReplayError>(&loaded)) FAIL(error->message());
-  const Replay& replay = std::get<Replay>(loaded);
+  if (!loaded.ok()) FAIL(loaded.error().message());
+  const Replay& replay = loaded.value();
   CHECK(verify_replay(replay).ok());
   World world(replay.scene.settings);
-  std::string reason;
-  REQUIRE(build_world(replay.scene, world, reason));
+  REQUIRE(build_world(replay.scene, world).ok());
   CHECK(world.settings().velocity_iterations == 3);
 }
 
@@ -352,12 +350,12 @@ TEST_CASE("a replay with a bad settings override is refused with its JSON path",
   // The command line's --settings: the same reader, the same kind of message.
   Settings settings;
   auto applied = apply_settings_text("{\"velocity_iterations\": 4, \"sleep\": 1}", "--settings", settings);
-  REQUIRE(std::holds_alternative<SceneError>(applied));
-  CHECK(std::get<SceneError>(applied).message().rfind("--settings: $.sleep: ", 0) == 0);
+  REQUIRE(!applied.ok());
+  CHECK(applied.error().message().rfind("--settings: $.sleep: ", 0) == 0);
   CHECK(settings.velocity_iterations == Settings{}.velocity_iterations);  // untouched on error
   applied = apply_settings_text("{\"velocity_iterations\":4}", "--settings", settings);
-  REQUIRE(std::holds_alternative<std::string>(applied));
-  CHECK(std::get<std::string>(applied) == "{\"velocity_iterations\": 4}");
+  REQUIRE(applied.ok());
+  CHECK(applied.value() == "{\"velocity_iterations\": 4}");
   CHECK(settings.velocity_iterations == 4);
 }
 
@@ -367,8 +365,8 @@ TEST_CASE("a settings override survives writing and reading the replay", "[repla
   const std::string text = replay_json(replay, "test");
   const TempFile file("round_trip_written_test.replay.json", text);
   auto loaded = load_replay_file(file.path, true);
-  if (const ReplayError* error = std::get_if<ReplayError>(&loaded)) FAIL(error->message());
-  const Replay& reread = std::get<Replay>(loaded);
+  if (!loaded.ok()) FAIL(loaded.error().message());
+  const Replay& reread = loaded.value();
   CHECK(reread.settings_override == replay.settings_override);
   CHECK(reread.settings_override == "{\"sleep\": \"still\", \"gravity\": [0, \"-981/100\", 0]}");
   CHECK(reread.scene.settings.sleep_method == SleepMethod::still);
@@ -421,11 +419,10 @@ TEST_CASE("inputs at their bounds replay in every build", "[replay][envelope]") 
       "\"shapes\": [{\"type\": \"box\", \"half_extents\": [0.01, 0.01, 0.01]}]}}]}";
   const TempFile file("bounds_test.replay.json", text);
   auto loaded = load_replay_file(file.path, false);
-  if (const ReplayError* error = std::get_if<ReplayError>(&loaded)) FAIL(error->message());
-  const Replay& replay = std::get<Replay>(loaded);
+  if (!loaded.ok()) FAIL(loaded.error().message());
+  const Replay& replay = loaded.value();
   World world(replay.scene.settings);
-  std::string reason;
-  REQUIRE(build_world(replay.scene, world, reason));
+  REQUIRE(build_world(replay.scene, world).ok());
   std::vector<uint64_t> hashes;
   run_inputs(world, replay.inputs, replay.steps, hashes);
   CHECK(hashes.size() == 30);
@@ -437,15 +434,14 @@ TEST_CASE("inputs at their bounds replay in every build", "[replay][envelope]") 
 // step on; the course is crossed, the crates pushed, the car stopped.
 TEST_CASE("car.replay.json drives the course: drive inputs steer the run", "[replay][car]") {
   auto loaded = load_replay_file(scenes_dir + "/car.replay.json", true);
-  if (const auto* error = std::get_if<ReplayError>(&loaded)) FAIL(error->message());
-  const Replay& replay = std::get<Replay>(loaded);
+  if (!loaded.ok()) FAIL(loaded.error().message());
+  const Replay& replay = loaded.value();
   REQUIRE(replay.inputs.size() == 4u);
   CHECK(replay.inputs[0].kind == Input::Kind::drive);
   CHECK(replay.inputs[0].controls.throttle == 0.7_fx);
   CHECK(replay.inputs[3].controls.brake == Fixed::one());
   World world(replay.scene.settings);
-  std::string reason;
-  REQUIRE(build_world(replay.scene, world, reason));
+  REQUIRE(build_world(replay.scene, world).ok());
   InputRun run(world);
   for (int64_t step = 1; step <= replay.steps; ++step) {
     apply_inputs(world, replay.inputs, step, run);
@@ -465,11 +461,10 @@ TEST_CASE("car_wall: the car pins the cube against the wall without pushing it i
   for (const char* name : {"car_wall.replay.json", "car_wall.guendelman.replay.json"}) {
     INFO(name);
     auto loaded = load_replay_file(scenes_dir + "/" + name, true);
-    if (const auto* error = std::get_if<ReplayError>(&loaded)) FAIL(error->message());
-    const Replay& replay = std::get<Replay>(loaded);
+    if (!loaded.ok()) FAIL(loaded.error().message());
+    const Replay& replay = loaded.value();
     World world(replay.scene.settings);
-    std::string reason;
-    REQUIRE(build_world(replay.scene, world, reason));
+    REQUIRE(build_world(replay.scene, world).ok());
     InputRun run(world);
     double deepest = 0, pinned_steps = 0;
     for (int64_t step = 1; step <= 300; ++step) {  // the replay's 120 steps, then 3 s more at full throttle

@@ -33,7 +33,7 @@ TEST_CASE("a rollback state restores across a removed body and a reused slot, an
   const uint64_t saved = state_hash(world);
   // The future from here, for comparison (a world restored from a snapshot).
   World reference;
-  REQUIRE_FALSE(restore(snapshot(world), reference));
+  REQUIRE(restore(snapshot(world), reference).ok());
   std::vector<uint64_t> chain;
   for (int i = 0; i < 20; ++i) {
     reference.step();
@@ -45,13 +45,13 @@ TEST_CASE("a rollback state restores across a removed body and a reused slot, an
   BodyDef ball;
   ball.pose.position = {Fixed::from_int(3), Fixed::from_int(2), Fixed{}};
   ball.shapes.push_back({ShapeType::sphere, {}, 0.4_fx, {}, {}});
-  const CreateResult spawned = world.create_body(ball);
+  const Result<BodyId> spawned = world.create_body(ball);
   REQUIRE(spawned.ok());
-  REQUIRE(spawned.id.index == 10);  // the slot reused
+  REQUIRE(spawned.value().index == 10);  // the slot reused
   for (int i = 0; i < 12; ++i) world.step();
   (void)save(states, world);  // the ball remembered too
   // Back: the cube's shapes and mass come back from the states' memory.
-  REQUIRE_FALSE(states.restore(image, world));
+  REQUIRE(states.restore(image, world).ok());
   CHECK(state_hash(world) == saved);
   CHECK(world.bodies()[10].shapes.size() == 1u);
   CHECK(world.bodies()[10].shapes[0].type == ShapeType::box);
@@ -69,17 +69,18 @@ TEST_CASE("a rollback state is refused by another world and when damaged, and no
   world.step();
   const uint64_t now = state_hash(world);
   World other = test::world_of("pyramid20.json");
-  const auto foreign = states.restore(image, other);
-  REQUIRE(foreign);
-  CHECK(*foreign == "a rollback state of another world");
+  const Result<void> foreign = states.restore(image, other);
+  REQUIRE_FALSE(foreign.ok());
+  CHECK(foreign.error().message() == "a rollback state of another world");
   World copy;  // the same state in another world object: its future bodies are its own
-  REQUIRE_FALSE(restore(snapshot(world), copy));
-  CHECK(states.restore(image, copy).has_value());
+  REQUIRE(restore(snapshot(world), copy).ok());
+  CHECK_FALSE(states.restore(image, copy).ok());
   std::vector<uint8_t> damaged = image;
   damaged[damaged.size() / 2] ^= 0x10;
-  CHECK(*states.restore(damaged, world) == "checksum mismatch: the image is corrupt");
-  CHECK(*states.restore(std::span<const uint8_t>(image.data(), image.size() - 1), world) == "truncated or padded");
-  CHECK(*states.restore(std::span<const uint8_t>(image.data(), 10), world) == "not a rollback state");
+  CHECK(states.restore(damaged, world).error().message() == "checksum mismatch: the image is corrupt");
+  CHECK(states.restore(std::span<const uint8_t>(image.data(), image.size() - 1), world).error().message() ==
+        "truncated or padded");
+  CHECK(states.restore(std::span<const uint8_t>(image.data(), 10), world).error().message() == "not a rollback state");
   CHECK(state_hash(world) == now);
   // A buffer too small holds nothing usable and says how large it must be.
   std::vector<uint8_t> small(image.size() - 1);
@@ -107,13 +108,13 @@ TEST_CASE("rollback states follow their world: after a snapshot load they start 
   const std::vector<uint8_t> old_state = save(states, world);
   const std::vector<uint8_t> image = snapshot(world);
   // A snapshot restored makes a new world object, its serials numbered anew.
-  REQUIRE_FALSE(restore(image, world));
-  CHECK(*states.restore(old_state, world) == "a rollback state of another world");
+  REQUIRE(restore(image, world).ok());
+  CHECK(states.restore(old_state, world).error().message() == "a rollback state of another world");
   for (int i = 0; i < 3; ++i) world.step();
   const std::vector<uint8_t> state = save(states, world);  // forgets the old world's bodies
   const uint64_t saved = state_hash(world);
   world.step();
-  REQUIRE_FALSE(states.restore(state, world));
+  REQUIRE(states.restore(state, world).ok());
   CHECK(state_hash(world) == saved);
 }
 
@@ -134,13 +135,13 @@ TEST_CASE("rollback states forget bodies gone from their last saves, and refuse 
   states.forget_all_but_last(3);  // in none of the last 3: forgotten
   CHECK(states.remembered_bodies() == kept - 1);
   const uint64_t now = state_hash(world);
-  const auto refused = states.restore(with_cube, world);
-  REQUIRE(refused);
-  CHECK(*refused == "older than the states kept: a body it names was forgotten");
+  const Result<void> refused = states.restore(with_cube, world);
+  REQUIRE_FALSE(refused.ok());
+  CHECK(refused.error().message() == "older than the states kept: a body it names was forgotten");
   CHECK(state_hash(world) == now);  // refused whole: nothing read
   // The last state still restores.
   world.step();
-  REQUIRE_FALSE(states.restore(later, world));
+  REQUIRE(states.restore(later, world).ok());
   CHECK(state_hash(world) == now);
 }
 
@@ -167,23 +168,22 @@ TEST_CASE("a rollback state restores after a sensor fills a freed slot, or a wor
   const char* pin = R"({"type": "point", "body_a": "box", "body_b": "ball", "anchor": [0, 1.25, 0]})";
   for (int variant = 0; variant < 3; ++variant) {
     INFO("variant " << variant);
-    std::string error;
-    auto sim = Simulation::from_text(variant == 0 ? car_scene : plain_scene, "rollback.json", error);
-    REQUIRE(sim);
+    auto sim = Simulation::from_text(variant == 0 ? car_scene : plain_scene, "rollback.json");
+    REQUIRE(sim.ok());
     for (int i = 0; i < 5; ++i) sim->step();
     if (variant == 0) REQUIRE(sim->remove_body(*sim->find_body("box")));  // the sensor takes its slot
     std::vector<uint8_t> image(sim->save_state({}));
     REQUIRE(sim->save_state(image) == image.size());
     const uint64_t saved = sim->hash();
     if (variant == 2) {
-      REQUIRE(sim->add_joint(pin, error));
+      REQUIRE(sim->add_joint(pin).ok());
     } else {
-      REQUIRE(sim->add_body(sensor, error));
+      REQUIRE(sim->add_body(sensor).ok());
     }
     sim->step();  // the sensor's overlaps, the joint's impulses
-    const auto refused = sim->load_state(image);
-    INFO(refused.value_or(""));
-    CHECK_FALSE(refused);
+    const Result<void> loaded = sim->load_state(image);
+    INFO((loaded.ok() ? "" : loaded.error().message()));
+    CHECK(loaded.ok());
     CHECK(sim->hash() == saved);
   }
 }

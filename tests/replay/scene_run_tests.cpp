@@ -19,8 +19,8 @@ using bitstep::test::to_double;
 
 World load_world(const std::string& name) {
   auto loaded = load_scene_file(std::string(BITSTEP_SOURCE_DIR) + "/scenes/" + name);
-  REQUIRE(std::holds_alternative<Scene>(loaded));
-  const Scene& scene = std::get<Scene>(loaded);
+  REQUIRE(loaded.ok());
+  const Scene& scene = loaded.value();
   World world(scene.settings);
   for (const SceneBody& body : scene.bodies) REQUIRE(world.create_body(body.def).ok());
   return world;

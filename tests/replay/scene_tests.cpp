@@ -22,19 +22,19 @@ const std::string scenes_dir = std::string(BITSTEP_SOURCE_DIR) + "/scenes";
 
 Scene load_ok(std::string_view text) {
   auto result = parse_scene(text, "f.json");
-  if (const auto* error = std::get_if<SceneError>(&result)) FAIL(error->message());
-  return std::get<Scene>(std::move(result));
+  if (!result.ok()) FAIL(result.error().message());
+  return std::move(result).value();
 }
 
 Scene load_file_ok(const std::string& name) {
   auto result = load_scene_file(scenes_dir + "/" + name);
-  if (const auto* error = std::get_if<SceneError>(&result)) FAIL(error->message());
-  return std::get<Scene>(std::move(result));
+  if (!result.ok()) FAIL(result.error().message());
+  return std::move(result).value();
 }
 
 std::string error_of(std::string_view text) {
   const auto result = parse_scene(text, "f.json");
-  if (const auto* error = std::get_if<SceneError>(&result)) return error->message();
+  if (!result.ok()) return result.error().message();
   return "no error";
 }
 
@@ -103,8 +103,8 @@ TEST_CASE("every shipped scene loads", "[scene]") {
   for (const std::string& name : names) {
     INFO(name);
     const auto result = load_scene_file(scenes_dir + "/" + name);
-    if (const auto* error = std::get_if<SceneError>(&result)) FAIL(error->message());
-    CHECK(std::get<Scene>(result).bodies.size() >= 2);
+    if (!result.ok()) FAIL(result.error().message());
+    CHECK(result.value().bodies.size() >= 2);
   }
 }
 
@@ -403,8 +403,8 @@ TEST_CASE("scene errors name the file, the JSON path and the reason", "[scene]")
   }
   SECTION("unreadable file") {
     const auto result = load_scene_file(scenes_dir + "/no_such_scene.json");
-    REQUIRE(std::holds_alternative<SceneError>(result));
-    CHECK(std::get<SceneError>(result).message() ==
+    REQUIRE(!result.ok());
+    CHECK(result.error().message() ==
           scenes_dir + "/no_such_scene.json: cannot read the file (no such regular file)");
   }
 }
@@ -503,7 +503,7 @@ TEST_CASE("generators take a per-body mass instead of a density", "[scene]") {
   // The world gives the body that mass, whatever its size.
   World world;
   const Scene light = load_ok(generated(R"({"type": "stack", "count": 1, "half_extents": [2, 2, 2], "mass": 2})"));
-  const BodyId id = world.create_body(light.bodies[0].def).id;
+  const BodyId id = world.create_body(light.bodies[0].def).value();
   CHECK(world.bodies()[id.index].inverse_mass == 0.5_fx);
   // Without "mass", the density as before.
   CHECK(load_ok(generated(R"({"type": "stack", "count": 1, "density": 500})")).bodies[0].def.mass == Fixed{});
@@ -606,10 +606,10 @@ TEST_CASE("mutated scenes load or fail cleanly", "[scene]") {
         }
       }
       const auto result = parse_scene(text, name);
-      if (const auto* error = std::get_if<SceneError>(&result)) {
+      if (!result.ok()) {
         ++refused;
-        REQUIRE_FALSE(error->reason.empty());
-        REQUIRE(error->message().find('\n') == std::string::npos);
+        REQUIRE_FALSE(result.error().reason.empty());
+        REQUIRE(result.error().message().find('\n') == std::string::npos);
       } else {
         ++loaded;
       }
@@ -648,8 +648,7 @@ TEST_CASE("cars: a chassis by name, wheels, parameters in range, errors with the
   CHECK(scene.cars[0].def.wheels[1].driven);
   CHECK(scene.cars[0].def.stiffness == CarDef{}.stiffness);  // defaults from the struct
   World world;
-  std::string reason;
-  REQUIRE(build_world(scene, world, reason));
+  REQUIRE(build_world(scene, world).ok());
   CHECK(world.cars().size() == 1u);
   CHECK(error_of(scene_text(chassis, R"("cars": [{"name": "car", "chassis": "d", )" + wheels + "}], ")) ==
         "f.json: $.cars[0].chassis: no body named \"d\"");

@@ -239,13 +239,14 @@ TEST_CASE("packets: a joining hello, a roster change's flag, the host alone chan
   for (const bool watching : {false, true}) {
     const Hello hello{2, 3, SessionMode::rollback, 1, 0x55, true, watching};
     const auto decoded = decode(encode(hello));
-    REQUIRE(std::holds_alternative<Hello>(decoded));
-    CHECK(std::get<Hello>(decoded) == hello);
+    REQUIRE(decoded.ok());
+    REQUIRE(std::holds_alternative<Hello>(decoded.value()));
+    CHECK(std::get<Hello>(decoded.value()) == hello);
   }
   // A roster change's present byte must be 0 or 1.
   std::vector<uint8_t> bad = encode(inputs);
   bad.back() = 3;
-  CHECK(std::get<PacketError>(decode(bad)).reason == "inputs: a roster change's presence is not 0, 1 or 2");
+  CHECK(decode(bad).error().message() == "inputs: a roster change's presence is not 0, 1 or 2");
   // Only the host changes the roster.
   SessionConfig c;
   c.players = 3;
@@ -259,8 +260,8 @@ TEST_CASE("packets: a joining hello, a roster change's flag, the host alone chan
   CHECK(s.stats().refused_messages == 1);
   c.joining = true;
   c.local_player = 0;
-  CHECK(config_error(c) == "joining: the host (player 0) cannot join, it starts the match");
+  CHECK(check_config(c).error().message() == "joining: the host (player 0) cannot join, it starts the match");
   c.local_player = 1;
   c.leave_after = 5;
-  CHECK(config_error(c) == "leave after: 0 or 10..100000 frames");
+  CHECK(check_config(c).error().message() == "leave after: 0 or 10..100000 frames");
 }

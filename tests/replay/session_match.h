@@ -29,11 +29,9 @@ inline constexpr const char* arena = R"({"format": "bitstep-scene", "version": 1
   "generators": [{"type": "stack", "name": "crates", "count": 3, "position": [0, 0, 0]}]})";
 
 inline Simulation arena_simulation() {
-  std::string error;
-  auto sim = Simulation::from_text(arena, "arena.json", error);
-  INFO(error);
-  REQUIRE(sim);
-  return std::move(*sim);
+  Result<Simulation> sim = Simulation::from_text(arena, "arena.json");
+  if (!sim.ok()) FAIL(sim.error().message());
+  return std::move(sim).value();
 }
 
 // The game: an input is the direction of the push held, "x z" in -1..1; a
@@ -120,7 +118,7 @@ struct Match {
     c.input_delay = delay;
     c.checksum_interval = checksum_interval;
     c.leave_after = leave_after;
-    REQUIRE(config_error(c).empty());
+    REQUIRE(check_config(c).ok());
     return c;
   }
   // A new process in slot p, joining the match in progress (to play, or to watch).

@@ -33,11 +33,9 @@ const char* const table_scene = R"({"format": "bitstep-scene", "version": 1, "bo
   {"name": "ball", "position": [3, 0.5, 0], "shapes": [{"type": "sphere", "radius": 0.5}]}]})";
 
 Simulation table_simulation() {
-  std::string error;
-  auto sim = Simulation::from_text(table_scene, "table.json", error);
-  INFO(error);
-  REQUIRE(sim);
-  return std::move(*sim);
+  Result<Simulation> sim = Simulation::from_text(table_scene, "table.json");
+  if (!sim.ok()) FAIL(sim.error().message());
+  return std::move(sim).value();
 }
 
 }  // namespace
@@ -62,9 +60,8 @@ TEST_CASE("a simulation reads poses in the frames its scene defined, not centres
 }
 
 TEST_CASE("a simulation steps the same bits as a world built and stepped directly", "[simulation]") {
-  std::string error;
-  auto sim = Simulation::from_file(test::scenes_dir + "/car.json", error);
-  REQUIRE(sim);
+  auto sim = Simulation::from_file(test::scenes_dir + "/car.json");
+  REQUIRE(sim.ok());
   World world = test::world_of("car.json");
   CHECK(sim->hash() == state_hash(world));
   REQUIRE(sim->drive("car.0", {0.7_fx, Fixed{}, 0.1_fx}));
@@ -93,7 +90,7 @@ TEST_CASE("a simulation rolls back: load a saved tick and the same ticks follow"
     sim.step();
     first.push_back(sim.hash());
   }
-  REQUIRE_FALSE(sim.load(saved));
+  REQUIRE(sim.load(saved).ok());
   CHECK(sim.tick() == 10u);
   for (int i = 0; i < 40; ++i) {
     sim.step();
@@ -104,38 +101,35 @@ TEST_CASE("a simulation rolls back: load a saved tick and the same ticks follow"
   std::vector<uint8_t> damaged = saved;
   damaged[damaged.size() / 2] ^= 1;
   const uint64_t before = sim.hash();
-  const auto why = sim.load(damaged);
-  REQUIRE(why);
-  CHECK(why->find("checksum") != std::string::npos);
+  const Result<void> loaded = sim.load(damaged);
+  REQUIRE_FALSE(loaded.ok());
+  CHECK(loaded.error().message().find("checksum") != std::string::npos);
   CHECK(sim.hash() == before);
 }
 
 TEST_CASE("bodies and joints added from JSON, and their errors with the JSON path", "[simulation]") {
   Simulation sim = table_simulation();
-  std::string error;
-  const auto crate = sim.add_body(R"({"name": "crate", "position": [-3, 0.25, 0], "orientation": {"axis": [0, 1, 0],
-      "degrees": 30}, "shapes": [{"type": "box", "half_extents": [0.25, 0.25, 0.25], "position": [0, 0, 0.1]}]})",
-                                  error);
-  INFO(error);
-  REQUIRE(crate);
-  CHECK(sim.find_body("crate") == crate);
+  const auto error_of = [](const auto& result) { return result.ok() ? std::string("no error") : result.error().message(); };
+  const Result<BodyId> crate = sim.add_body(R"({"name": "crate", "position": [-3, 0.25, 0], "orientation": {"axis": [0, 1, 0],
+      "degrees": 30}, "shapes": [{"type": "box", "half_extents": [0.25, 0.25, 0.25], "position": [0, 0, 0.1]}]})");
+  INFO(error_of(crate));
+  REQUIRE(crate.ok());
+  CHECK(sim.find_body("crate") == crate.value());
   CHECK(sim.pose(*crate)->position == Vec3{-3.0_fx, 0.25_fx, Fixed{}});
-  CHECK_FALSE(sim.add_body(R"({"name": "crate", "shapes": [{"type": "sphere", "radius": 1}]})", error));
-  CHECK(error == "add_body: $.name: \"crate\" is already taken");
-  CHECK_FALSE(sim.add_body(R"({"shapes": [{"type": "sphere", "radius": 100}]})", error));
-  CHECK(error.rfind("add_body: $.shapes[0].radius: ", 0) == 0);
-  CHECK_FALSE(sim.add_body(R"({"shapes": [{"type": "sphere", "radius": 1}], "colour": "red"})", error));
-  CHECK(error.rfind("add_body: $.colour: unknown key", 0) == 0);
-  CHECK_FALSE(sim.add_body(R"({"shapes": [)", error));
-  CHECK(error.rfind("add_body: byte ", 0) == 0);
+  CHECK(error_of(sim.add_body(R"({"name": "crate", "shapes": [{"type": "sphere", "radius": 1}]})")) ==
+        "add_body: $.name: \"crate\" is already taken");
+  CHECK(error_of(sim.add_body(R"({"shapes": [{"type": "sphere", "radius": 100}]})"))
+            .rfind("add_body: $.shapes[0].radius: ", 0) == 0);
+  CHECK(error_of(sim.add_body(R"({"shapes": [{"type": "sphere", "radius": 1}], "colour": "red"})"))
+            .rfind("add_body: $.colour: unknown key", 0) == 0);
+  CHECK(error_of(sim.add_body(R"({"shapes": [)")).rfind("add_body: byte ", 0) == 0);
   // A rope from the ball to the crate; a joint naming no body is refused.
-  const auto rope = sim.add_joint(R"({"type": "max_distance", "body_a": "ball", "body_b": "crate",
-      "anchor": [3, 0.5, 0], "anchor_b": [-3, 0.25, 0], "length": 7})",
-                                  error);
-  INFO(error);
-  REQUIRE(rope);
-  CHECK_FALSE(sim.add_joint(R"({"type": "point", "body_a": "ball", "body_b": "lamp", "anchor": [0, 0, 0]})", error));
-  CHECK(error == "add_joint: $.body_b: no body named \"lamp\"");
+  const Result<JointId> rope = sim.add_joint(R"({"type": "max_distance", "body_a": "ball", "body_b": "crate",
+      "anchor": [3, 0.5, 0], "anchor_b": [-3, 0.25, 0], "length": 7})");
+  INFO(error_of(rope));
+  REQUIRE(rope.ok());
+  CHECK(error_of(sim.add_joint(R"({"type": "point", "body_a": "ball", "body_b": "lamp", "anchor": [0, 0, 0]})")) ==
+        "add_joint: $.body_b: no body named \"lamp\"");
   // Removed, its handle is refused; the slot's next body has a new generation.
   CHECK(sim.remove_joint(*rope));
   CHECK_FALSE(sim.remove_joint(*rope));
@@ -143,8 +137,8 @@ TEST_CASE("bodies and joints added from JSON, and their errors with the JSON pat
   CHECK_FALSE(sim.pose(*crate));
   CHECK_FALSE(sim.apply_impulse(*crate, {}, {}));
   CHECK_FALSE(sim.find_body("crate"));
-  const auto next = sim.add_body(R"({"name": "crate", "shapes": [{"type": "sphere", "radius": 0.2}]})", error);
-  REQUIRE(next);
+  const Result<BodyId> next = sim.add_body(R"({"name": "crate", "shapes": [{"type": "sphere", "radius": 0.2}]})");
+  REQUIRE(next.ok());
   CHECK(next->index == crate->index);
   CHECK(next->generation != crate->generation);
 }

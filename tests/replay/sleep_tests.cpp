@@ -21,16 +21,15 @@ const char* name_of(SleepMethod method) { return method == SleepMethod::motion ?
 
 Scene scene_with_sleep(const std::string& file, SleepMethod method) {
   auto loaded = load_scene_file(test::scenes_dir + "/" + file);
-  if (const SceneError* error = std::get_if<SceneError>(&loaded)) FAIL(error->message());
-  Scene scene = std::get<Scene>(loaded);
+  if (!loaded.ok()) FAIL(loaded.error().message());
+  Scene scene = loaded.value();
   scene.settings.sleep_method = method;
   return scene;
 }
 
 World build(const Scene& scene) {
   World world(scene.settings);
-  std::string reason;
-  if (!build_world(scene, world, reason)) FAIL(reason);
+  if (const Result<void> built = build_world(scene, world); !built.ok()) FAIL(built.error().message());
   return world;
 }
 
@@ -233,8 +232,7 @@ TEST_CASE("snapshot in the middle of a sleep countdown: the restored world conti
     REQUIRE(top.sleepy_steps > 0);
     const std::vector<uint8_t> image = snapshot(world);
     World copy;
-    const std::optional<std::string> error = restore(image, copy);
-    REQUIRE_FALSE(error.has_value());
+    REQUIRE(restore(image, copy).ok());
     for (int s = 0; s < 40; ++s) {
       world.step();
       copy.step();
@@ -255,12 +253,12 @@ TEST_CASE("sleep keys in a scene: read, and refused with the path and the reason
   };
   auto error_of = [&](const std::string& settings, const std::string& body_extra) {
     const auto result = parse(settings, body_extra);
-    if (const auto* error = std::get_if<SceneError>(&result)) return error->message();
+    if (!result.ok()) return result.error().message();
     return std::string("no error");
   };
   const auto good = parse(R"("sleep": "still", "sleep_time": 2, "sleep_linear_tolerance": 0.01)", R"("asleep": true, )");
-  REQUIRE(std::holds_alternative<Scene>(good));
-  const Scene& scene = std::get<Scene>(good);
+  REQUIRE(good.ok());
+  const Scene& scene = good.value();
   CHECK(scene.settings.sleep_method == SleepMethod::still);
   CHECK(scene.settings.sleep_time == 2.0_fx);
   CHECK(scene.settings.sleep_linear_tolerance == 0.01_fx);

@@ -19,8 +19,7 @@ using bitstep::test::world_of;
 
 World restored_from(const std::vector<uint8_t>& image) {
   World world;
-  const auto error = restore(image, world);
-  if (error) FAIL(*error);
+  if (const Result<void> restored = restore(image, world); !restored.ok()) FAIL(restored.error().message());
   return world;
 }
 
@@ -66,7 +65,7 @@ TEST_CASE("rollback: 1,000 rounds of mispredicted inputs, restored and corrected
       rolled.apply_impulse(table, Vec3{Fixed{}, Fixed{}, 30.0_fx}, point);
       rolled.step();
     }
-    REQUIRE_FALSE(restore(image, rolled).has_value());
+    REQUIRE(restore(image, rolled).ok());
     rolled.apply_impulse(table, right, point);
     rolled.step();
   }
@@ -84,10 +83,10 @@ TEST_CASE("a corrupt, truncated or wrong-version snapshot is refused and the wor
 
   auto refused = [&](std::vector<uint8_t> image, const std::string& expected) {
     INFO(expected);
-    const auto error = restore(image, target);
-    REQUIRE(error.has_value());
-    INFO(*error);
-    CHECK(error->find(expected) != std::string::npos);
+    const Result<void> restored = restore(image, target);
+    REQUIRE_FALSE(restored.ok());
+    INFO(restored.error().message());
+    CHECK(restored.error().message().find(expected) != std::string::npos);
     CHECK(state_hash(target) == before);
   };
   std::vector<uint8_t> flipped = good;
@@ -112,7 +111,7 @@ TEST_CASE("a corrupt, truncated or wrong-version snapshot is refused and the wor
   refused(snapshot(World(outside)), "max_linear_speed outside the world envelope");
 
   // The good image restores, and the world then equals the source.
-  REQUIRE_FALSE(restore(good, target).has_value());
+  REQUIRE(restore(good, target).ok());
   CHECK(state_hash(target) == state_hash(source));
 }
 
@@ -132,16 +131,15 @@ TEST_CASE("snapshotting a world does not change its future", "[snapshot]") {
 TEST_CASE("a guendelman world with sleep restores its pipeline and sleep settings and continues identically",
           "[snapshot]") {
   auto loaded = load_scene_file(std::string(BITSTEP_SOURCE_DIR) + "/scenes/stack20.json");
-  REQUIRE(std::holds_alternative<Scene>(loaded));
-  Scene scene = std::get<Scene>(loaded);
+  REQUIRE(loaded.ok());
+  Scene scene = loaded.value();
   scene.settings.pipeline = Pipeline::guendelman;
   scene.settings.sleep_method = SleepMethod::still;
   World world(scene.settings);
-  std::string reason;
-  REQUIRE(build_world(scene, world, reason));
+  REQUIRE(build_world(scene, world).ok());
   for (int s = 0; s < 20; ++s) world.step();
   World copy;
-  REQUIRE_FALSE(restore(snapshot(world), copy).has_value());
+  REQUIRE(restore(snapshot(world), copy).ok());
   CHECK(copy.settings().pipeline == Pipeline::guendelman);
   CHECK(copy.settings().sleep_method == SleepMethod::still);
   for (int s = 0; s < 60; ++s) {
@@ -156,20 +154,19 @@ TEST_CASE("a guendelman world with sleep restores its pipeline and sleep setting
 // replays' hashes hold them).
 TEST_CASE("a world of 4 substeps restores its substeps and continues identically", "[snapshot][substeps]") {
   auto loaded = load_scene_file(std::string(BITSTEP_SOURCE_DIR) + "/scenes/chains.json");
-  REQUIRE(std::holds_alternative<Scene>(loaded));
-  Scene scene = std::get<Scene>(loaded);
+  REQUIRE(loaded.ok());
+  Scene scene = loaded.value();
   World one(scene.settings);
-  std::string reason;
-  REQUIRE(build_world(scene, one, reason));
+  REQUIRE(build_world(scene, one).ok());
   scene.settings.substeps = 4;
   World world(scene.settings);
-  REQUIRE(build_world(scene, world, reason));
+  REQUIRE(build_world(scene, world).ok());
   CHECK(snapshot(world).size() == snapshot(one).size() + 1);
   CHECK(dump_state(one).find("substeps") == std::string::npos);
   for (int s = 0; s < 20; ++s) world.step();
   CHECK(dump_state(world).find("\"substeps\": 4") != std::string::npos);
   World copy;
-  REQUIRE_FALSE(restore(snapshot(world), copy).has_value());
+  REQUIRE(restore(snapshot(world), copy).ok());
   CHECK(copy.settings().substeps == 4);
   for (int s = 0; s < 40; ++s) {
     world.step();
@@ -183,20 +180,19 @@ TEST_CASE("a world of 4 substeps restores its substeps and continues identically
 // the bytes it had before it existed.
 TEST_CASE("a world of the soft step restores it and continues identically", "[snapshot][soft]") {
   auto loaded = load_scene_file(std::string(BITSTEP_SOURCE_DIR) + "/scenes/thrown.json");
-  REQUIRE(std::holds_alternative<Scene>(loaded));
-  Scene scene = std::get<Scene>(loaded);
+  REQUIRE(loaded.ok());
+  Scene scene = loaded.value();
   World rigid(scene.settings);
-  std::string reason;
-  REQUIRE(build_world(scene, rigid, reason));
+  REQUIRE(build_world(scene, rigid).ok());
   scene.settings.soft_substeps = 4;
   scene.settings.contact_hertz = 45.0_fx;
   World world(scene.settings);
-  REQUIRE(build_world(scene, world, reason));
+  REQUIRE(build_world(scene, world).ok());
   CHECK(snapshot(world).size() == snapshot(rigid).size() + 1 + 8 + 8);
   CHECK(dump_state(rigid).find("soft_substeps") == std::string::npos);
   for (int s = 0; s < 40; ++s) world.step();  // the cubes are hitting the ground
   World copy;
-  REQUIRE_FALSE(restore(snapshot(world), copy).has_value());
+  REQUIRE(restore(snapshot(world), copy).ok());
   CHECK((copy.settings().soft_substeps == 4 && copy.settings().contact_hertz == 45.0_fx));
   for (int s = 0; s < 40; ++s) {
     world.step();
@@ -227,7 +223,7 @@ TEST_CASE("a world with joints restores and continues identically", "[snapshot][
     if (step == 30) image = snapshot(straight);
   }
   World world;
-  REQUIRE_FALSE(restore(image, world).has_value());
+  REQUIRE(restore(image, world).ok());
   REQUIRE(snapshot(world) == image);
   for (int step = 31; step <= 90; ++step) {
     world.step();
@@ -245,7 +241,7 @@ TEST_CASE("a world with collision filters restores and continues identically", "
   ghost.pose.position = {Fixed{}, 3.0_fx, 0.3_fx};
   ghost.shapes.push_back({ShapeType::box, {0.5_fx, 0.5_fx, 0.5_fx}, {}, {}, {}});
   ghost.filter = {2, 1};  // on layer 1, colliding with layer 0 (the ground): through the stack
-  const BodyId id = straight.create_body(ghost).id;
+  const BodyId id = straight.create_body(ghost).value();
   std::vector<uint64_t> chain;
   std::vector<uint8_t> image;
   for (int step = 1; step <= 60; ++step) {
@@ -254,7 +250,7 @@ TEST_CASE("a world with collision filters restores and continues identically", "
     if (step == 20) image = snapshot(straight);
   }
   World world;
-  REQUIRE_FALSE(restore(image, world).has_value());
+  REQUIRE(restore(image, world).ok());
   REQUIRE(snapshot(world) == image);
   CHECK(world.body(id).filter == CollisionFilter{2, 1});
   for (int step = 21; step <= 60; ++step) {
@@ -291,7 +287,7 @@ TEST_CASE("a world with sensors restores mid-overlap and reports the same events
     }
   }
   World world;
-  REQUIRE_FALSE(restore(image, world).has_value());
+  REQUIRE(restore(image, world).ok());
   REQUIRE(world.sensor_overlaps().size() == 1u);
   world.set_events(true);
   int sensor_ends = 0;
@@ -314,16 +310,16 @@ TEST_CASE("a world with a driven car restores and continues identically", "[snap
   body.pose.position = {Fixed{}, 3.0_fx, -5.0_fx};
   body.mass = Fixed::from_int(1000);
   body.shapes.push_back({ShapeType::box, {0.9_fx, 0.3_fx, 2.0_fx}, {}, {}, {}});
-  const BodyId chassis = straight.create_body(body).id;
+  const BodyId chassis = straight.create_body(body).value();
   CarDef def;
   def.chassis = chassis;
   def.rays_per_wheel = 3;
   for (int w = 0; w < 4; ++w) {
     def.wheels.push_back({{w % 2 == 0 ? 0.8_fx : -0.8_fx, -0.3_fx, w < 2 ? 1.4_fx : -1.4_fx}, w >= 2, w < 2});
   }
-  std::string error;
-  const CarId car = straight.create_car(def, error);
-  REQUIRE(error.empty());
+  const Result<CarId> made = straight.create_car(def);
+  REQUIRE(made.ok());
+  const CarId car = made.value();
   CHECK(state_hash(straight) != before_car);
   std::vector<uint64_t> chain;
   std::vector<uint8_t> image;
@@ -334,7 +330,7 @@ TEST_CASE("a world with a driven car restores and continues identically", "[snap
     if (step == 90) image = snapshot(straight);
   }
   World world;
-  REQUIRE_FALSE(restore(image, world).has_value());
+  REQUIRE(restore(image, world).ok());
   REQUIRE(snapshot(world) == image);
   REQUIRE(world.cars().size() == 1u);
   CHECK(world.cars()[0].controls.steer == 0.4_fx);

@@ -16,15 +16,14 @@ namespace {
 
 Replay golden(const std::string& name) {
   auto loaded = load_replay_file(test::scenes_dir + "/" + name, true);
-  if (const auto* error = std::get_if<ReplayError>(&loaded)) FAIL(error->message());
-  return std::get<Replay>(std::move(loaded));
+  if (!loaded.ok()) FAIL(loaded.error().message());
+  return std::move(loaded).value();
 }
 
 SyncTestResult sync_test_of(const Replay& replay, int frames, const SyncTestHook& hook = {},
                             SyncTestSaves saves = SyncTestSaves::rollback_states) {
   World world(replay.scene.settings);
-  std::string reason;
-  REQUIRE(build_world(replay.scene, world, reason));
+  REQUIRE(build_world(replay.scene, world).ok());
   return sync_test(world, replay.inputs, replay.steps, frames, hook, saves);
 }
 

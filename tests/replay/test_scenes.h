@@ -14,11 +14,10 @@ inline const std::string scenes_dir = std::string(BITSTEP_SOURCE_DIR) + "/scenes
 
 inline World world_of(const std::string& scene_name) {
   auto loaded = load_scene_file(scenes_dir + "/" + scene_name);
-  if (const SceneError* error = std::get_if<SceneError>(&loaded)) FAIL(error->message());
-  const Scene& scene = std::get<Scene>(loaded);
+  if (!loaded.ok()) FAIL(loaded.error().message());
+  const Scene& scene = loaded.value();
   World world(scene.settings);
-  std::string reason;
-  if (!build_world(scene, world, reason)) FAIL(reason);
+  if (const Result<void> built = build_world(scene, world); !built.ok()) FAIL(built.error().message());
   return world;
 }
 

@@ -50,10 +50,10 @@ class BitstepEngine final : public Engine {
     for (const ShapeSpec& s : spec.shapes) def.shapes.push_back(to_shape(s));
     if (!spec.is_static) def.mass = fx(spec.mass);
     def.material = {fx(spec.static_friction), fx(spec.dynamic_friction), fx(spec.restitution)};
-    const CreateResult created = world_.create_body(def);
+    const Result<BodyId> created = world_.create_body(def);
     // Experiments build bodies inside the envelope; one outside is a bug in the experiment.
     if (!created.ok()) throw std::runtime_error("bench body outside the world envelope");
-    ids_.push_back(created.id);
+    ids_.push_back(created.value());
     return static_cast<int>(ids_.size()) - 1;
   }
 
@@ -71,8 +71,8 @@ class BitstepEngine final : public Engine {
     def.upper_angle = fx(spec.upper);
     def.swing_angle = fx(spec.swing);
     def.friction_torque = fx(spec.friction);
-    const JointResult created = world_.create_joint(def);
-    if (!created.ok()) throw std::runtime_error("bench joint: " + created.error);
+    const Result<JointId> created = world_.create_joint(def);
+    if (!created.ok()) throw std::runtime_error("bench joint: " + created.error().message());
     return joints_++;
   }
 

@@ -24,12 +24,13 @@ namespace bitstep::bench {
 RollbackRow measure_rollback(const std::string& scenes_dir, const std::string& scene_name, int from_step,
                              int rounds) {
   const std::string path = scenes_dir + "/" + scene_name;
-  auto loaded = load_scene_file(path);
-  if (const SceneError* error = std::get_if<SceneError>(&loaded)) throw std::runtime_error(error->message());
-  const Scene& scene = std::get<Scene>(loaded);
+  const Result<Scene> loaded = load_scene_file(path);
+  if (!loaded.ok()) throw std::runtime_error(loaded.error().message());
+  const Scene& scene = loaded.value();
   World world(scene.settings);
-  std::string reason;
-  if (!build_world(scene, world, reason)) throw std::runtime_error(path + ": " + reason);
+  if (const Result<void> built = build_world(scene, world); !built.ok()) {
+    throw std::runtime_error(built.error().within(path).message());
+  }
   for (int i = 0; i < from_step; ++i) world.step();
   using Clock = std::chrono::steady_clock;
   const auto mean_ms = [rounds](Clock::duration total) {
@@ -65,7 +66,9 @@ RollbackRow measure_rollback(const std::string& scenes_dir, const std::string& s
     Clock::duration restoring{}, rolling_back{};
     for (int round = 0; round < rounds; ++round) {
       const auto start = Clock::now();
-      if (const auto failed = restore_now()) throw std::runtime_error(path + ": restore: " + *failed);
+      if (const Result<void> restored = restore_now(); !restored.ok()) {
+        throw std::runtime_error(restored.error().within(path + ": restore").message());
+      }
       const auto restored = Clock::now();
       for (int frame = 0; frame < rollback_frames; ++frame) world.step();
       const auto done = Clock::now();
@@ -82,7 +85,9 @@ RollbackRow measure_rollback(const std::string& scenes_dir, const std::string& s
   time_rollbacks([&] { return restore(image, world); }, row.restore_ms, row.rollback_ms);
   // The snapshot made a new world object: the rollback state is saved again from it.
   states = RollbackStates{};
-  if (const auto failed = restore(image, world)) throw std::runtime_error(path + ": restore: " + *failed);
+  if (const Result<void> restored = restore(image, world); !restored.ok()) {
+    throw std::runtime_error(restored.error().within(path + ": restore").message());
+  }
   states.save(world, state);
   time_rollbacks([&] { return states.restore(state, world); }, row.state_restore_ms, row.state_rollback_ms);
   return row;

@@ -107,7 +107,7 @@ World car_world(int others, int rays) {
   chassis.pose.position = {Fixed{}, Fixed::from_ratio(9, 10), Fixed::from_int(-40)};
   chassis.mass = Fixed::from_int(1200);
   chassis.shapes.push_back({ShapeType::box, {Fixed::from_ratio(9, 10), Fixed::from_ratio(3, 10), Fixed::from_int(2)}, {}, {}, {}});
-  const BodyId id = world.create_body(chassis).id;
+  const BodyId id = world.create_body(chassis).value();
   if (rays > 0) {
     CarDef def;
     def.chassis = id;
@@ -116,8 +116,7 @@ World car_world(int others, int rays) {
       const Fixed x = Fixed::from_ratio(w % 2 == 0 ? 4 : -4, 5), z = Fixed::from_ratio(w < 2 ? 7 : -7, 5);
       def.wheels.push_back({{x, -Fixed::from_ratio(3, 10), z}, w >= 2, w < 2});
     }
-    std::string error;
-    const CarId car = world.create_car(def, error);
+    const CarId car = world.create_car(def).value();  // a car the bench built to fit
     world.set_car_controls(car, {Fixed::from_ratio(1, 2), Fixed{}, Fixed{}});
   }
   return world;

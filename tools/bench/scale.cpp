@@ -78,8 +78,7 @@ std::vector<int> scale_sizes(bool quick) {
 ScaleRow measure_scale(const std::string& structure, int bodies, bool asleep) {
   const Scene scene = build_scene(structure, bodies, asleep);
   World world(scene.settings);
-  std::string reason;
-  if (!build_world(scene, world, reason)) throw std::runtime_error(reason);
+  if (const Result<void> built = build_world(scene, world); !built.ok()) throw std::runtime_error(built.error().message());
   ScaleRow row{structure, asleep, 0, 0, 0, true};
   for (const Body& b : world.bodies()) row.bodies += b.alive && b.type == BodyType::dynamic;
   for (int i = 0; i < 3; ++i) world.step();

@@ -43,17 +43,20 @@ void SceneSpecs::add_joints(Engine& engine) const {
 }
 
 bool specs_from_scene_file(const std::string& path, SceneSpecs& specs, std::string& reason) {
-  auto loaded = load_scene_file(path);
-  if (const SceneError* error = std::get_if<SceneError>(&loaded)) {
-    reason = error->message();
+  const Result<Scene> loaded = load_scene_file(path);
+  if (!loaded.ok()) {
+    reason = loaded.error().message();
     return false;
   }
-  return specs_from_scene(std::get<Scene>(loaded), path, specs, reason);
+  return specs_from_scene(loaded.value(), path, specs, reason);
 }
 
 bool specs_from_scene(const Scene& scene, const std::string& path, SceneSpecs& out, std::string& reason) {
   World world(scene.settings);
-  if (!build_world(scene, world, reason)) return false;
+  if (const Result<void> built = build_world(scene, world); !built.ok()) {
+    reason = built.error().message();
+    return false;
+  }
   std::vector<BodySpec>& specs = out.bodies;
   specs.clear();
   out.joints.clear();

@@ -54,11 +54,10 @@ double best_ms_per_tick(int samples, int ticks, const auto& tick) {
 }
 
 Simulation settled(const std::string& scene_json, const std::string& name) {
-  std::string error;
-  auto sim = Simulation::from_text(scene_json, name, error);
-  if (!sim) throw std::runtime_error(error);
+  Result<Simulation> sim = Simulation::from_text(scene_json, name);
+  if (!sim.ok()) throw std::runtime_error(sim.error().message());
   for (int i = 0; i < 60; ++i) sim->step();
-  return std::move(*sim);
+  return std::move(sim).value();
 }
 
 // The mean ms per tick over `ticks` ticks from where the simulation is.
@@ -75,8 +74,8 @@ constexpr const char* knocking_ball =
 
 Simulation settled_and_knocked(const std::string& scene_json, const std::string& name) {
   Simulation sim = settled(scene_json, name);
-  std::string error;
-  if (!sim.add_body(knocking_ball, error)) throw std::runtime_error(name + ": " + error);
+  const Result<BodyId> ball = sim.add_body(knocking_ball);
+  if (!ball.ok()) throw std::runtime_error(ball.error().within(name).message());
   return sim;
 }
 
@@ -160,9 +159,9 @@ int run_bench_session(int argc, char** argv) {
     fmt::print("| scene | bodies | step (ms) | lockstep session (ms/tick) | rollback session (ms/tick) | "
                "overhead lockstep / rollback (us) | restore a state (us) |\n|---|---:|---:|---:|---:|---:|---:|\n");
     for (const char* name : {"stack20.json", "pyramid20.json", "thrown.json", "playground.json"}) {
-      std::string text, reason;
-      if (!read_text_file(scenes + "/" + name, text, reason)) throw std::runtime_error(scenes + "/" + name + ": " + reason);
-      const Costs c = measure(text, name, samples, ticks);
+      const Result<std::string> text = read_text_file(scenes + "/" + name);
+      if (!text.ok()) throw std::runtime_error(text.error().message());
+      const Costs c = measure(text.value(), name, samples, ticks);
       fmt::print("| {} | {} | {:.3f} | {:.3f} | {:.3f} | {:.0f} / {:.0f} | {:.0f} |\n", name, c.bodies, c.step_ms,
                  c.lockstep_ms, c.rollback_ms, 1000 * (c.lockstep_ms - c.step_ms), 1000 * (c.rollback_ms - c.step_ms),
                  1000 * c.restore_ms);

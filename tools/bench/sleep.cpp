@@ -37,9 +37,8 @@ struct SleepRow {
 };
 
 bool build(const Scene& scene, World& world) {
-  std::string reason;
-  if (!build_world(scene, world, reason)) {
-    fmt::print(stderr, "bitstep bench sleep: {}\n", reason);
+  if (const Result<void> built = build_world(scene, world); !built.ok()) {
+    fmt::print(stderr, "bitstep bench sleep: {}\n", built.error().message());
     return false;
   }
   return true;
@@ -60,12 +59,12 @@ bool all_asleep(const World& world) {
 }
 
 bool measure(const std::string& path, SleepMethod method, int steps, SleepRow& row) {
-  auto loaded = load_scene_file(path);
-  if (const SceneError* error = std::get_if<SceneError>(&loaded)) {
-    fmt::print(stderr, "{}\n", error->message());
+  Result<Scene> loaded = load_scene_file(path);
+  if (!loaded.ok()) {
+    fmt::print(stderr, "{}\n", loaded.error().message());
     return false;
   }
-  Scene scene = std::get<Scene>(loaded);
+  Scene scene = std::move(loaded).value();
   scene.settings.sleep_method = SleepMethod::off;
   World awake(scene.settings);
   if (!build(scene, awake)) return false;

@@ -58,7 +58,7 @@ std::string check_options(Options& o) {
   o.session.players = o.players;
   o.session.local_player = o.player;
   if (!o.reference) {
-    if (const std::string error = config_error(o.session); !error.empty()) return error;
+    if (const Result<void> checked = check_config(o.session); !checked.ok()) return checked.error().message();
   }
   return {};
 }
@@ -171,16 +171,17 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
 // A player's script: for each tick, its inputs (as a JSON array text).
 using Script = std::map<int64_t, PlayerInput>;
 
-std::variant<Script, std::string> read_script(const std::string& path, const Scene& scene, int delay) {
-  auto loaded = load_inputs_file(path, scene);
-  if (const auto* error = std::get_if<ReplayError>(&loaded)) return error->message();
+Result<Script> read_script(const std::string& path, const Scene& scene, int delay) {
+  const Result<InputsFile> loaded = load_inputs_file(path, scene);
+  if (!loaded.ok()) return loaded.error();
   Script script;
-  for (const Input& input : std::get<InputsFile>(loaded).inputs) {
+  for (const Input& input : loaded->inputs) {
     if (input.kind == Input::Kind::add_joint || input.kind == Input::Kind::remove_joint) {
-      return path + ": " + input.source.path + ": a peer's input cannot add or remove joints";
+      return Error{path + ": " + input.source.path, "a peer's input cannot add or remove joints"};
     }
     if (input.step <= delay) {
-      return path + ": " + input.source.path + ".step: within the input delay (" + std::to_string(delay) + " ticks)";
+      return Error{path + ": " + input.source.path + ".step",
+                   "within the input delay (" + std::to_string(delay) + " ticks)"};
     }
     PlayerInput& text = script[input.step];
     text += text.empty() ? "[" : ",";
@@ -196,10 +197,10 @@ std::variant<Script, std::string> read_script(const std::string& path, const Sce
 ApplyInput scripted_game(const Scene& scene) {
   return [&scene](Simulation& sim, int player, const PlayerInput& input) {
     if (input.empty()) return;
-    auto parsed = parse_inputs(input, scene, "player " + std::to_string(player));
-    if (std::holds_alternative<ReplayError>(parsed)) return;  // a peer's garbage: nothing happens, on every peer
+    const Result<std::vector<Input>> parsed = parse_inputs(input, scene, "player " + std::to_string(player));
+    if (!parsed.ok()) return;  // a peer's garbage: nothing happens, on every peer
     InputRun run(sim.world());
-    apply_inputs(sim.world(), std::get<std::vector<Input>>(parsed), static_cast<int64_t>(sim.tick()) + 1, run);
+    apply_inputs(sim.world(), parsed.value(), static_cast<int64_t>(sim.tick()) + 1, run);
   };
 }
 
@@ -277,12 +278,12 @@ void report(const Options& o, int64_t first, const std::vector<uint64_t>& chain,
 int run_reference(const Options& o, const Scene& scene, Simulation sim) {
   std::vector<Script> scripts;
   for (const std::string& path : o.inputs) {
-    auto script = read_script(path, scene, o.session.input_delay);
-    if (const auto* error = std::get_if<std::string>(&script)) {
-      fmt::print(stderr, "bitstep peer: {}\n", *error);
+    Result<Script> script = read_script(path, scene, o.session.input_delay);
+    if (!script.ok()) {
+      fmt::print(stderr, "bitstep peer: {}\n", script.error().message());
       return exit_code::bad_input;
     }
-    scripts.push_back(std::get<Script>(std::move(script)));
+    scripts.push_back(std::move(script).value());
   }
   // The roster a match made (replay/session.h): an absent player's input
   // is empty, and so is a joiner's for the input delay's ticks from its first.
@@ -315,10 +316,9 @@ int run_reference(const Options& o, const Scene& scene, Simulation sim) {
 int peer_command(int argc, char** argv) {
   Options o;
   if (const std::optional<int> code = parse_options(argc, argv, o)) return *code;
-  std::string error;
-  auto sim = Simulation::from_file(o.scene_path, error);
-  if (!sim) {
-    fmt::print(stderr, "bitstep peer: {}\n", error);
+  Result<Simulation> sim = Simulation::from_file(o.scene_path);
+  if (!sim.ok()) {
+    fmt::print(stderr, "bitstep peer: {}\n", sim.error().message());
     return exit_code::bad_input;
   }
   const Scene scene = sim->scene();  // the inputs' names and materials (the session moves the simulation)
@@ -326,12 +326,12 @@ int peer_command(int argc, char** argv) {
 
   Script script;
   if (!o.inputs.empty()) {
-    auto read = read_script(o.inputs[0], scene, o.session.input_delay);
-    if (const auto* failure = std::get_if<std::string>(&read)) {
-      fmt::print(stderr, "bitstep peer: {}\n", *failure);
+    Result<Script> read = read_script(o.inputs[0], scene, o.session.input_delay);
+    if (!read.ok()) {
+      fmt::print(stderr, "bitstep peer: {}\n", read.error().message());
       return exit_code::bad_input;
     }
-    script = std::get<Script>(std::move(read));
+    script = std::move(read).value();
   }
   const Hello hello{o.player,      o.players, o.session.mode, o.session.input_delay, sim->hash(), o.session.joining,
                     o.session.watching};
@@ -346,6 +346,7 @@ int peer_command(int argc, char** argv) {
   bool started = o.session.joining;  // a match starts once every player said hello; a joiner's runs already
   uint64_t refused_packets = 0;
   if (o.players > 1) {
+    std::string error;
     net = EnetTransport::open(static_cast<uint16_t>(o.port), o.faults, error);
     if (!net) {
       fmt::print(stderr, "bitstep peer: {}\n", error);
@@ -362,7 +363,12 @@ int peer_command(int argc, char** argv) {
   handlers.on_connect = [&](uint32_t peer) { net->send_to(peer, encode(hello)); };
   handlers.on_disconnect = [&](uint32_t peer) { player_of.erase(peer); };
   handlers.on_packet = [&](uint32_t peer, std::span<const uint8_t> bytes) {
-    const auto packet = decode(bytes);
+    const Result<Packet> decoded = decode(bytes);
+    if (!decoded.ok()) {
+      ++refused_packets;  // malformed
+      return;
+    }
+    const Packet& packet = decoded.value();
     if (const auto* theirs = std::get_if<Hello>(&packet)) {
       const bool fits = theirs->players == o.players && theirs->mode == o.session.mode &&
                         theirs->input_delay == o.session.input_delay && theirs->start_hash == hello.start_hash &&
@@ -383,7 +389,7 @@ int peer_command(int argc, char** argv) {
     const auto* message = std::get_if<SessionMessage>(&packet);
     const auto who = player_of.find(peer);
     if (message == nullptr || who == player_of.end() || who->second != message->player) {
-      ++refused_packets;  // malformed, or from a peer that did not say who it is, or as someone else
+      ++refused_packets;  // from a peer that did not say who it is, or as someone else
       return;
     }
     session.receive(*message);

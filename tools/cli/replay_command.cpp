@@ -7,7 +7,6 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <variant>
 
 #include "replay/json_tree.h"
 #include "replay/limits.h"
@@ -65,22 +64,22 @@ int record_command(int argc, char** argv, const char* engine_version) {
     fmt::print(stderr, "bitstep record: {}\n", error);
     return exit_code::usage;
   }
-  auto loaded = load_scene_file(scene_path);
-  if (const SceneError* error = std::get_if<SceneError>(&loaded)) {
-    fmt::print(stderr, "bitstep record: {}\n", error->message());
+  Result<Scene> loaded = load_scene_file(scene_path);
+  if (!loaded.ok()) {
+    fmt::print(stderr, "bitstep record: {}\n", loaded.error().message());
     return exit_code::bad_input;
   }
   Replay replay;
-  replay.scene = std::move(std::get<Scene>(loaded));
+  replay.scene = std::move(loaded).value();
   replay.steps = steps;
   if (!inputs_path.empty()) {
-    auto inputs = load_inputs_file(inputs_path, replay.scene);
-    if (const ReplayError* error = std::get_if<ReplayError>(&inputs)) {
-      fmt::print(stderr, "bitstep record: {}\n", error->message());
+    Result<InputsFile> inputs = load_inputs_file(inputs_path, replay.scene);
+    if (!inputs.ok()) {
+      fmt::print(stderr, "bitstep record: {}\n", inputs.error().message());
       return exit_code::bad_input;
     }
-    replay.inputs = std::move(std::get<InputsFile>(inputs).inputs);
-    replay.settings_override = std::get<InputsFile>(inputs).settings_override;
+    replay.inputs = std::move(inputs->inputs);
+    replay.settings_override = inputs->settings_override;
     if (!replay.inputs.empty() && replay.inputs.back().step > steps) {
       fmt::print(stderr, "bitstep record: {}: {}.step: after the last step ({})\n", inputs_path,
                  replay.inputs.back().source.path, steps);
@@ -90,22 +89,22 @@ int record_command(int argc, char** argv, const char* engine_version) {
   // --settings replaces the settings override of a replay given as --inputs.
   if (!settings_text.empty()) replay.settings_override = settings_text;
   if (!replay.settings_override.empty()) {
-    auto applied = apply_settings_text(replay.settings_override, "--settings", replay.scene.settings);
-    if (const SceneError* error = std::get_if<SceneError>(&applied)) {
-      fmt::print(stderr, "bitstep record: {}\n", error->message());
+    Result<std::string> applied = apply_settings_text(replay.settings_override, "--settings", replay.scene.settings);
+    if (!applied.ok()) {
+      fmt::print(stderr, "bitstep record: {}\n", applied.error().message());
       return exit_code::usage;
     }
-    replay.settings_override = std::get<std::string>(applied);
+    replay.settings_override = std::move(applied).value();
   }
   if (embed_scene) {
     // The scene itself in the replay (compact, numbers as written): a
     // replay shared between players verifies without the scene file.
-    std::string text, reason;
-    if (!read_text_file(scene_path, text, reason)) {
-      fmt::print(stderr, "bitstep record: {}: {}\n", scene_path, reason);
+    const Result<std::string> text = read_text_file(scene_path);
+    if (!text.ok()) {
+      fmt::print(stderr, "bitstep record: {}\n", text.error().message());
       return exit_code::bad_input;
     }
-    replay.inline_scene = json::write(std::get<json::Node>(json::parse(text)));  // parsed above already
+    replay.inline_scene = json::write(json::parse(text.value()).value());  // parsed above already
   } else {
     // The scene as the replay will name it: relative to the replay's folder.
     const std::filesystem::path out_dir = std::filesystem::absolute(output).parent_path();
@@ -113,11 +112,11 @@ int record_command(int argc, char** argv, const char* engine_version) {
   }
 
   World world(replay.scene.settings);
-  std::string reason;
-  if (!build_world(replay.scene, world, reason)) {
-    fmt::print(stderr, "bitstep record: {}: {}\n", scene_path, reason);
+  if (const Result<void> built = build_world(replay.scene, world); !built.ok()) {
+    fmt::print(stderr, "bitstep record: {}\n", built.error().within(scene_path).message());
     return exit_code::bad_input;
   }
+  std::string reason;
   // The output is opened (under its temporary name) before the run: an
   // unwritable path fails at once, not after every step.
   AtomicFile file;
@@ -189,13 +188,13 @@ int verify_command(int argc, char** argv) {
   // With several replays: 4 when any was refused, else 1 when any differs.
   bool all_match = true, all_read = true;
   for (const std::string& path : paths) {
-    auto loaded = load_replay_file(path, true);
-    if (const ReplayError* error = std::get_if<ReplayError>(&loaded)) {
-      fmt::print(stderr, "bitstep verify: {}\n", error->message());
+    const Result<Replay> loaded = load_replay_file(path, true);
+    if (!loaded.ok()) {
+      fmt::print(stderr, "bitstep verify: {}\n", loaded.error().message());
       all_read = false;
       continue;
     }
-    const Replay& replay = std::get<Replay>(loaded);
+    const Replay& replay = loaded.value();
     if (!dump_path.empty() && dump_step > replay.steps) {  // before the run, not after it
       fmt::print(stderr, "bitstep verify: --dump-at {}: the replay {} has {} steps\n", dump_step, path, replay.steps);
       return exit_code::usage;
@@ -219,8 +218,8 @@ int verify_command(int argc, char** argv) {
       }
       fmt::print("wrote the state after step {} to {}\n", dump_step, dump_path);
     }
-    if (!v.built) {
-      fmt::print(stderr, "bitstep verify: {}: {}\n", path, v.reason);
+    if (!v.built.ok()) {
+      fmt::print(stderr, "bitstep verify: {}\n", v.built.error().within(path).message());
       all_read = false;
       continue;
     }
@@ -250,29 +249,26 @@ int diff_command(int argc, char** argv) {
   app.add_option("DUMP_A", paths[0], "a dump")->required();
   app.add_option("DUMP_B", paths[1], "another dump")->required();
   if (const std::optional<int> code = cli::parse(app, "diff", argc, argv)) return *code;
-  std::string a, b, reason;
+  std::string texts[2];
   for (int i = 0; i < 2; ++i) {
-    if (!read_text_file(paths[i], i == 0 ? a : b, reason)) {
-      fmt::print(stderr, "bitstep diff: {}: {}\n", paths[i], reason);
+    Result<std::string> text = read_text_file(paths[i]);
+    if (!text.ok()) {
+      fmt::print(stderr, "bitstep diff: {}\n", text.error().message());
       return exit_code::bad_input;
     }
+    texts[i] = std::move(text).value();
   }
-  const DumpDifference d = diff_dumps(a, b);
-  if (!d.readable) {
-    // "first dump: <where>: <reason>" -> "<file>: <where>: <reason>"
-    std::string line = d.reason;
-    for (int i = 0; i < 2; ++i) {
-      const std::string which = i == 0 ? "first dump: " : "second dump: ";
-      if (line.rfind(which, 0) == 0) line = paths[i] + ": " + line.substr(which.size());
-    }
-    fmt::print(stderr, "bitstep diff: {}\n", line);
+  const Result<DumpDifference> diff = diff_dumps(texts[0], texts[1], paths[0], paths[1]);
+  if (!diff.ok()) {
+    fmt::print(stderr, "bitstep diff: {}\n", diff.error().message());
     return exit_code::bad_input;
   }
-  if (!d.first) {
+  const DumpDifference& d = diff.value();
+  if (!d) {
     fmt::print("the states are identical\n");
     return exit_code::success;
   }
-  fmt::print("first difference: {}\n", *d.first);
+  fmt::print("first difference: {}\n", *d);
   return exit_code::check_failed;
 }
 

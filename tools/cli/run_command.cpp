@@ -11,7 +11,6 @@
 #include <optional>
 #include <span>
 #include <string>
-#include <variant>
 #include <vector>
 
 #include "replay/limits.h"
@@ -184,37 +183,36 @@ std::string all_asleep_json(long long step) { return step < 0 ? "null" : std::to
 int run_scene_command(int argc, char** argv) {
   RunOptions options;
   if (const std::optional<int> code = parse_options(argc, argv, options)) return *code;
-  auto loaded = load_scene_file(options.scene_path);
-  if (const SceneError* error = std::get_if<SceneError>(&loaded)) {
-    fmt::print(stderr, "bitstep run: {}\n", error->message());
+  Result<Scene> loaded = load_scene_file(options.scene_path);
+  if (!loaded.ok()) {
+    fmt::print(stderr, "bitstep run: {}\n", loaded.error().message());
     return exit_code::bad_input;
   }
-  Scene& scene = std::get<Scene>(loaded);
+  Scene& scene = loaded.value();
   if (!options.settings.empty()) {
-    auto applied = apply_settings_text(options.settings, "--settings", scene.settings);
-    if (const SceneError* error = std::get_if<SceneError>(&applied)) {
-      fmt::print(stderr, "bitstep run: {}\n", error->message());
+    if (const Result<std::string> applied = apply_settings_text(options.settings, "--settings", scene.settings);
+        !applied.ok()) {
+      fmt::print(stderr, "bitstep run: {}\n", applied.error().message());
       return exit_code::usage;
     }
   }
   World world(scene.settings);
-  std::string reason;
-  if (!build_world(scene, world, reason)) {
-    fmt::print(stderr, "bitstep run: {}: {}\n", options.scene_path, reason);
+  if (const Result<void> built = build_world(scene, world); !built.ok()) {
+    fmt::print(stderr, "bitstep run: {}\n", built.error().within(options.scene_path).message());
     return exit_code::bad_input;
   }
   const std::unique_ptr<ThreadPool> pool = make_pool(options.threads);
   world.set_executor(pool.get());
   if (!options.restore_path.empty()) {
-    std::string bytes;
-    if (!read_text_file(options.restore_path, bytes, reason, limits::max_snapshot_file_bytes)) {
-      fmt::print(stderr, "bitstep run: {}: {}\n", options.restore_path, reason);
+    const Result<std::string> bytes = read_text_file(options.restore_path, limits::max_snapshot_file_bytes);
+    if (!bytes.ok()) {
+      fmt::print(stderr, "bitstep run: {}\n", bytes.error().message());
       return exit_code::bad_input;
     }
-    const std::span<const uint8_t> image(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size());
+    const std::span<const uint8_t> image(reinterpret_cast<const uint8_t*>(bytes->data()), bytes->size());
     World restored(scene.settings);
-    if (const auto error = restore(image, restored)) {
-      fmt::print(stderr, "bitstep run: {}: {}\n", options.restore_path, *error);
+    if (const Result<void> read = restore(image, restored); !read.ok()) {
+      fmt::print(stderr, "bitstep run: {}\n", read.error().within(options.restore_path).message());
       return exit_code::bad_input;
     }
     if (const std::string mismatch = snapshot_mismatch(restored, world); !mismatch.empty()) {
@@ -241,6 +239,7 @@ int run_scene_command(int argc, char** argv) {
   // The snapshot's file is opened (under its temporary name) before the
   // run: an unwritable path fails at once, not at step K.
   AtomicFile snapshot_file;
+  std::string reason;
   if (!options.snapshot_path.empty() && !snapshot_file.open(options.snapshot_path, reason)) {
     fmt::print(stderr, "bitstep run: --snapshot-at: {}\n", reason);
     return exit_code::output_failed;

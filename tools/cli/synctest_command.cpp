@@ -3,7 +3,6 @@
 #include <fmt/core.h>
 
 #include <string>
-#include <variant>
 
 #include "replay/json_tree.h"
 #include "replay/sync_test.h"
@@ -17,10 +16,10 @@ namespace {
 // Whether the file is a replay (its "format"), as far as it can be read:
 // an unreadable file is taken for a scene, whose loader names the problem.
 bool is_replay(const std::string& path) {
-  std::string text, reason;
-  if (!read_text_file(path, text, reason)) return false;
-  const auto tree = json::parse(text);
-  const json::Node* format = std::holds_alternative<json::Node>(tree) ? std::get<json::Node>(tree).member("format") : nullptr;
+  const Result<std::string> text = read_text_file(path);
+  if (!text.ok()) return false;
+  const Result<json::Node> tree = json::parse(text.value());
+  const json::Node* format = tree.ok() ? tree->member("format") : nullptr;
   return format != nullptr && format->text == "bitstep-replay";
 }
 
@@ -39,29 +38,28 @@ int synctest_command(int argc, char** argv) {
   std::vector<Input> inputs;
   std::vector<uint64_t> golden;
   if (is_replay(path)) {
-    auto loaded = load_replay_file(path, false);
-    if (const auto* error = std::get_if<ReplayError>(&loaded)) {
-      fmt::print(stderr, "bitstep synctest: {}\n", error->message());
+    Result<Replay> loaded = load_replay_file(path, false);
+    if (!loaded.ok()) {
+      fmt::print(stderr, "bitstep synctest: {}\n", loaded.error().message());
       return exit_code::bad_input;
     }
-    Replay& replay = std::get<Replay>(loaded);
+    Replay& replay = loaded.value();
     scene = std::move(replay.scene);
     inputs = std::move(replay.inputs);
     golden = std::move(replay.hashes);
     if (steps < 0) steps = replay.steps;
   } else {
-    auto loaded = load_scene_file(path);
-    if (const auto* error = std::get_if<SceneError>(&loaded)) {
-      fmt::print(stderr, "bitstep synctest: {}\n", error->message());
+    Result<Scene> loaded = load_scene_file(path);
+    if (!loaded.ok()) {
+      fmt::print(stderr, "bitstep synctest: {}\n", loaded.error().message());
       return exit_code::bad_input;
     }
-    scene = std::move(std::get<Scene>(loaded));
+    scene = std::move(loaded).value();
     if (steps < 0) steps = 600;
   }
   World world(scene.settings);
-  std::string reason;
-  if (!build_world(scene, world, reason)) {
-    fmt::print(stderr, "bitstep synctest: {}: {}\n", path, reason);
+  if (const Result<void> built = build_world(scene, world); !built.ok()) {
+    fmt::print(stderr, "bitstep synctest: {}\n", built.error().within(path).message());
     return exit_code::bad_input;
   }
   const SyncTestResult r = sync_test(world, inputs, steps, static_cast<int>(frames));

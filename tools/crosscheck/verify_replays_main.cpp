@@ -7,23 +7,21 @@
 #include <cinttypes>
 #include <cstdio>
 #include <string>
-#include <variant>
 
 #include "replay/replay.h"
 
 int main(int argc, char** argv) {
   int status = 0;
   for (int i = 1; i < argc; ++i) {
-    auto loaded = bitstep::load_replay_file(argv[i], true);
-    if (const auto* error = std::get_if<bitstep::ReplayError>(&loaded)) {
-      std::printf("%s ERROR %s\n", argv[i], error->message().c_str());
+    const bitstep::Result<bitstep::Replay> loaded = bitstep::load_replay_file(argv[i], true);
+    if (!loaded.ok()) {
+      std::printf("%s ERROR %s\n", argv[i], loaded.error().message().c_str());
       status = 1;
       continue;
     }
-    const bitstep::Replay& replay = std::get<bitstep::Replay>(loaded);
-    const bitstep::Verification v = bitstep::verify_replay(replay);
-    if (!v.built) {
-      std::printf("%s ERROR %s\n", argv[i], v.reason.c_str());
+    const bitstep::Verification v = bitstep::verify_replay(loaded.value());
+    if (!v.built.ok()) {
+      std::printf("%s ERROR %s\n", argv[i], v.built.error().message().c_str());
       status = 1;
     } else if (!v.scene_matches) {
       std::printf("%s DIFFERS scene-hash\n", argv[i]);

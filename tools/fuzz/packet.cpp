@@ -1,7 +1,7 @@
 // Fuzzes the session packet decoder: the bytes to decode
 // (replay/session_codec.h). Must hold: no crash, no undefined behaviour, no
-// leak; either a message or a hello, or a PacketError with a one-line
-// reason; a decoded packet encodes to exactly the same bytes (the format
+// leak; either a message or a hello, or an Error with a one-line
+// message; a decoded packet encodes to exactly the same bytes (the format
 // has one encoding of each message).
 #include <algorithm>
 #include <vector>
@@ -12,14 +12,14 @@
 namespace bitstep::fuzz {
 
 Outcome packet_decoder(std::span<const uint8_t> data) {
-  const auto decoded = decode(data);
-  if (const PacketError* error = std::get_if<PacketError>(&decoded)) {
-    require_one_line_error(error->reason, "");
-    return {false, error->reason};
+  const Result<Packet> decoded = decode(data);
+  if (!decoded.ok()) {
+    require_one_line_error(decoded.error().message(), "");
+    return {false, decoded.error().message()};
   }
-  const std::vector<uint8_t> encoded = std::holds_alternative<Hello>(decoded)
-                                           ? encode(std::get<Hello>(decoded))
-                                           : encode(std::get<SessionMessage>(decoded));
+  const Packet& packet = decoded.value();
+  const std::vector<uint8_t> encoded = std::holds_alternative<Hello>(packet) ? encode(std::get<Hello>(packet))
+                                                                             : encode(std::get<SessionMessage>(packet));
   require(encoded.size() == data.size() && std::equal(encoded.begin(), encoded.end(), data.begin()),
           "a decoded packet encodes to the same bytes");
   return {true, {}};

@@ -1,7 +1,7 @@
 // Fuzzes the scene reader: the bytes as scene JSON text to parse_scene
 // (replay/scene.h), and a scene it accepts with at most 64 bodies to
 // build_world. Must hold: no crash, no undefined behaviour, no leak; either
-// a scene or one SceneError whose message is one line naming the file
+// a scene or one Error whose message is one line naming the file
 // ("fuzz.json: <JSON path or byte N>: <reason>"); build_world then gives a
 // world or a reason, never a crash.
 #include "core/world.h"
@@ -14,19 +14,19 @@ namespace bitstep::fuzz {
 Outcome scene_reader(std::span<const uint8_t> data) {
   const std::string file = "fuzz.json";
   const std::string_view text(reinterpret_cast<const char*>(data.data()), data.size());
-  auto parsed = parse_scene(text, file);
-  if (const SceneError* error = std::get_if<SceneError>(&parsed)) {
-    require(error->file == file && !error->reason.empty(), "a scene error names the file and a reason");
-    require_one_line_error(error->message(), file);
-    return {false, error->message()};
+  const Result<Scene> parsed = parse_scene(text, file);
+  if (!parsed.ok()) {
+    const Error& error = parsed.error();
+    require(error.place.rfind(file, 0) == 0 && !error.reason.empty(), "a scene error names the file and a reason");
+    require_one_line_error(error.message(), file);
+    return {false, error.message()};
   }
-  const Scene& scene = std::get<Scene>(parsed);
+  const Scene& scene = parsed.value();
   if (scene.bodies.size() <= 64) {
     World world(scene.settings);
-    std::string reason;
-    if (!build_world(scene, world, reason)) {
-      require_one_line_error(reason, "");
-      return {false, file + ": " + reason};
+    if (const Result<void> built = build_world(scene, world); !built.ok()) {
+      require_one_line_error(built.error().message(), "");
+      return {false, built.error().within(file).message()};
     }
   }
   return {true, {}};

@@ -1,6 +1,6 @@
 // Fuzzes the `--settings` override: the bytes as JSON text to
 // apply_settings_text (replay/scene.h) over the default settings. Must
-// hold: no crash, no undefined behaviour, no leak; refused: one SceneError
+// hold: no crash, no undefined behaviour, no leak; refused: one Error
 // whose message is one line naming the source ("--settings: $.sleep: ...")
 // and the settings exactly as they were (nothing partially applied);
 // accepted: the compact text it returns, applied over the defaults, gives
@@ -30,18 +30,19 @@ Outcome settings_override(std::span<const uint8_t> data) {
   const std::string_view text(reinterpret_cast<const char*>(data.data()), data.size());
   const std::vector<uint8_t> before = settings_bytes(Settings{});
   Settings settings;
-  auto applied = apply_settings_text(text, source, settings);
-  if (const SceneError* error = std::get_if<SceneError>(&applied)) {
-    require(error->file == source && !error->reason.empty(), "a settings error names the source and a reason");
-    require_one_line_error(error->message(), source);
+  const Result<std::string> applied = apply_settings_text(text, source, settings);
+  if (!applied.ok()) {
+    const Error& error = applied.error();
+    require(error.place.rfind(source, 0) == 0 && !error.reason.empty(), "a settings error names the source and a reason");
+    require_one_line_error(error.message(), source);
     require(settings_bytes(settings) == before, "a refused override changes no setting");
-    return {false, error->message()};
+    return {false, error.message()};
   }
-  const std::string& compact = std::get<std::string>(applied);
+  const std::string& compact = applied.value();
   Settings again;
-  auto reapplied = apply_settings_text(compact, source, again);
-  require(std::holds_alternative<std::string>(reapplied), "an override's compact text applies again");
-  require(std::get<std::string>(reapplied) == compact, "an override's compact text is its own compact text");
+  const Result<std::string> reapplied = apply_settings_text(compact, source, again);
+  require(reapplied.ok(), "an override's compact text applies again");
+  require(reapplied.value() == compact, "an override's compact text is its own compact text");
   require(settings_bytes(again) == settings_bytes(settings), "an override's compact text gives the same settings");
   return {true, {}};
 }

@@ -43,12 +43,11 @@ struct Target {
   World world;
   std::vector<uint8_t> image, bytes;
   Target() {
-    auto parsed = parse_scene(small_scene, "small scene");
-    require(std::holds_alternative<Scene>(parsed), "the small scene parses");
-    const Scene& scene = std::get<Scene>(parsed);
+    const Result<Scene> parsed = parse_scene(small_scene, "small scene");
+    require(parsed.ok(), "the small scene parses");
+    const Scene& scene = parsed.value();
     world = World(scene.settings);
-    std::string reason;
-    require(build_world(scene, world, reason), "the small scene builds");
+    require(build_world(scene, world).ok(), "the small scene builds");
     image = snapshot(world);
     bytes = state_bytes(world);
   }
@@ -62,16 +61,16 @@ Target& target() {
 // One restore: its outcome, with the properties checked.
 Outcome restore_checked(std::span<const uint8_t> image) {
   Target& t = target();
-  if (const auto error = restore(image, t.world)) {
-    require_one_line_error(*error, "");
+  if (const Result<void> restored = restore(image, t.world); !restored.ok()) {
+    require_one_line_error(restored.error().message(), "");
     require(state_bytes(t.world) == t.bytes, "a refused restore leaves the world untouched");
-    return {false, *error};
+    return {false, restored.error().message()};
   }
   const std::vector<uint8_t> again = snapshot(t.world);
   require(again.size() == image.size() && std::equal(again.begin(), again.end(), image.begin()),
           "a restored world snapshots to the same bytes");
   t.world.step();
-  require(!restore(t.image, t.world).has_value(), "the small scene's image restores");
+  require(restore(t.image, t.world).ok(), "the small scene's image restores");
   return {true, {}};
 }
 

@@ -20,7 +20,6 @@
 #include <memory>
 #include <optional>
 #include <string>
-#include <variant>
 #include <vector>
 
 #include "core/query.h"
@@ -86,9 +85,8 @@ void keyframe(Player& p) {
 // Builds player `v` from a replay read (or a scene wrapped as one).
 int start(Player& p, Replay replay) {
   auto world = std::make_unique<World>(replay.scene.settings);
-  std::string reason;
-  if (!build_world(replay.scene, *world, reason)) {
-    last_error = reason;
+  if (const Result<void> built = build_world(replay.scene, *world); !built.ok()) {
+    last_error = built.error().message();
     return 1;
   }
   p = Player{};
@@ -177,25 +175,25 @@ VIEWER_EXPORT const char* bv_error() { return last_error.c_str(); }
 VIEWER_EXPORT int bv_load_replay(int v, const char* path) {
   Player* p = player(v);
   if (p == nullptr) return 1;
-  auto loaded = load_replay_file(path, false);
-  if (const auto* error = std::get_if<ReplayError>(&loaded)) {
-    last_error = error->message();
+  Result<Replay> loaded = load_replay_file(path, false);
+  if (!loaded.ok()) {
+    last_error = loaded.error().message();
     return 1;
   }
-  return start(*p, std::move(std::get<Replay>(loaded)));
+  return start(*p, std::move(loaded).value());
 }
 
 // Loads a scene file into player v, played live: no recorded chain.
 VIEWER_EXPORT int bv_load_scene(int v, const char* path) {
   Player* p = player(v);
   if (p == nullptr) return 1;
-  auto loaded = load_scene_file(path);
-  if (const auto* error = std::get_if<SceneError>(&loaded)) {
-    last_error = error->message();
+  Result<Scene> loaded = load_scene_file(path);
+  if (!loaded.ok()) {
+    last_error = loaded.error().message();
     return 1;
   }
   Replay replay;
-  replay.scene = std::move(std::get<Scene>(loaded));
+  replay.scene = std::move(loaded).value();
   const std::string file = path;
   replay.scene_file = file.substr(file.find_last_of('/') + 1);  // the download sits beside the scene
   return start(*p, std::move(replay));
@@ -254,8 +252,8 @@ VIEWER_EXPORT int bv_seek(int v, int tick) {
   auto best = p->keyframes.rbegin();
   while (best->tick > tick) ++best;
   if (tick < now || best->tick > now) {
-    if (const auto error = restore(best->image, *p->world)) {
-      last_error = "keyframe at step " + std::to_string(best->tick) + ": " + *error;
+    if (const Result<void> restored = restore(best->image, *p->world); !restored.ok()) {
+      last_error = restored.error().within("keyframe at step " + std::to_string(best->tick)).message();
       return -1;
     }
     *p->run = best->run;
@@ -390,9 +388,9 @@ VIEWER_EXPORT int bv_click(int v, const char* ox, const char* oy, const char* oz
                             to_string(impulse.y) + ", " + to_string(impulse.z) + "], \"point\": [" +
                             to_string(hit->point.x) + ", " + to_string(hit->point.y) + ", " +
                             to_string(hit->point.z) + "]}]";
-  auto parsed = parse_inputs(input, p->replay.scene, "click");
-  if (const auto* error = std::get_if<ReplayError>(&parsed)) {
-    last_error = error->message();
+  Result<std::vector<Input>> parsed = parse_inputs(input, p->replay.scene, "click");
+  if (!parsed.ok()) {
+    last_error = parsed.error().message();
     return -2;
   }
   // The run from here on is a new recording.
@@ -402,7 +400,7 @@ VIEWER_EXPORT int bv_click(int v, const char* ox, const char* oy, const char* oz
   p->computed.resize(static_cast<size_t>(tick));
   while (p->keyframes.size() > 1 && p->keyframes.back().tick > tick) p->keyframes.pop_back();
   if (p->diverged_at > tick) p->diverged_at = 0;
-  for (Input& in : std::get<std::vector<Input>>(parsed)) inputs.push_back(std::move(in));
+  for (Input& in : parsed.value()) inputs.push_back(std::move(in));
   return static_cast<int>(hit->body.index);
 }
 
@@ -426,7 +424,7 @@ VIEWER_EXPORT const char* bv_replay_json(int v) {
 // they are the same (or either is not loaded).
 VIEWER_EXPORT const char* bv_diff() {
   if (!players[0].loaded || !players[1].loaded) return "";
-  const DumpDifference d = diff_dumps(dump_state(*players[0].world), dump_state(*players[1].world));
-  players[0].text = !d.readable ? d.reason : d.first.value_or("");
+  const Result<DumpDifference> d = diff_dumps(dump_state(*players[0].world), dump_state(*players[1].world));
+  players[0].text = !d.ok() ? d.error().message() : d.value().value_or("");
   return players[0].text.c_str();
 }
