@@ -1,8 +1,7 @@
 // The broadphase reports exactly the overlapping pairs with a mover, in
 // (a, b) order, whether it uses the grid or tests the few movers against all.
-#include <catch2/catch.hpp>
-
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cstdint>
 #include <vector>
 
@@ -95,19 +94,36 @@ TEST_CASE("find_pairs is exact whether the grid's cells pack into one sort key o
 }
 
 TEST_CASE("find_pairs packs a key whose fields fill all 64 bits", "[broadphase]") {
-  // Three 0.1 m boxes (cells of 0.125 m) in one x cell, 2e8 m apart in y
-  // and z: the y and z ranges take 31 bits each and the proxy numbers 2,
-  // so the empty x field sits at bit 64 (it must not be shifted there).
-  // Two boxes overlap.
+  // 33 0.1 m boxes (cells of 0.125 m) in one x cell (past 32 proxies the
+  // grid runs), the outer two 5e7 m apart in y and z: the y and z ranges
+  // take 29 bits each and the proxy numbers 6, so the empty x field sits at
+  // bit 64 (it must not be shifted there). Two boxes overlap.
   const auto box = [](uint32_t body, Fixed y, Fixed z) {
     return BroadphaseProxy{body, {{0.0_fx, y, z}, {0.1_fx, y + 0.1_fx, z + 0.1_fx}}, true};
   };
-  const std::vector<BroadphaseProxy> proxies = {box(0, -100000000.0_fx, -100000000.0_fx),
-                                                box(1, 100000000.0_fx, 100000000.0_fx),
-                                                box(2, -99999999.95_fx, -99999999.95_fx)};
+  std::vector<BroadphaseProxy> proxies = {box(0, -25000000.0_fx, -25000000.0_fx), box(1, 25000000.0_fx, 25000000.0_fx),
+                                          box(2, -24999999.95_fx, -24999999.95_fx)};
+  for (uint32_t k = 0; k < 30; ++k)
+    proxies.push_back(box(3 + k, Fixed::from_int(static_cast<int32_t>(k)), Fixed::from_int(static_cast<int32_t>(k))));
   std::vector<BodyPair> pairs;
   BroadphaseScratch scratch;
   find_pairs(proxies, pairs, scratch);
   CHECK(pairs == all_pairs(proxies));
   CHECK(pairs == std::vector<BodyPair>{{0, 2}});
+}
+
+TEST_CASE("find_pairs tests every pair of a small scene", "[broadphase]") {
+  // Up to 32 proxies every pair is tested; from 33 the grid runs. Both give
+  // the same pairs.
+  for (uint32_t n : {1u, 2u, 7u, 31u, 32u}) {
+    for (uint32_t mover_every : {1u, 3u, 100u}) {
+      INFO(n + 1 << " proxies, one mover in " << mover_every);
+      const std::vector<BroadphaseProxy> proxies = scatter(n, mover_every, n);
+      std::vector<BodyPair> pairs;
+      BroadphaseScratch scratch;
+      find_pairs(proxies, pairs, scratch);
+      CHECK(pairs == all_pairs(proxies));
+      CHECK(!pairs.empty());  // the large proxy holds every mover (body 0 moves)
+    }
+  }
 }
