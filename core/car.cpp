@@ -7,29 +7,29 @@
 
 namespace bitstep {
 
-std::string car_def_error(const CarDef& def, const std::vector<Body>& bodies) {
+Result<void> check_car(const CarDef& def, const std::vector<Body>& bodies) {
   const BodyId c = def.chassis;
   if (c.index >= bodies.size() || !bodies[c.index].alive || bodies[c.index].generation != c.generation) {
-    return "chassis: not a live body";
+    return Error{"chassis", "not a live body"};
   }
-  if (bodies[c.index].type != BodyType::dynamic) return "chassis: not a dynamic body";
-  if (def.wheels.empty() || def.wheels.size() > 8) return "wheels: 1..8";
+  if (bodies[c.index].type != BodyType::dynamic) return Error{"chassis", "not a dynamic body"};
+  if (def.wheels.empty() || def.wheels.size() > 8) return Error{"wheels", "1..8"};
   for (const WheelDef& w : def.wheels) {
     const Fixed reach = envelope::max_size + envelope::max_size;
     if (abs(w.attachment.x) > reach || abs(w.attachment.y) > reach || abs(w.attachment.z) > reach) {
-      return "wheels: an attachment farther than 100 m from the chassis";
+      return Error{"wheels", "an attachment farther than 100 m from the chassis"};
     }
   }
   auto within = [](Fixed v, Fixed lo, Fixed hi) { return lo <= v && v <= hi; };
-  if (!within(def.wheel_radius, 0.05_fx, 5.0_fx)) return "wheel_radius: 0.05..5 m";
-  if (!within(def.rest_length, Fixed{}, 5.0_fx)) return "rest_length: 0..5 m";
-  if (!within(def.stiffness, Fixed{}, 10000000.0_fx)) return "stiffness: 0..1e7 N/m";
-  if (!within(def.damping, Fixed{}, 1000000.0_fx)) return "damping: 0..1e6 N s/m";
-  if (!within(def.grip, Fixed{}, 10.0_fx)) return "grip: 0..10";
-  if (!within(def.drive_force, Fixed{}, 1000000.0_fx)) return "drive_force: 0..1e6 N";
-  if (!within(def.brake_force, Fixed{}, 1000000.0_fx)) return "brake_force: 0..1e6 N";
-  if (!within(def.max_steer, Fixed{}, 1.5_fx)) return "max_steer: 0..1.5 rad";
-  if (def.rays_per_wheel < 1 || def.rays_per_wheel > 8) return "rays_per_wheel: 1..8";
+  if (!within(def.wheel_radius, 0.05_fx, 5.0_fx)) return Error{"wheel_radius", "0.05..5 m"};
+  if (!within(def.rest_length, Fixed{}, 5.0_fx)) return Error{"rest_length", "0..5 m"};
+  if (!within(def.stiffness, Fixed{}, 10000000.0_fx)) return Error{"stiffness", "0..1e7 N/m"};
+  if (!within(def.damping, Fixed{}, 1000000.0_fx)) return Error{"damping", "0..1e6 N s/m"};
+  if (!within(def.grip, Fixed{}, 10.0_fx)) return Error{"grip", "0..10"};
+  if (!within(def.drive_force, Fixed{}, 1000000.0_fx)) return Error{"drive_force", "0..1e6 N"};
+  if (!within(def.brake_force, Fixed{}, 1000000.0_fx)) return Error{"brake_force", "0..1e6 N"};
+  if (!within(def.max_steer, Fixed{}, 1.5_fx)) return Error{"max_steer", "0..1.5 rad"};
+  if (def.rays_per_wheel < 1 || def.rays_per_wheel > 8) return Error{"rays_per_wheel", "1..8"};
   return {};
 }
 

@@ -19,6 +19,7 @@
 
 #include "core/aabb.h"
 #include "core/body.h"
+#include "core/error.h"
 
 namespace bitstep {
 
@@ -84,8 +85,9 @@ struct CarId {
   bool valid() const { return index != UINT32_MAX; }
 };
 
-// Why a car definition is refused ("wheels: 1..8", ...), empty when fine.
-std::string car_def_error(const CarDef& def, const std::vector<Body>& bodies);
+// A car definition's checks: refused with its field and why ("wheels",
+// "1..8"), or fine.
+Result<void> check_car(const CarDef& def, const std::vector<Body>& bodies);
 
 class WorldQuery;
 struct TyreContact;

@@ -18,10 +18,13 @@ bool position_inside(Vec3 p) {
 
 bool size_inside(Fixed s) { return s >= envelope::min_size && s <= envelope::max_size; }
 
+// A shape's field as the body's: "shapes[2].radius".
+std::string shape_field(int index, const char* field) { return "shapes[" + std::to_string(index) + "]." + field; }
+
 }  // namespace
 
-EnvelopeError check_shape(const Shape& shape, int index) {
-  auto error = [index](const char* field, const char* reason) { return EnvelopeError{field, index, reason}; };
+Result<void> check_shape(const Shape& shape, int index) {
+  auto error = [index](const char* field, const char* reason) { return Error{shape_field(index, field), reason}; };
   // Parts of a compound stay within 50 m of the body origin, so that the
   // parallel-axis terms m d^2 of the inertia stay inside the range.
   const Fixed reach = envelope::max_size;
@@ -59,30 +62,33 @@ std::string text(Fixed value) { return to_string(value); }
 // The density and the mass it gives: rho = m / V for a given mass, at most
 // max_density (the mass formulas stay in range below it); then the mass of
 // the shapes at that density within 0.01..1e5 kg.
-EnvelopeError check_density(const BodyDef& def) {
+Result<void> check_density(const BodyDef& def) {
   const bool mass_given = def.mass > Fixed{};
   if (mass_given) {
     Fixed volume_sum;
     for (const Shape& shape : def.shapes) {
       volume_sum += volume(shape);
-      if (volume_sum > max_total_volume) return {"shapes", -1, "more than 2^30 m^3 in all to spread a given mass over"};
+      if (volume_sum > max_total_volume) {
+        return Error{"shapes", "more than 2^30 m^3 in all to spread a given mass over"};
+      }
     }
     // m / V >= max_density  <=>  max_density V <= m (no quotient: 1e5 kg in
     // the smallest sphere is 2.4e10 kg/m^3, beyond the range).
     if (!product_exceeds(envelope::max_density, volume_sum, def.mass)) {
-      return {"mass", -1, text(def.mass) + " kg in " + text(volume_sum) + " m^3 is denser than " +
-                              text(envelope::max_density) + " kg/m^3"};
+      return Error{"mass", text(def.mass) + " kg in " + text(volume_sum) + " m^3 is denser than " +
+                               text(envelope::max_density) + " kg/m^3"};
     }
   } else if (def.density > envelope::max_density) {
-    return {"density", -1, text(def.density) + " kg/m^3 is denser than " + text(envelope::max_density) + " kg/m^3"};
+    return Error{"density", text(def.density) + " kg/m^3 is denser than " + text(envelope::max_density) + " kg/m^3"};
   }
   if (!mass_properties(def.shapes, def.density, def.mass).ok) {
     if (mass_given) {
       // m / V rounded to Q32.32 lost half of the mass (a volume past 1e6 m^3 per 10 g).
-      return {"mass", -1, text(def.mass) + " kg in " + text(total_volume(def.shapes)) + " m^3 rounds to a density of " +
-                              text(body_density(def.shapes, def.density, def.mass)) + " kg/m^3, too light to hold it"};
+      return Error{"mass", text(def.mass) + " kg in " + text(total_volume(def.shapes)) +
+                               " m^3 rounds to a density of " + text(body_density(def.shapes, def.density, def.mass)) +
+                               " kg/m^3, too light to hold it"};
     }
-    return {"density", -1, text(def.density) + " kg/m^3 gives a mass outside 0.01..100000 kg"};
+    return Error{"density", text(def.density) + " kg/m^3 gives a mass outside 0.01..100000 kg"};
   }
   return {};
 }
@@ -206,24 +212,22 @@ SpeedLimits speed_limits(Fixed inverse_mass, const std::vector<Shape>& shapes, S
   return {momentum_limit(inverse_mass, r, world.linear), momentum_limit(inverse_mass, r * r, world.angular)};
 }
 
-EnvelopeError check_envelope(const BodyDef& def) {
-  if (!position_inside(def.pose.position)) return {"position", -1, "outside +-16000 m"};
-  if (def.shapes.empty()) return {"shapes", -1, "a body needs at least one shape"};
+Result<void> check_envelope(const BodyDef& def) {
+  if (!position_inside(def.pose.position)) return Error{"position", "outside +-16000 m"};
+  if (def.shapes.empty()) return Error{"shapes", "a body needs at least one shape"};
   for (size_t i = 0; i < def.shapes.size(); ++i) {
     const Shape& shape = def.shapes[i];
     if (shape.type == ShapeType::plane && def.type != BodyType::static_body) {
-      return {"type", static_cast<int>(i), "a plane belongs to a static body"};
+      return Error{shape_field(static_cast<int>(i), "type"), "a plane belongs to a static body"};
     }
-    EnvelopeError e = check_shape(shape, static_cast<int>(i));
-    if (!e.ok()) return e;
+    if (Result<void> refused = check_shape(shape, static_cast<int>(i)); !refused.ok()) return refused;
   }
   if (def.type == BodyType::dynamic) {
     if (def.mass != Fixed{} && (def.mass < envelope::min_mass || def.mass > envelope::max_mass)) {
-      return {"mass", -1, "outside 0.01..100000 kg"};
+      return Error{"mass", "outside 0.01..100000 kg"};
     }
-    if (def.density <= Fixed{}) return {"density", -1, "must be positive"};
-    EnvelopeError e = check_density(def);
-    if (!e.ok()) return e;
+    if (def.density <= Fixed{}) return Error{"density", "must be positive"};
+    if (Result<void> refused = check_density(def); !refused.ok()) return refused;
   }
   // Components first, so that the length cannot overflow.
   auto faster_than = [](Vec3 v, Fixed limit) {
@@ -240,14 +244,14 @@ EnvelopeError check_envelope(const BodyDef& def) {
     limits = speed_limits(Fixed::one() / mass.mass, shapes, world);
   }
   if (faster_than(def.linear_velocity, limits.linear)) {
-    return {"velocity", -1, over_limit(limits.linear, world.linear, "m/s")};
+    return Error{"velocity", over_limit(limits.linear, world.linear, "m/s")};
   }
   if (faster_than(def.angular_velocity, limits.angular)) {
-    return {"angular_velocity", -1, over_limit(limits.angular, world.angular, "rad/s")};
+    return Error{"angular_velocity", over_limit(limits.angular, world.angular, "rad/s")};
   }
-  if (def.asleep && def.type != BodyType::dynamic) return {"asleep", -1, "only a dynamic body sleeps"};
+  if (def.asleep && def.type != BodyType::dynamic) return Error{"asleep", "only a dynamic body sleeps"};
   if (def.asleep && (def.linear_velocity != Vec3{} || def.angular_velocity != Vec3{})) {
-    return {"asleep", -1, "a sleeping body has no velocity"};
+    return Error{"asleep", "a sleeping body has no velocity"};
   }
   return {};
 }

@@ -8,31 +8,21 @@
 #include <string>
 
 #include "core/body.h"
+#include "core/error.h"
 #include "core/settings.h"
 
 namespace bitstep {
 
-struct EnvelopeError {
-  const char* field = nullptr;   // e.g. "shapes[0].half_extents" is reported as "shapes.half_extents"
-  int shape_index = -1;          // which shape, when the field belongs to one
-  std::string reason;            // e.g. "outside 0.01..50 m"; empty when the definition is inside
-  bool ok() const { return reason.empty(); }
-  // The field relative to the body: "mass", or "shapes[2].radius" for a shape's.
-  std::string place() const {
-    const std::string name = field != nullptr ? field : "";
-    return shape_index < 0 ? name : "shapes[" + std::to_string(shape_index) + "]." + name;
-  }
-};
-
 // Positions within +-16 km, sizes 0.01..50 m, parts within 50 m of the body
 // origin, speeds within the body's limits (speed_limits); a dynamic body's
 // mass 0.01..1e5 kg and density (given, or mass / volume) at most
-// envelope::max_density.
-EnvelopeError check_envelope(const BodyDef& def);
+// envelope::max_density. Refused: the field relative to the body ("mass",
+// "shapes[2].radius") and why ("outside 0.01..50 m").
+Result<void> check_envelope(const BodyDef& def);
 // One shape of a body: its size keys within 0.01..50 m (a capsule's
 // half_height 0..50 m) and its local position within 50 m of the body
-// origin; `index` goes into the error.
-EnvelopeError check_shape(const Shape& shape, int index);
+// origin; `index` goes into the error's place ("shapes[index].radius").
+Result<void> check_shape(const Shape& shape, int index);
 
 // The first setting outside the world envelope (its scene key), or null:
 // readers refuse a scene or snapshot that asks for one. dt 0.0001..0.1 s,

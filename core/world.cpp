@@ -132,7 +132,7 @@ World World::from_state(const Settings& settings, uint64_t step_count, std::vect
 }
 
 Result<BodyId> World::create_body(const BodyDef& def) {
-  if (const EnvelopeError outside = check_envelope(def); !outside.ok()) return Error{outside.place(), outside.reason};
+  if (Result<void> outside = check_envelope(def); !outside.ok()) return outside.error();
 
   Body body;
   body.type = def.type;
@@ -470,7 +470,7 @@ void World::apply_force(BodyId id, Vec3 force, Vec3 world_point) {
 }
 
 Result<CarId> World::create_car(const CarDef& def) {
-  if (const std::string error = car_def_error(def, bodies_); !error.empty()) return Error::from_line(error);
+  if (Result<void> refused = check_car(def, bodies_); !refused.ok()) return refused.error();
   Car car;
   car.alive = true;
   car.def = def;

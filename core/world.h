@@ -109,7 +109,7 @@ class World {
   void apply_force(BodyId id, Vec3 force, Vec3 world_point);
   void set_velocity(BodyId id, Vec3 linear, Vec3 angular);
   // A raycast car on a live dynamic chassis (core/car.h): checked first
-  // (car_def_error); on error (its place the field: "chassis",
+  // (check_car); on error (its place the field: "chassis",
   // "wheel_radius") the world is unchanged.
   Result<CarId> create_car(const CarDef& def);
   // The driver's controls, clamped to their ranges, kept until changed.

@@ -139,8 +139,9 @@ SceneBody read_body(const Node& node, const MaterialTable& materials) {
   reader.finish();
 
   check_speed_components(node, def);
-  const EnvelopeError envelope = check_envelope(def);
-  if (!envelope.ok()) fail(node.path + "." + envelope.place(), envelope.reason);
+  if (const Result<void> envelope = check_envelope(def); !envelope.ok()) {
+    fail(node.path + "." + envelope.error().place, envelope.error().reason);
+  }
   return body;
 }
 
@@ -371,9 +372,10 @@ GeneratedStructure read_generator(const Node& node, const MaterialTable& materia
   for (SceneBody& body : generated.bodies) body.def.filter = filter;
   reader.finish();
   for (const SceneBody& body : generated.bodies) {
-    const EnvelopeError envelope = check_envelope(body.def);
+    const Result<void> envelope = check_envelope(body.def);
     if (!envelope.ok()) {
-      fail(node, "generated body " + json::quote(body.name) + ": " + envelope.place() + " " + envelope.reason);
+      const Error& e = envelope.error();
+      fail(node, "generated body " + json::quote(body.name) + ": " + e.place + " " + e.reason);
     }
   }
   return generated;
@@ -382,7 +384,7 @@ GeneratedStructure read_generator(const Node& node, const MaterialTable& materia
 // --- cars -------------------------------------------------------------------
 
 // One car: its chassis (a dynamic body, by name), its wheels, and the
-// CarDef fields over their defaults, each within car_def_error's ranges.
+// CarDef fields over their defaults, each within check_car's ranges.
 SceneCar read_car(const Node& node, const Scene& scene, const std::map<std::string, uint32_t>& bodies) {
   ObjectReader reader(node);
   SceneCar car;

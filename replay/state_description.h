@@ -334,7 +334,8 @@ void describe_car(V& v, C& car, const Bodies& bodies) {
     v.integer("driven", wheel.driven, 1, 0, 1);
     v.integer("steered", wheel.steered, 1, 0, 1);
   });
-  v.require([&] { return car_def_error(def, bodies).empty(); }, [&] { return "a car: " + car_def_error(def, bodies); });
+  v.require([&] { return check_car(def, bodies).ok(); },
+            [&] { return "a car: " + check_car(def, bodies).error().message(); });
   v.object("controls", [&] {
     v.fixed("throttle", car.controls.throttle);
     v.fixed("brake", car.controls.brake);
