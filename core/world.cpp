@@ -427,16 +427,16 @@ bool World::is_alive(JointId id) const {
   return id.index < joints_.size() && joints_[id.index].alive && joints_[id.index].generation == id.generation;
 }
 
-const char* World::set_joint_motor(JointId id, Fixed speed, Fixed max) {
-  if (!is_alive(id)) return "not a live joint";
+Result<void> World::set_joint_motor(JointId id, Fixed speed, Fixed max) {
+  if (!is_alive(id)) return Error{{}, "not a live joint"};
   Joint& joint = joints_[id.index];
-  if (const char* error = joint_motor_error(joint.type, speed, max)) return error;
+  if (const char* error = joint_motor_error(joint.type, speed, max)) return Error::from_line(error);
   joint.motor_speed = max > Fixed{} ? speed : Fixed{};  // no motor: nothing of one is kept
   joint.motor_max = max;
   if (max == Fixed{}) joint.motor_impulse = Fixed{};
   // A motor may start a joint at rest: its bodies wake (with their islands).
   wake_islands_of({joint.body_a, joint.body_b});
-  return nullptr;
+  return {};
 }
 
 bool World::remove_joint(JointId id) {

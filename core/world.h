@@ -77,10 +77,10 @@ class World {
   // island; two sleeping ones stay asleep.
   Result<JointId> create_joint(const JointDef& def);
   // Sets a hinge's or a slider's motor (JointDef::motor_speed, motor_max;
-  // max 0: none) from the next step on, and wakes its bodies. An error
-  // (a dead joint, a type without a motor, a setting out of range; the
-  // joint unchanged), or null.
-  const char* set_joint_motor(JointId id, Fixed speed, Fixed max);
+  // max 0: none) from the next step on, and wakes its bodies. Refused (a
+  // dead joint, a type without a motor, a setting out of range), the joint
+  // is unchanged.
+  Result<void> set_joint_motor(JointId id, Fixed speed, Fixed max);
   // Removes the joint and wakes its bodies (a chain whose holder is cut falls).
   bool remove_joint(JointId id);
   bool is_alive(JointId id) const;

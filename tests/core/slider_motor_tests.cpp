@@ -246,10 +246,10 @@ TEST_CASE("a hinge motor spins a wheel up to its speed, holds it under a load wi
   INFO("largest motor impulse " << largest_impulse << " N m s, bound " << bound);
   CHECK(largest_impulse <= bound + 1e-9);
   // Changed at run time: the other way, and off.
-  REQUIRE(t.world.set_joint_motor(hinge, -3.0_fx, 10.0_fx) == nullptr);
+  REQUIRE(t.world.set_joint_motor(hinge, -3.0_fx, 10.0_fx).ok());
   run(60, 0);
   CHECK(std::abs(to_double(t.body(wheel).angular_velocity.z) + 3.0) < 0.03);
-  REQUIRE(t.world.set_joint_motor(hinge, Fixed{}, Fixed{}) == nullptr);
+  REQUIRE(t.world.set_joint_motor(hinge, Fixed{}, Fixed{}).ok());
   CHECK(joint_of(t, hinge).motor_impulse == Fixed{});
   t.world.apply_impulse(wheel, {Fixed{}, 0.1_fx, Fixed{}}, t.body(wheel).pose.position + Vec3{Fixed::one(), {}, {}});
   const double spun = to_double(t.body(wheel).angular_velocity.z);
@@ -315,6 +315,8 @@ TEST_CASE("motors and slider settings out of range are refused", "[joint][slider
   def.motor_speed = 1.0_fx;
   const Result<JointId> made = t.world.create_joint(def);
   REQUIRE(made.ok());
-  CHECK(t.world.set_joint_motor(made.value(), 1.0_fx, -1.0_fx) != nullptr);
+  const Result<void> refused = t.world.set_joint_motor(made.value(), 1.0_fx, -1.0_fx);
+  REQUIRE(!refused.ok());
+  CHECK(refused.error().message() == "motor: max_torque or max_force outside 0..1000000");
   CHECK(joint_of(t, made.value()).motor_max == 1.0_fx);
 }
