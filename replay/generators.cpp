@@ -4,6 +4,7 @@
 #include <unordered_map>
 
 #include "fixed/splitmix64.h"
+#include "replay/scene_reader.h"
 
 namespace bitstep {
 
@@ -376,11 +377,8 @@ GeneratedStructure generate_chain(const ChainParams& params) {
 
 namespace {
 
-// pi rounded once to Q32.32, as the scene reader's (degrees -> radians).
-constexpr Fixed pi = 3.14159265358979323846264338327950288_fx;
-
 // Degrees -> radians as the scene reader turns them: mul_div(d, pi, 180).
-Fixed radians(int degrees) { return mul_div(Fixed::from_int(degrees), pi, Fixed::from_int(180)); }
+Fixed radians(int degrees) { return mul_div(Fixed::from_int(degrees), scene_reader::pi_q32, Fixed::from_int(180)); }
 
 // A ragdoll's part at scale 1, lengths in units of 0.1 mm, in the ragdoll's
 // frame: origin at the pelvis centre, y up, facing +z, its left +x. Boxes:

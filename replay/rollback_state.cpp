@@ -37,8 +37,8 @@ struct WorldStateAccess {
 
 namespace {
 
-constexpr uint8_t magic[8] = {'B', 'I', 'T', 'S', 'T', 'E', 'P', 'R'};
-constexpr size_t header_bytes = 8 + 4 + 8 + 8 + 8;
+constexpr uint8_t rollback_magic[8] = {'B', 'I', 'T', 'S', 'T', 'E', 'P', 'R'};
+constexpr size_t rollback_header_bytes = 8 + 4 + 8 + 8 + 8;
 
 // Writes into a buffer while it has room, and counts every byte.
 struct BufferPut {
@@ -106,7 +106,7 @@ size_t RollbackStates::save(const World& world, std::span<uint8_t> buffer) {
   // Saves are numbered when written whole: a call that only asks the size
   // marks its bodies as seen in the next one.
   const uint64_t number = saves_ + 1;
-  size_t at = header_bytes;
+  size_t at = rollback_header_bytes;
   const uint64_t step = world.step_count();
   state_bytes::ByteWriter<BufferPut> writer{BufferPut{buffer, &at}, this};
   describe_state(writer, StateParts<false>{step, world.settings(), world.bodies(), world.free_slots(), world.contacts(),
@@ -115,11 +115,11 @@ size_t RollbackStates::save(const World& world, std::span<uint8_t> buffer) {
   const size_t size = at + 8;
   if (size > buffer.size()) return size;
   saves_ = number;
-  std::copy(magic, magic + 8, buffer.begin());
+  std::copy(rollback_magic, rollback_magic + 8, buffer.begin());
   put_le(buffer, 8, rollback_state_version, 4);
   put_le(buffer, 12, world.instance(), 8);
   put_le(buffer, 20, saves_, 8);
-  put_le(buffer, 28, at - header_bytes, 8);
+  put_le(buffer, 28, at - rollback_header_bytes, 8);
   put_le(buffer, at, XXH3_64bits(buffer.data(), at), 8);
   return size;
 }
@@ -136,7 +136,7 @@ void RollbackStates::save(const World& world, std::vector<uint8_t>& buffer) {
 
 Result<void> RollbackStates::restore(std::span<const uint8_t> image, World& world) const {
   const auto refuse = [](std::string reason) { return Error{{}, std::move(reason)}; };
-  if (image.size() < header_bytes + 8 || !std::equal(magic, magic + 8, image.begin())) {
+  if (image.size() < rollback_header_bytes + 8 || !std::equal(rollback_magic, rollback_magic + 8, image.begin())) {
     return refuse("not a rollback state");
   }
   if (get_le(image, 8, 4) != rollback_state_version) {
@@ -149,7 +149,7 @@ Result<void> RollbackStates::restore(std::span<const uint8_t> image, World& worl
     return refuse("older than the states kept: a body it names was forgotten");
   }
   const uint64_t payload = get_le(image, 28, 8);
-  if (payload != image.size() - header_bytes - 8) return refuse("truncated or padded");
+  if (payload != image.size() - rollback_header_bytes - 8) return refuse("truncated or padded");
   if (get_le(image, image.size() - 8, 8) != XXH3_64bits(image.data(), image.size() - 8)) {
     return refuse("checksum mismatch: the image is corrupt");
   }
@@ -158,7 +158,7 @@ Result<void> RollbackStates::restore(std::span<const uint8_t> image, World& worl
   // only when read whole: a refused state changes nothing.
   WorldStateAccess::copy(world, read_);
   try {
-    state_bytes::ByteReader r(image.subspan(header_bytes, static_cast<size_t>(payload)), this, &marks_);
+    state_bytes::ByteReader r(image.subspan(rollback_header_bytes, static_cast<size_t>(payload)), this, &marks_);
     describe_state(r, read_.refs());
     if (!r.done()) r.fail("bytes left after the state");
   } catch (const Error& corrupt) {  // state_bytes::ByteReader's

@@ -27,8 +27,6 @@ constexpr Fixed max_distance = 1000.0_fx;  // m: a generator's gap, spacing, spr
 constexpr Fixed max_speed = 500.0_fx;      // m/s, as check_envelope
 constexpr Fixed max_spin = 100.0_fx;       // rad/s, as check_envelope
 constexpr Fixed min_axis_length = 0.001_fx;  // a joint's axis, a chain's direction (as World::create_joint)
-// pi rounded once to Q32.32, as scene_reader's (degrees -> radians).
-constexpr Fixed pi = 3.14159265358979323846264338327950288_fx;
 
 // An array of at most `limit` items of `what`, refused before any is read.
 void check_count(const Node& array, size_t limit, const char* what) {
@@ -450,8 +448,8 @@ void read_limits(const Node& node, JointDef& def) {
   const Fixed lower = read_fixed_within(node.children[0], Fixed::from_int(-180), Fixed{}, "degrees");
   const Fixed upper = read_fixed_within(node.children[1], Fixed{}, Fixed::from_int(180), "degrees");
   def.limited = true;
-  def.lower_angle = mul_div(lower, pi, Fixed::from_int(180));
-  def.upper_angle = mul_div(upper, pi, Fixed::from_int(180));
+  def.lower_angle = mul_div(lower, pi_q32, Fixed::from_int(180));
+  def.upper_angle = mul_div(upper, pi_q32, Fixed::from_int(180));
 }
 
 // "motor": {"speed": rad/s (a hinge) or m/s (a slider), and "max_torque"
@@ -506,7 +504,7 @@ void read_type_keys(ObjectReader& reader, JointSpec& spec) {
       // The twist axis, the swing cone's half angle and the twist limits, in degrees.
       def.axis = read_direction(reader.require("axis"));
       const Node& swing = reader.require("swing");
-      def.swing_angle = mul_div(read_fixed_within(swing, Fixed{}, Fixed::from_int(180), "degrees"), pi, Fixed::from_int(180));
+      def.swing_angle = mul_div(read_fixed_within(swing, Fixed{}, Fixed::from_int(180), "degrees"), pi_q32, Fixed::from_int(180));
       read_limits(reader.require("twist"), def);
       break;
     }

@@ -38,8 +38,6 @@ const std::string& number_text(const Node& node, const char* expected) {
   return node.text;
 }
 
-// pi rounded once to Q32.32 (the literal is parsed exactly at compile time).
-constexpr Fixed pi = 3.14159265358979323846264338327950288_fx;
 
 }  // namespace
 
@@ -176,7 +174,7 @@ Quat read_orientation(const Node& node) {
   const Vec3 direction = read_vec3(*axis);
   if (direction == Vec3::zero()) fail(*axis, "the axis must not be zero");
   // degrees -> radians: d * pi / 180 with one rounding of the exact product.
-  const Fixed angle = degrees != nullptr ? mul_div(read_fixed(*degrees), pi, Fixed::from_int(180)) : read_fixed(*radians);
+  const Fixed angle = degrees != nullptr ? mul_div(read_fixed(*degrees), pi_q32, Fixed::from_int(180)) : read_fixed(*radians);
   return from_axis_angle(normalize(direction), angle);
 }
 

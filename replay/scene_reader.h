@@ -11,11 +11,17 @@
 
 #include "core/body.h"
 #include "core/error.h"
+#include "fixed/decimal.h"
 #include "fixed/quat.h"
 #include "replay/json_tree.h"
 #include "replay/material_table.h"
 
 namespace bitstep::scene_reader {
+
+// pi rounded once to Q32.32 (the literal is parsed exactly at compile time):
+// degrees -> radians is mul_div(d, pi_q32, 180), one rounding of the exact
+// product, wherever a scene's angle is read or generated.
+inline constexpr Fixed pi_q32 = 3.14159265358979323846264338327950288_fx;
 
 // Throws Error{path, reason}: the typed reads stop at the first bad value,
 // however deep, and read_json turns it into the reader's result.

@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# The main command: install what is missing, build Release, run the main job.
+# The main command: install what is missing, build Release bitstep (and
+# nothing else: the bench's peer programs are `cmake --build build/release`
+# after `tools/install_deps.sh bench`, docs/bench.md), run the main job.
 #   tools/run.sh                      runs scenes/playground.json for 10 s
 #   tools/run.sh SCENE [OPTIONS...]   bitstep run SCENE [OPTIONS...]
 #   tools/run.sh --view [FILE [PORT]] the browser viewer on a replay or a scene
@@ -23,10 +25,9 @@ if [[ "${1:-}" == --view ]]; then
     --page "$kind=/files/$(basename "$file")&play=1"
 fi
 
-tools/install_deps.sh bench
+tools/install_deps.sh build
 cmake -S . -B build/release -DCMAKE_BUILD_TYPE=Release -DBITSTEP_TESTS=OFF -DBITSTEP_FLAG_PEERS=ON >/dev/null
-# bitstep, and the bench's peer programs when Bullet is installed (bitstep bench).
-cmake --build build/release -j"$(nproc)"
+cmake --build build/release -j"$(nproc)" --target bitstep
 if [[ $# -eq 0 ]]; then
   set -- scenes/playground.json
 fi

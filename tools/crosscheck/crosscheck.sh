@@ -3,8 +3,10 @@
 # tools/measure/known_answer.cpp) and the golden-replay verifier (fixed/, core/,
 # replay/ + tools/crosscheck/verify_replays_main.cpp; xxhash inlined, nlohmann
 # header-only) with every compiler, option set, 128-bit backend and CPU
-# below, runs each (foreign CPUs under qemu-user, statically linked; Windows
-# under wine, tools/crosscheck/wine_run.sh) and fails
+# below, each program one translation unit (its sources #included into one
+# file, the heavy headers parsed once), runs each (foreign CPUs under
+# qemu-user, statically linked; Windows under wine,
+# tools/crosscheck/wine_run.sh) and fails
 # unless every build prints the frozen known-answer hash and reproduces every
 # golden replay's hash chain at every step. Prints two tables.
 set -euo pipefail
@@ -19,6 +21,26 @@ replay_sources=(fixed/*.cpp core/*.cpp tools/crosscheck/verify_replays_main.cpp)
 for f in replay/*.cpp; do
   case "$f" in replay/session*|replay/bitstep_c.cpp|replay/render_pose.cpp|replay/simulation.cpp|replay/sync_test.cpp|replay/thread_pool.cpp) ;; *) replay_sources+=("$f") ;; esac
 done
+# Each program is compiled as one translation unit that #includes its
+# sources (a unity build): the standard library's and nlohmann's headers are
+# parsed, and their templates instantiated and optimised, once instead of per
+# source, which halves each compile. A source whose anonymous-namespace names
+# clash with another's stays a translation unit of its own: core/integrate.cpp
+# (its skew() against core/joint_parts.h's) and core/collide_capsule.cpp (its
+# Axis and margin() against core/collide_box_box.cpp's).
+apart=(core/integrate.cpp core/collide_capsule.cpp)
+# unity NAME SOURCES...: writes $out/NAME.cpp and prints the translation units.
+unity() {
+  local name=$1 f
+  shift
+  : >"$out/$name.cpp"
+  for f in "$@"; do
+    if printf '%s\n' "${apart[@]}" | grep -qxF "$f"; then echo "$f"; else echo "#include \"$f\"" >>"$out/$name.cpp"; fi
+  done
+  echo "$out/$name.cpp"
+}
+mapfile -t sources < <(unity kat_unity "${sources[@]}")
+mapfile -t replay_sources < <(unity replays_unity "${replay_sources[@]}")
 common=(-std=c++20 -I. -Wall -Wextra -Wpedantic -Wconversion -Wsign-conversion -Wshadow -Werror)
 # The header-only libraries, visible to the cross compilers too (their own
 # sysroots have no nlohmann or xxhash); no other host header leaks in.
