@@ -89,8 +89,8 @@ void find_pairs(const std::vector<BroadphaseProxy>& proxies, std::vector<BodyPai
   pairs.clear();
   if (proxies.size() <= all_pairs_up_to) {
     for (uint32_t i = 0; i < proxies.size(); ++i) {
+      const BroadphaseProxy& p = proxies[i];
       for (uint32_t j = i + 1; j < proxies.size(); ++j) {
-        const BroadphaseProxy& p = proxies[i];
         const BroadphaseProxy& q = proxies[j];
         if (can_collide(p, q) && p.bounds.overlaps(q.bounds)) pairs.push_back(ordered(p.body, q.body));
       }

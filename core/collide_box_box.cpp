@@ -9,14 +9,6 @@ namespace bitstep::collide_detail {
 
 namespace {
 
-struct Axis {
-  Fixed separation;  // m, > 0: apart along this axis
-  int index = -1;
-};
-
-// How much better a later-preferred axis must be (see collide_internal.h).
-Fixed margin(Fixed separation) { return mul_add(axis_relative_tolerance, abs(separation), axis_absolute_tolerance); }
-
 // A vertex of the polygon being clipped, in the reference box's frame, with
 // the tag of the polygon edge that leaves it (0..3: incident face edges,
 // 4..7: reference side planes). Its feature is (previous vertex's tag, tag).

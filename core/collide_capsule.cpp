@@ -16,13 +16,6 @@ Vec3 perpendicular(Vec3 u) {
   return normalize_or(cross(u, unit_axis(k)), unit_axis(1));
 }
 
-struct Axis {
-  Fixed separation;
-  int index = -1;
-};
-
-Fixed margin(Fixed separation) { return mul_add(axis_relative_tolerance, abs(separation), axis_absolute_tolerance); }
-
 // Narrows [t0, t1] to the t with start + t dir <= limit; false if empty.
 // Divides only when the bound falls inside the range (no overflow).
 bool clip_param(Fixed start, Fixed dir, Fixed limit, Fixed& t0, Fixed& t1) {

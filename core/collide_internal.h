@@ -38,6 +38,17 @@ namespace bitstep::collide_detail {
 inline constexpr Fixed axis_relative_tolerance = 0.05_fx;    // 1
 inline constexpr Fixed axis_absolute_tolerance = 0.0005_fx;  // m (0.1 x the default penetration slop)
 
+// A candidate axis of a separating-axis test: its separation and which one.
+struct Axis {
+  Fixed separation;  // m, > 0: apart along this axis
+  int index = -1;
+};
+
+// How much better a later-preferred axis must be than one of `separation`.
+inline Fixed margin(Fixed separation) {
+  return mul_add(axis_relative_tolerance, abs(separation), axis_absolute_tolerance);
+}
+
 // Edge-edge axes a x b with |a x b|^2 below this are skipped: the edges are
 // within ~0.06 degrees of parallel and a face axis describes the contact.
 inline constexpr Fixed parallel_cross_sq_tolerance = 0.000001_fx;  // 1 (sin^2 of the angle)

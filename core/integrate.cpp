@@ -16,8 +16,6 @@ Vec3 clamp_length(Vec3 v, Fixed limit) {
 // Box2D's damping: v /= 1 + dt c, stable for any c >= 0.
 Fixed damping_factor(Fixed dt, Fixed damping) { return Fixed::one() / (Fixed::one() + dt * damping); }
 
-Mat33 skew(Vec3 v) { return {{Vec3{Fixed{}, -v.z, v.y}, Vec3{v.z, Fixed{}, -v.x}, Vec3{-v.y, v.x, Fixed{}}}}; }
-
 // A spinning body keeps its angular momentum L = I w, not w: in body axes
 // I dw/dt = -w x I w (Euler's equations without torque). One implicit Newton
 // step of I (w' - w) + dt w' x I w' = 0 (Catto, "Numerical Methods", GDC

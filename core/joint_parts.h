@@ -68,9 +68,6 @@ struct Impulses {
 // pi (rad) rounded to Q32.32: the angle limits' range.
 inline constexpr Fixed half_turn = Fixed::from_raw(0x3243F6A89);
 
-// [r]x, the matrix of r x (.).
-inline Mat33 skew(Vec3 r) { return {{Vec3{Fixed{}, -r.z, r.y}, Vec3{r.z, Fixed{}, -r.x}, Vec3{-r.y, r.x, Fixed{}}}}; }
-
 // K = (1/m_a + 1/m_b) 1 - [r_a]x I_a^-1 [r_a]x - [r_b]x I_b^-1 [r_b]x: the
 // relative velocity of the two anchors that a unit impulse gives, per axis
 // (symmetric, positive definite while a body can move).

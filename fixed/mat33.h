@@ -35,6 +35,10 @@ constexpr Mat33 operator-(const Mat33& a, const Mat33& b) {
   return {{a.rows[0] - b.rows[0], a.rows[1] - b.rows[1], a.rows[2] - b.rows[2]}};
 }
 constexpr Mat33 operator*(const Mat33& m, Fixed s) { return {{m.rows[0] * s, m.rows[1] * s, m.rows[2] * s}}; }
+// [r]x, the matrix of r x (.): skew(r) v = cross(r, v).
+constexpr Mat33 skew(Vec3 r) {
+  return {{Vec3{Fixed{}, -r.z, r.y}, Vec3{r.z, Fixed{}, -r.x}, Vec3{-r.y, r.x, Fixed{}}}};
+}
 
 // The rotation matrix of a unit quaternion; each entry rounded once.
 Mat33 rotation(Quat q);

@@ -103,8 +103,9 @@ TEST_CASE("find_pairs packs a key whose fields fill all 64 bits", "[broadphase]"
   };
   std::vector<BroadphaseProxy> proxies = {box(0, -25000000.0_fx, -25000000.0_fx), box(1, 25000000.0_fx, 25000000.0_fx),
                                           box(2, -24999999.95_fx, -24999999.95_fx)};
-  for (uint32_t k = 0; k < 30; ++k)
-    proxies.push_back(box(3 + k, Fixed::from_int(static_cast<int32_t>(k)), Fixed::from_int(static_cast<int32_t>(k))));
+  for (int32_t k = 0; k < 30; ++k) {  // 1 m apart, away from the others
+    proxies.push_back(box(static_cast<uint32_t>(3 + k), Fixed::from_int(k), Fixed::from_int(k)));
+  }
   std::vector<BodyPair> pairs;
   BroadphaseScratch scratch;
   find_pairs(proxies, pairs, scratch);

@@ -24,19 +24,14 @@ done
 # Each program is compiled as one translation unit that #includes its
 # sources (a unity build): the standard library's and nlohmann's headers are
 # parsed, and their templates instantiated and optimised, once instead of per
-# source, which halves each compile. A source whose anonymous-namespace names
-# clash with another's stays a translation unit of its own: core/integrate.cpp
-# (its skew() against core/joint_parts.h's) and core/collide_capsule.cpp (its
-# Axis and margin() against core/collide_box_box.cpp's).
-apart=(core/integrate.cpp core/collide_capsule.cpp)
-# unity NAME SOURCES...: writes $out/NAME.cpp and prints the translation units.
+# source, which halves each compile. (Anonymous-namespace names must not
+# clash across the sources of a library.)
+# unity NAME SOURCES...: writes $out/NAME.cpp and prints it.
 unity() {
   local name=$1 f
   shift
   : >"$out/$name.cpp"
-  for f in "$@"; do
-    if printf '%s\n' "${apart[@]}" | grep -qxF "$f"; then echo "$f"; else echo "#include \"$f\"" >>"$out/$name.cpp"; fi
-  done
+  for f in "$@"; do echo "#include \"$f\"" >>"$out/$name.cpp"; done
   echo "$out/$name.cpp"
 }
 mapfile -t sources < <(unity kat_unity "${sources[@]}")
