@@ -12,7 +12,6 @@
 
 #include <optional>
 #include <string>
-#include <string_view>
 #include <utility>
 #include <variant>
 
@@ -30,14 +29,6 @@ struct Error {
   Error within(const std::string& outer) const {
     if (outer.empty()) return *this;
     return {place.empty() ? outer : outer + ": " + place, reason};
-  }
-
-  // A check's "field: reason" line split at its first ": " (core's checks,
-  // written before this type, return such lines); a line without one is all reason.
-  static Error from_line(std::string_view line) {
-    const size_t colon = line.find(": ");
-    if (colon == std::string_view::npos) return {{}, std::string(line)};
-    return {std::string(line.substr(0, colon)), std::string(line.substr(colon + 2))};
   }
 };
 

@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "core/body.h"
+#include "core/error.h"
 
 namespace bitstep {
 
@@ -80,9 +81,10 @@ struct JointDef {
   uint16_t position_iterations = 0;
 };
 
-// Why a joint of `type` cannot have this motor (JointDef::motor_speed,
-// motor_max: a type without motors, a setting out of range), or null.
-const char* joint_motor_error(JointType type, Fixed speed, Fixed max);
+// Whether a joint of `type` can have this motor (JointDef::motor_speed,
+// motor_max): refused for a type without motors or a setting out of
+// range ("motor"), or fine.
+Result<void> check_joint_motor(JointType type, Fixed speed, Fixed max);
 
 // A joint as the world keeps it (state: hashed, saved, dumped). Anchors
 // and axes in each body's frame (about its centre of mass), and the
@@ -123,11 +125,11 @@ struct Joint {
 // 2 x 500 m/s: 1e8 N s) and far from the range.
 inline constexpr Fixed max_joint_impulse = Fixed::from_raw(int64_t{1} << 59);
 
-// Why a joint as a world keeps it is not one World::create_joint makes
-// between bodies a and b ("<field>: <reason>"), or null: create_joint's
-// own checks of the numbers, unit axes, anchors within its reach, the
-// impulses within max_joint_impulse. The state readers' check of a joint
+// Whether a joint as a world keeps it is one World::create_joint makes
+// between bodies a and b: create_joint's own checks of the numbers, unit
+// axes, anchors within its reach, the impulses within max_joint_impulse;
+// refused with the field and why. The state readers' check of a joint
 // read back (replay/state_description.h).
-const char* joint_state_error(const Joint& joint, const Body& a, const Body& b);
+Result<void> check_joint_state(const Joint& joint, const Body& a, const Body& b);
 
 }  // namespace bitstep

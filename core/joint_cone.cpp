@@ -58,14 +58,14 @@ void prepare_swing(const JointSetup& setup, JointRow& row, Vec3 axis_a, Vec3 axi
 
 }  // namespace
 
-const char* ConeJoint::validate(const JointDef& def) {
-  if (length(def.axis) < 0.001_fx) return "axis: shorter than 0.001";
-  if (const char* error = angle_limits_error(def)) return error;
-  if (def.swing_angle < Fixed{} || def.swing_angle > half_turn) return "swing_angle: outside 0..180 degrees";
-  return nullptr;
+Result<void> ConeJoint::validate(const JointDef& def) {
+  if (length(def.axis) < 0.001_fx) return Error{"axis", "shorter than 0.001"};
+  if (Result<void> refused = check_angle_limits(def); !refused.ok()) return refused;
+  if (def.swing_angle < Fixed{} || def.swing_angle > half_turn) return Error{"swing_angle", "outside 0..180 degrees"};
+  return {};
 }
 
-const char* ConeJoint::motor_error(Fixed speed, Fixed max) { return no_motor_error(speed, max); }
+Result<void> ConeJoint::check_motor(Fixed speed, Fixed max) { return check_no_motor(speed, max); }
 
 const Vec3& ConeJoint::anchor_b(const JointDef& def) { return def.anchor_a; }
 

@@ -32,13 +32,14 @@ void solve_motor(const SolverBody& sa, const SolverBody& sb, BodyRates& a, BodyR
 
 }  // namespace
 
-const char* HingeJoint::validate(const JointDef& def) {
-  if (length(def.axis) < 0.001_fx) return "axis: shorter than 0.001";
-  return def.limited ? angle_limits_error(def) : nullptr;
+Result<void> HingeJoint::validate(const JointDef& def) {
+  if (length(def.axis) < 0.001_fx) return Error{"axis", "shorter than 0.001"};
+  if (!def.limited) return {};
+  return check_angle_limits(def);
 }
 
-const char* HingeJoint::motor_error(Fixed speed, Fixed max) {
-  return bitstep::motor_error(speed, max, envelope::max_angular_speed);
+Result<void> HingeJoint::check_motor(Fixed speed, Fixed max) {
+  return bitstep::check_motor(speed, max, envelope::max_angular_speed);
 }
 
 const Vec3& HingeJoint::anchor_b(const JointDef& def) { return def.anchor_a; }

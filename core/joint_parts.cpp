@@ -4,12 +4,12 @@
 
 namespace bitstep {
 
-const char* angle_limits_error(const JointDef& def) {
+Result<void> check_angle_limits(const JointDef& def) {
   if (def.lower_angle < -half_turn || def.lower_angle > Fixed{} || def.upper_angle < Fixed{} ||
       def.upper_angle > half_turn) {
-    return "limits: lower must be within -180..0 degrees and upper within 0..180";
+    return Error{"limits", "lower must be within -180..0 degrees and upper within 0..180"};
   }
-  return nullptr;
+  return {};
 }
 
 void set_axis_frames(const JointDef& def, const Body& a, const Body& b, Joint& joint) {
@@ -79,19 +79,20 @@ void prepare_angle_limit(const JointSetup& setup, JointRow& row, Fixed angle, Ve
   row.limit_in_tree = limit_engaged(row, past, rate, joint.limit_impulse);
 }
 
-const char* motor_error(Fixed speed, Fixed max, Fixed max_speed) {
-  if (max < Fixed{} || max > 1000000.0_fx) return "motor: max_torque or max_force outside 0..1000000";
-  if (speed < -max_speed || speed > max_speed) return "motor: speed beyond the world's largest";
-  return nullptr;
+Result<void> check_motor(Fixed speed, Fixed max, Fixed max_speed) {
+  if (max < Fixed{} || max > 1000000.0_fx) return Error{"motor", "max_torque or max_force outside 0..1000000"};
+  if (speed < -max_speed || speed > max_speed) return Error{"motor", "speed beyond the world's largest"};
+  return {};
 }
 
-const char* joint_motor_error(JointType type, Fixed speed, Fixed max) {
-  if (!is_joint_type(type)) return "type: not a joint type";
-  return with_joint_type(type, [&](auto kind) { return decltype(kind)::motor_error(speed, max); });
+Result<void> check_joint_motor(JointType type, Fixed speed, Fixed max) {
+  if (!is_joint_type(type)) return Error{"type", "not a joint type"};
+  return with_joint_type(type, [&](auto kind) { return decltype(kind)::check_motor(speed, max); });
 }
 
-const char* no_motor_error(Fixed speed, Fixed max) {
-  return speed != Fixed{} || max != Fixed{} ? "motor: only hinges and sliders have one" : nullptr;
+Result<void> check_no_motor(Fixed speed, Fixed max) {
+  if (speed != Fixed{} || max != Fixed{}) return Error{"motor", "only hinges and sliders have one"};
+  return {};
 }
 
 void prepare_motor_limit(const JointSetup& setup, JointRow& row) {

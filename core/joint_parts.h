@@ -187,10 +187,10 @@ void prepare_turn_friction(const JointSetup& setup, JointRow& row, const Vec3* a
 void solve_turn_friction(const SolverBody& sa, const SolverBody& sb, BodyRates& a, BodyRates& b, JointRow& row);
 
 // A motor's settings checked (JointDef::motor_speed, motor_max; max_speed
-// the world's largest, rad/s or m/s), and a type's without a motor: an
-// error, or null.
-const char* motor_error(Fixed speed, Fixed max, Fixed max_speed);
-const char* no_motor_error(Fixed speed, Fixed max);
+// the world's largest, rad/s or m/s), and a type's without a motor:
+// refused ("motor"), or fine.
+Result<void> check_motor(Fixed speed, Fixed max, Fixed max_speed);
+Result<void> check_no_motor(Fixed speed, Fixed max);
 
 // JointRow::motor and motor_limit (motor_max dt), last step's impulse kept
 // within it; without a motor the impulse is 0.

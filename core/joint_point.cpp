@@ -7,9 +7,12 @@
 
 namespace bitstep {
 
-const char* PointJoint::validate(const JointDef& def) { return def.limited ? angle_limits_error(def) : nullptr; }
+Result<void> PointJoint::validate(const JointDef& def) {
+  if (!def.limited) return {};
+  return check_angle_limits(def);
+}
 
-const char* PointJoint::motor_error(Fixed speed, Fixed max) { return no_motor_error(speed, max); }
+Result<void> PointJoint::check_motor(Fixed speed, Fixed max) { return check_no_motor(speed, max); }
 
 const Vec3& PointJoint::anchor_b(const JointDef& def) { return def.anchor_a; }
 

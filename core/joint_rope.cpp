@@ -14,14 +14,15 @@ constexpr Fixed rope_min_length = 0.0001_fx;
 
 }  // namespace
 
-const char* RopeJoint::validate(const JointDef& def) {
+Result<void> RopeJoint::validate(const JointDef& def) {
   if (def.limited) {
-    if (const char* error = angle_limits_error(def)) return error;
+    if (Result<void> refused = check_angle_limits(def); !refused.ok()) return refused;
   }
-  return def.friction_torque != Fixed{} ? "friction_torque: a rope has no friction" : nullptr;
+  if (def.friction_torque != Fixed{}) return Error{"friction_torque", "a rope has no friction"};
+  return {};
 }
 
-const char* RopeJoint::motor_error(Fixed speed, Fixed max) { return no_motor_error(speed, max); }
+Result<void> RopeJoint::check_motor(Fixed speed, Fixed max) { return check_no_motor(speed, max); }
 
 const Vec3& RopeJoint::anchor_b(const JointDef& def) { return def.anchor_b; }
 

@@ -125,17 +125,17 @@ void solve_axis_row(BodyRates& a, BodyRates& b, const JointRow& row, Fixed targe
 
 }  // namespace
 
-const char* SliderJoint::validate(const JointDef& def) {
-  if (length(def.axis) < 0.001_fx) return "axis: shorter than 0.001";
+Result<void> SliderJoint::validate(const JointDef& def) {
+  if (length(def.axis) < 0.001_fx) return Error{"axis", "shorter than 0.001"};
   if (def.limited && (def.lower_translation < -1000.0_fx || def.lower_translation > Fixed{} ||
                       def.upper_translation < Fixed{} || def.upper_translation > 1000.0_fx)) {
-    return "limits: lower_translation must be within -1000..0 m and upper_translation within 0..1000";
+    return Error{"limits", "lower_translation must be within -1000..0 m and upper_translation within 0..1000"};
   }
-  return nullptr;
+  return {};
 }
 
-const char* SliderJoint::motor_error(Fixed speed, Fixed max) {
-  return bitstep::motor_error(speed, max, envelope::max_linear_speed);
+Result<void> SliderJoint::check_motor(Fixed speed, Fixed max) {
+  return bitstep::check_motor(speed, max, envelope::max_linear_speed);
 }
 
 const Vec3& SliderJoint::anchor_b(const JointDef& def) { return def.anchor_a; }

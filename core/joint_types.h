@@ -8,10 +8,11 @@
 //
 // The functions each type has:
 //   validate(def)       the type's checks of a JointDef (World::create_joint,
-//                       after the ones every type shares): an error, or null
-//   motor_error(speed, max)
+//                       after the ones every type shares): refused with
+//                       the field and why, or fine
+//   check_motor(speed, max)
 //                       the type's check of motor settings (a JointDef's,
-//                       World::set_joint_motor's): an error, or null
+//                       World::set_joint_motor's): refused, or fine
 //   anchor_b(def)       the world point joined on b (def.anchor_a or def.anchor_b)
 //   make_frames(def, a, b, joint)
 //                       the type's part of a new Joint: its axes, references
@@ -36,8 +37,8 @@
 namespace bitstep {
 
 #define BITSTEP_JOINT_TYPE_FUNCTIONS                                                                                 \
-  static const char* validate(const JointDef& def);                                                                  \
-  static const char* motor_error(Fixed speed, Fixed max);                                                            \
+  static Result<void> validate(const JointDef& def);                                                                 \
+  static Result<void> check_motor(Fixed speed, Fixed max);                                                           \
   static const Vec3& anchor_b(const JointDef& def);                                                                  \
   static void make_frames(const JointDef& def, const Body& a, const Body& b, Joint& joint);                          \
   static void prepare(const JointSetup& setup, JointRow& row);                                                       \
@@ -97,7 +98,7 @@ inline bool is_joint_type(JointType type) {
 }
 
 // The angle limits' range check (hinges, cones; and any joint whose def
-// sets `limited`): an error, or null.
-const char* angle_limits_error(const JointDef& def);
+// sets `limited`): refused ("limits"), or fine.
+Result<void> check_angle_limits(const JointDef& def);
 
 }  // namespace bitstep

@@ -261,22 +261,24 @@ const Vec3& anchor_on_b(const JointDef& def) {
 }
 
 // The checks of a JointDef that need no world (World::create_joint's, and
-// joint_state_error's of a joint read back): the type's own, then those
+// check_joint_state's of a joint read back): the type's own, then those
 // every type shares.
-const char* joint_def_error(const JointDef& def) {
-  if (const char* error = with_joint_type(def.type, [&](auto type) {
-        const char* invalid = decltype(type)::validate(def);
-        return invalid != nullptr ? invalid : decltype(type)::motor_error(def.motor_speed, def.motor_max);
-      })) {
-    return error;  // the type's own checks (core/joint_types.h)
+Result<void> check_joint_def(const JointDef& def) {
+  // The type's own checks (core/joint_types.h).
+  Result<void> own = with_joint_type(def.type, [&](auto type) {
+    if (Result<void> refused = decltype(type)::validate(def); !refused.ok()) return refused;
+    return decltype(type)::check_motor(def.motor_speed, def.motor_max);
+  });
+  if (!own.ok()) return own;
+  if (def.length < Fixed{} || def.length > 1000.0_fx) return Error{"length", "outside 0..1000 m"};
+  if (def.break_impulse < Fixed{}) return Error{"break_impulse", "negative"};
+  if (def.friction_torque < Fixed{} || def.friction_torque > 1000000.0_fx) {
+    return Error{"friction_torque", "outside 0..1000000 N m"};
   }
-  if (def.length < Fixed{} || def.length > 1000.0_fx) return "length: outside 0..1000 m";
-  if (def.break_impulse < Fixed{}) return "break_impulse: negative";
-  if (def.friction_torque < Fixed{} || def.friction_torque > 1000000.0_fx) return "friction_torque: outside 0..1000000 N m";
   if (def.velocity_iterations > max_joint_iterations || def.position_iterations > max_joint_iterations) {
-    return "iterations: outside 0..1000";
+    return Error{"iterations", "outside 0..1000"};
   }
-  return nullptr;
+  return {};
 }
 
 }  // namespace
@@ -329,7 +331,7 @@ Result<void> World::joint_error(const JointDef& def) const {
   if (bodies_[def.body_a.index].type != BodyType::dynamic && bodies_[def.body_b.index].type != BodyType::dynamic) {
     return Error{"body_b", "neither body is dynamic"};
   }
-  if (const char* error = joint_def_error(def)) return Error::from_line(error);
+  if (Result<void> refused = check_joint_def(def); !refused.ok()) return refused;
   const Vec3& anchor_b = anchor_on_b(def);
   const auto beyond = [&](BodyId body, Vec3 anchor) {
     const Body& b = bodies_[body.index];
@@ -352,38 +354,48 @@ bool unit_axis(Vec3 v) {
   return within(v, 2.0_fx) && within(length_sq(v) - Fixed::one(), Fixed::from_raw(int64_t{1} << 22));
 }
 
-}  // namespace
-
-const char* joint_state_error(const Joint& joint, const Body& a, const Body& b) {
-  // The fields a type does not keep are zero, as create_joint leaves them.
+// The frames a joint's type keeps are unit and normal, and those it does
+// not keep zero, as create_joint leaves them; the angles likewise.
+Result<void> check_joint_frames(const Joint& joint) {
   const bool axes = joint.type == JointType::hinge || joint.type == JointType::cone || joint.type == JointType::slider;
   const bool angles = joint.type == JointType::hinge || joint.type == JointType::cone;
   const struct {
     const Vec3& value;
-    const char* without;  // the error where the type keeps none
-    const char* not_unit;
+    const char* field;
   } frames[] = {
-      {joint.local_axis_a, "local_axis_a: not zero on a joint type without axes", "local_axis_a: not a unit vector"},
-      {joint.local_axis_b, "local_axis_b: not zero on a joint type without axes", "local_axis_b: not a unit vector"},
-      {joint.local_reference_a, "local_reference_a: not zero on a joint type without axes",
-       "local_reference_a: not a unit vector"},
-      {joint.local_reference_b, "local_reference_b: not zero on a joint type without axes",
-       "local_reference_b: not a unit vector"},
+      {joint.local_axis_a, "local_axis_a"},
+      {joint.local_axis_b, "local_axis_b"},
+      {joint.local_reference_a, "local_reference_a"},
+      {joint.local_reference_b, "local_reference_b"},
   };
   for (const auto& frame : frames) {
-    if (!axes && frame.value != Vec3{}) return frame.without;
-    if (axes && !unit_axis(frame.value)) return frame.not_unit;
+    if (!axes && frame.value != Vec3{}) return Error{frame.field, "not zero on a joint type without axes"};
+    if (axes && !unit_axis(frame.value)) return Error{frame.field, "not a unit vector"};
   }
-  if (!angles && joint.lower_angle != Fixed{}) return "lower_angle: not zero on a joint type without angle limits";
-  if (!angles && joint.upper_angle != Fixed{}) return "upper_angle: not zero on a joint type without angle limits";
-  if (joint.type != JointType::cone && joint.swing_angle != Fixed{}) return "swing_angle: not zero on a joint type without a cone";
+  if (!angles && joint.lower_angle != Fixed{}) {
+    return Error{"lower_angle", "not zero on a joint type without angle limits"};
+  }
+  if (!angles && joint.upper_angle != Fixed{}) {
+    return Error{"upper_angle", "not zero on a joint type without angle limits"};
+  }
+  if (joint.type != JointType::cone && joint.swing_angle != Fixed{}) {
+    return Error{"swing_angle", "not zero on a joint type without a cone"};
+  }
   if (axes) {
     const Fixed normal = Fixed::from_raw(int64_t{1} << 22);  // |cos| within 2^-10 of right angles
-    if (!within(dot(joint.local_axis_a, joint.local_reference_a), normal)) return "local_reference_a: not normal to local_axis_a";
-    if (!within(dot(joint.local_axis_b, joint.local_reference_b), normal)) return "local_reference_b: not normal to local_axis_b";
+    if (!within(dot(joint.local_axis_a, joint.local_reference_a), normal)) {
+      return Error{"local_reference_a", "not normal to local_axis_a"};
+    }
+    if (!within(dot(joint.local_axis_b, joint.local_reference_b), normal)) {
+      return Error{"local_reference_b", "not normal to local_axis_b"};
+    }
   }
-  // The numbers create_joint checks, as a definition again: limits checked
-  // whether the joint is limited or not (unlimited, they are zero).
+  return {};
+}
+
+// The numbers create_joint checks, as a definition again: limits checked
+// whether the joint is limited or not (unlimited, they are zero).
+JointDef joint_def_of(const Joint& joint) {
   JointDef def;
   def.type = joint.type;
   def.axis = joint.local_axis_a;
@@ -399,28 +411,41 @@ const char* joint_state_error(const Joint& joint, const Body& a, const Body& b) 
   def.friction_torque = joint.friction_torque;
   def.velocity_iterations = joint.velocity_iterations;
   def.position_iterations = joint.position_iterations;
-  if (const char* error = joint_def_error(def)) return error;
+  return def;
+}
+
+// The impulses, each component within max_joint_impulse.
+Result<void> check_joint_impulses(const Joint& joint) {
+  const Fixed m = max_joint_impulse;
+  if (!within(joint.point_impulse, m)) return Error{"point_impulse", "outside +-2^27 N s"};
+  if (!within(joint.distance_impulse, m)) return Error{"distance_impulse", "outside +-2^27 N s"};
+  if (!within(joint.hinge_impulse[0], m) || !within(joint.hinge_impulse[1], m)) {
+    return Error{"hinge_impulse", "outside +-2^27 N m s"};
+  }
+  if (!within(joint.limit_impulse, m)) return Error{"limit_impulse", "outside +-2^27"};
+  if (!within(joint.angular_impulse, m)) return Error{"angular_impulse", "outside +-2^27 N m s"};
+  if (!within(joint.motor_impulse, m)) return Error{"motor_impulse", "outside +-2^27"};
+  return {};
+}
+
+}  // namespace
+
+Result<void> check_joint_state(const Joint& joint, const Body& a, const Body& b) {
+  if (Result<void> refused = check_joint_frames(joint); !refused.ok()) return refused;
+  if (Result<void> refused = check_joint_def(joint_def_of(joint)); !refused.ok()) return refused;
   // A rope of length 0 took its anchors' distance then: within the
   // envelope's positions and reaches, under 2^16 m.
-  if (joint.length < Fixed{} || joint.length > 65536.0_fx) return "length: outside 0..65536 m";
+  if (joint.length < Fixed{} || joint.length > 65536.0_fx) return Error{"length", "outside 0..65536 m"};
   // The anchors within create_joint's reach of their bodies (less 1 mm:
   // the rounding of turning them into the body's frame).
   const Fixed rounding = 0.001_fx;
   if (!within(joint.local_anchor_a, 1024.0_fx) || !within_joint_reach(length(joint.local_anchor_a) - rounding, a)) {
-    return "local_anchor_a: farther from the body than twice its reach and 1 m";
+    return Error{"local_anchor_a", reach_reason};
   }
   if (!within(joint.local_anchor_b, 1024.0_fx) || !within_joint_reach(length(joint.local_anchor_b) - rounding, b)) {
-    return "local_anchor_b: farther from the body than twice its reach and 1 m";
+    return Error{"local_anchor_b", reach_reason};
   }
-  // The impulses, each component within max_joint_impulse.
-  const Fixed m = max_joint_impulse;
-  if (!within(joint.point_impulse, m)) return "point_impulse: outside +-2^27 N s";
-  if (!within(joint.distance_impulse, m)) return "distance_impulse: outside +-2^27 N s";
-  if (!within(joint.hinge_impulse[0], m) || !within(joint.hinge_impulse[1], m)) return "hinge_impulse: outside +-2^27 N m s";
-  if (!within(joint.limit_impulse, m)) return "limit_impulse: outside +-2^27";
-  if (!within(joint.angular_impulse, m)) return "angular_impulse: outside +-2^27 N m s";
-  if (!within(joint.motor_impulse, m)) return "motor_impulse: outside +-2^27";
-  return nullptr;
+  return check_joint_impulses(joint);
 }
 
 bool World::is_alive(JointId id) const {
@@ -430,7 +455,7 @@ bool World::is_alive(JointId id) const {
 Result<void> World::set_joint_motor(JointId id, Fixed speed, Fixed max) {
   if (!is_alive(id)) return Error{{}, "not a live joint"};
   Joint& joint = joints_[id.index];
-  if (const char* error = joint_motor_error(joint.type, speed, max)) return Error::from_line(error);
+  if (Result<void> refused = check_joint_motor(joint.type, speed, max); !refused.ok()) return refused;
   joint.motor_speed = max > Fixed{} ? speed : Fixed{};  // no motor: nothing of one is kept
   joint.motor_max = max;
   if (max == Fixed{}) joint.motor_impulse = Fixed{};

@@ -421,15 +421,18 @@ void describe_joint(V& v, J& joint, const Bodies& bodies) {
     v.fixed("motor_speed", joint.motor_speed);
     v.fixed("motor_max", joint.motor_max);
     v.fixed("motor_impulse", joint.motor_impulse);
-    v.require([&] { return joint.motor_max > Fixed{} && joint_motor_error(joint.type, joint.motor_speed, joint.motor_max) == nullptr; },
-              [] { return std::string("a joint's motor outside its type's range"); });
+    v.require(
+        [&] {
+          return joint.motor_max > Fixed{} && check_joint_motor(joint.type, joint.motor_speed, joint.motor_max).ok();
+        },
+        [] { return std::string("a joint's motor outside its type's range"); });
   }
   // Every field within what World::create_joint makes (its own checks,
   // core/joint.h): a forged frame or impulse would saturate the step.
   if constexpr (V::reading) {
-    const char* error = nullptr;
-    v.require([&] { return (error = joint_state_error(joint, bodies[joint.body_a], bodies[joint.body_b])) == nullptr; },
-              [&] { return std::string("a joint's ") + error; });
+    Result<void> checked;
+    v.require([&] { return (checked = check_joint_state(joint, bodies[joint.body_a], bodies[joint.body_b])).ok(); },
+              [&] { return "a joint's " + checked.error().message(); });
   }
 }
 

@@ -1,5 +1,5 @@
 // A joint read back from a snapshot or a rollback state is checked against
-// what World::create_joint makes (core/joint.h, joint_state_error): a
+// what World::create_joint makes (core/joint.h, check_joint_state): a
 // forged image with its checksum made right again, one joint field out of
 // bounds, is refused by both readers and by the C API's loads, with a
 // message naming the field, and nothing changes (issue 48, finding 2: such
