@@ -279,6 +279,9 @@ void add_force(Body& body, Vec3 force, Vec3 world_point, Fixed dt) {
 
 Vec3 clamp_speed(Vec3 velocity, Fixed limit) { return clamp_length(Scaled{velocity, 0}, limit); }
 
+namespace {
+
+// The key of the first setting outside the world envelope, or null.
 const char* setting_outside_envelope(const Settings& s) {
   const auto within = [](Fixed value, Fixed lo, Fixed hi) { return value >= lo && value <= hi; };
   if (!within(s.dt, envelope::min_dt, envelope::max_dt)) return "dt";
@@ -302,6 +305,13 @@ const char* setting_outside_envelope(const Settings& s) {
   if (!within(s.max_linear_speed, Fixed::from_raw(1), envelope::max_linear_speed)) return "max_linear_speed";
   if (!within(s.max_angular_speed, Fixed::from_raw(1), envelope::max_angular_speed)) return "max_angular_speed";
   return nullptr;
+}
+
+}  // namespace
+
+Result<void> check_settings(const Settings& settings) {
+  if (const char* key = setting_outside_envelope(settings)) return Error{key, "outside the world envelope"};
+  return {};
 }
 
 }  // namespace bitstep

@@ -24,13 +24,15 @@ Result<void> check_envelope(const BodyDef& def);
 // origin; `index` goes into the error's place ("shapes[index].radius").
 Result<void> check_shape(const Shape& shape, int index);
 
-// The first setting outside the world envelope (its scene key), or null:
-// readers refuse a scene or snapshot that asks for one. dt 0.0001..0.1 s,
-// substeps 1..16 with dt / substeps at least 0.0001 s, gravity within +-1000 m/s^2 per axis, velocity clamps positive and no
-// higher than the envelope's speeds (above them the solver's products are
-// not bounded), push-out speed and restitution threshold within those
-// speeds, slop and speculative distance within the largest size.
-const char* setting_outside_envelope(const Settings& settings);
+// Refuses the first setting outside the world envelope (the place is its
+// scene key, the reason "outside the world envelope"): readers refuse a
+// scene or snapshot that asks for one. dt 0.0001..0.1 s, substeps 1..16
+// with dt / substeps at least 0.0001 s, gravity within +-1000 m/s^2 per
+// axis, velocity clamps positive and no higher than the envelope's speeds
+// (above them the solver's products are not bounded), push-out speed and
+// restitution threshold within those speeds, slop and speculative
+// distance within the largest size.
+Result<void> check_settings(const Settings& settings);
 
 // Inputs. An input's velocity change can be far beyond the speed clamps (an
 // impulse of 1e6 N s on 0.01 kg is 1e8 m/s; at the corner of a 0.01 m box it

@@ -193,8 +193,11 @@ void describe_settings(V& v, S& s) {
     s.contact_hertz = Settings{}.contact_hertz;
     s.contact_damping_ratio = Settings{}.contact_damping_ratio;
   }
-  v.require([&] { return setting_outside_envelope(s) == nullptr; },
-            [&] { return std::string(setting_outside_envelope(s)) + " outside the world envelope"; });
+  v.require([&] { return check_settings(s).ok(); },
+            [&] {
+              const Error refused = check_settings(s).error();
+              return refused.place + " " + refused.reason;  // "dt outside the world envelope"
+            });
   if ((bits & 8) != 0) {
     v.choice("sleep_method", s.sleep_method, sleep_methods, 1);
     v.fixed("sleep_epsilon", s.sleep_epsilon);

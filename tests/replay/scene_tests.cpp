@@ -298,26 +298,26 @@ TEST_CASE("scene errors name the file, the JSON path and the reason", "[scene]")
     // The bounds themselves are admitted, and the core check agrees.
     Scene edge = load_ok(scene_text("", R"("settings": {"dt": 0.1, "gravity": [1000, -1000, 0], )"
                                         R"("max_linear_speed": 500, "max_angular_speed": 100}, )"));
-    CHECK(setting_outside_envelope(edge.settings) == nullptr);
+    CHECK(check_settings(edge.settings).ok());
     edge.settings.dt = 0.2_fx;
-    CHECK(std::string(setting_outside_envelope(edge.settings)) == "dt");
+    CHECK(check_settings(edge.settings).error().place == "dt");
     edge.settings.dt = 0.0016_fx;
     edge.settings.substeps = 16;
-    CHECK(setting_outside_envelope(edge.settings) == nullptr);
+    CHECK(check_settings(edge.settings).ok());
     edge.settings.substeps = 17;
-    CHECK(std::string(setting_outside_envelope(edge.settings)) == "substeps");
+    CHECK(check_settings(edge.settings).error().place == "substeps");
     edge.settings.dt = 0.0015_fx;
     edge.settings.substeps = 16;
-    CHECK(std::string(setting_outside_envelope(edge.settings)) == "substeps");
+    CHECK(check_settings(edge.settings).error().place == "substeps");
     edge.settings.substeps = 1;
     edge.settings.dt = 0.0016_fx;
     edge.settings.soft_substeps = 16;
-    CHECK(setting_outside_envelope(edge.settings) == nullptr);
+    CHECK(check_settings(edge.settings).ok());
     edge.settings.soft_substeps = 17;
-    CHECK(std::string(setting_outside_envelope(edge.settings)) == "soft_substeps");
+    CHECK(check_settings(edge.settings).error().place == "soft_substeps");
     edge.settings.soft_substeps = 4;
     edge.settings.contact_hertz = 1001.0_fx;
-    CHECK(std::string(setting_outside_envelope(edge.settings)) == "contact_hertz");
+    CHECK(check_settings(edge.settings).error().place == "contact_hertz");
   }
   SECTION("missing key") {
     CHECK(error_of(scene_text(R"({"shapes": [{"type": "box"}]})")) ==
