@@ -1,5 +1,6 @@
 // The threaded solve under ThreadSanitizer's eyes (tools/test.sh builds only
-// this program with it): every golden replay on 2, 3 and 8 workers, and a
+// this program with it): every golden replay on 2, 3 and 8 workers (seven
+// of them under ThreadSanitizer, tests/replay/golden_replays.h), and a
 // restore that keeps the world's workers.
 #include <catch2/catch.hpp>
 
