@@ -79,46 +79,45 @@ void sort_entries(std::vector<CellEntry>& entries, std::vector<uint64_t>& keys, 
   }
 }
 
-}  // namespace
-
-void find_pairs(const std::vector<BroadphaseProxy>& proxies, std::vector<BodyPair>& pairs, BroadphaseScratch& scratch) {
-  if (scratch.reuse) {
-    if (proxies == scratch.last_proxies) return;
-    scratch.last_proxies = proxies;
-  }
-  pairs.clear();
-  if (proxies.size() <= all_pairs_up_to) {
-    for (uint32_t i = 0; i < proxies.size(); ++i) {
-      const BroadphaseProxy& p = proxies[i];
-      for (uint32_t j = i + 1; j < proxies.size(); ++j) {
-        const BroadphaseProxy& q = proxies[j];
-        if (can_collide(p, q) && p.bounds.overlaps(q.bounds)) pairs.push_back(ordered(p.body, q.body));
-      }
+// Every pair, when there are few proxies.
+void all_pairs(const std::vector<BroadphaseProxy>& proxies, std::vector<BodyPair>& pairs) {
+  for (uint32_t i = 0; i < proxies.size(); ++i) {
+    const BroadphaseProxy& p = proxies[i];
+    for (uint32_t j = i + 1; j < proxies.size(); ++j) {
+      const BroadphaseProxy& q = proxies[j];
+      if (can_collide(p, q) && p.bounds.overlaps(q.bounds)) pairs.push_back(ordered(p.body, q.body));
     }
-    std::sort(pairs.begin(), pairs.end());
-    return;
   }
-  // Few movers among many resting proxies (a world mostly asleep): each
-  // mover against every proxy costs m n, less than the grid's n log n.
-  // Both ways report exactly the overlapping pairs with a mover.
-  std::vector<uint32_t>& movers = scratch.movers;
+}
+
+// Whether fewer than one proxy in few_movers_ratio moves; `movers` gets
+// their indices.
+bool few_movers(const std::vector<BroadphaseProxy>& proxies, std::vector<uint32_t>& movers) {
   movers.clear();
   for (uint32_t i = 0; i < proxies.size(); ++i) {
     if (proxies[i].movable) movers.push_back(i);
   }
-  if (movers.size() * few_movers_ratio <= proxies.size()) {
-    for (const uint32_t m : movers) {
-      const BroadphaseProxy& p = proxies[m];
-      for (uint32_t i = 0; i < proxies.size(); ++i) {
-        const BroadphaseProxy& q = proxies[i];
-        if (i == m || (q.movable && i < m) || !p.bounds.overlaps(q.bounds)) continue;  // two movers once
-        pairs.push_back(ordered(p.body, q.body));
-      }
+  return movers.size() * few_movers_ratio <= proxies.size();
+}
+
+// Each mover against every proxy (two movers once), when few move among many
+// resting proxies (a world mostly asleep): m n tests, less than the grid's
+// n log n. Exactly the overlapping pairs with a mover, as the grid finds.
+void mover_pairs(const std::vector<BroadphaseProxy>& proxies, const std::vector<uint32_t>& movers,
+                 std::vector<BodyPair>& pairs) {
+  for (const uint32_t m : movers) {
+    const BroadphaseProxy& p = proxies[m];
+    for (uint32_t i = 0; i < proxies.size(); ++i) {
+      const BroadphaseProxy& q = proxies[i];
+      if (i == m || (q.movable && i < m) || !p.bounds.overlaps(q.bounds)) continue;
+      pairs.push_back(ordered(p.body, q.body));
     }
-    std::sort(pairs.begin(), pairs.end());
-    return;
   }
-  std::vector<uint32_t>& large = scratch.large;
+}
+
+// The grid's cell width, 2^shift raw units: at least the widest small
+// proxy's. `large` gets the large proxies' indices.
+int grid_shift(const std::vector<BroadphaseProxy>& proxies, std::vector<uint32_t>& large) {
   large.clear();
   Fixed widest_small;
   for (uint32_t i = 0; i < proxies.size(); ++i) {
@@ -129,10 +128,15 @@ void find_pairs(const std::vector<BroadphaseProxy>& proxies, std::vector<BodyPai
       widest_small = max(widest_small, w);
     }
   }
+  return std::max(1, static_cast<int>(std::bit_width(static_cast<uint64_t>(widest_small.raw()))));
+}
 
-  // A cell of 2^shift raw units is at least as wide as every small proxy,
-  // so each proxy covers at most 2 x 2 x 2 cells.
-  const int shift = std::max(1, static_cast<int>(std::bit_width(static_cast<uint64_t>(widest_small.raw()))));
+// The pairs within each cell of a grid whose cells are as wide as the
+// widest small proxy (2^shift raw units), so each small proxy covers at
+// most 2 x 2 x 2 cells; a pair is reported only in the cell holding the
+// lower corner of its overlap.
+void grid_pairs(const std::vector<BroadphaseProxy>& proxies, int shift, BroadphaseScratch& scratch,
+                std::vector<BodyPair>& pairs) {
   std::vector<CellEntry>& entries = scratch.entries;
   entries.clear();
   entries.reserve(proxies.size() * 2);
@@ -146,7 +150,6 @@ void find_pairs(const std::vector<BroadphaseProxy>& proxies, std::vector<BodyPai
     }
   }
   sort_entries(entries, scratch.keys, proxies.size());
-
   for (size_t run = 0; run < entries.size();) {
     size_t end = run + 1;
     while (end < entries.size() && std::tie(entries[end].x, entries[end].y, entries[end].z) ==
@@ -158,8 +161,6 @@ void find_pairs(const std::vector<BroadphaseProxy>& proxies, std::vector<BodyPai
       for (size_t j = i + 1; j < end; ++j) {
         const BroadphaseProxy& q = proxies[entries[j].proxy];
         if (!can_collide(p, q) || !p.bounds.overlaps(q.bounds)) continue;
-        // Two proxies may share several cells: report the pair only in the
-        // cell holding the lower corner of their overlap.
         const Vec3 corner = max(p.bounds.min, q.bounds.min);
         if ((corner.x.raw() >> shift) != entries[run].x || (corner.y.raw() >> shift) != entries[run].y ||
             (corner.z.raw() >> shift) != entries[run].z) {
@@ -170,17 +171,42 @@ void find_pairs(const std::vector<BroadphaseProxy>& proxies, std::vector<BodyPai
     }
     run = end;
   }
+}
 
-  for (size_t li = 0; li < large.size(); ++li) {
-    const BroadphaseProxy& l = proxies[large[li]];
+// The large proxies (past large_extent: grounds, walls), kept out of the
+// grid, each against every proxy (two large ones once).
+void large_pairs(const std::vector<BroadphaseProxy>& proxies, const std::vector<uint32_t>& large,
+                 std::vector<BodyPair>& pairs) {
+  for (const uint32_t l : large) {
+    const BroadphaseProxy& big = proxies[l];
     for (uint32_t i = 0; i < proxies.size(); ++i) {
       const BroadphaseProxy& p = proxies[i];
-      if (i == large[li] || !can_collide(l, p) || !l.bounds.overlaps(p.bounds)) continue;
+      if (i == l || !can_collide(big, p) || !big.bounds.overlaps(p.bounds)) continue;
       const bool p_is_large = widest_side(p.bounds) > large_extent;
-      if (p_is_large && i < large[li]) continue;  // a large-large pair once
-      pairs.push_back(ordered(l.body, p.body));
+      if (p_is_large && i < l) continue;
+      pairs.push_back(ordered(big.body, p.body));
     }
   }
+}
+
+}  // namespace
+
+void find_pairs(const std::vector<BroadphaseProxy>& proxies, std::vector<BodyPair>& pairs, BroadphaseScratch& scratch) {
+  if (scratch.reuse) {
+    if (proxies == scratch.last_proxies) return;
+    scratch.last_proxies = proxies;
+  }
+  pairs.clear();
+  if (proxies.size() <= all_pairs_up_to) {
+    all_pairs(proxies, pairs);
+  } else if (few_movers(proxies, scratch.movers)) {
+    mover_pairs(proxies, scratch.movers, pairs);
+  } else {
+    const int shift = grid_shift(proxies, scratch.large);
+    grid_pairs(proxies, shift, scratch, pairs);
+    large_pairs(proxies, scratch.large, pairs);
+  }
+  // Each way reports every overlapping pair once: sorted, the same list.
   std::sort(pairs.begin(), pairs.end());
 }
 
