@@ -177,14 +177,26 @@ int collide_box_box(const WorldShape& a, const WorldShape& b, Fixed speculative_
   // scaled separation only grows more negative when divided by |l|, so an
   // axis is normalised only when it could beat the best one (or is positive,
   // where it could prove the boxes apart).
+  // With p, q the axes after i, l = e_i x c_j is exactly (l_i, l_p, l_q) =
+  // (0, -c_qj, c_pj): cross rounds its products by 0 and 1 exactly. So each
+  // dot product with l is an exact sum of two products rounded once (det2;
+  // negating an entry of c, within [-3, 3], or a half extent is exact), as
+  // dot rounds its three: the same bits without the products by zero.
   Axis edge{face_separation + margin(face_separation)};
   for (int i = 0; i < 3; ++i) {
+    const int p = (i + 1) % 3, q = (i + 2) % 3;
+    const Vec3 c_p = row(c, p), c_q = row(c, q);
     for (int j = 0; j < 3; ++j) {
-      const Vec3 l = cross(unit_axis(i), c.column(j));
-      if (length_sq(l) < parallel_cross_sq_tolerance) continue;
-      const Fixed scaled = abs(dot(t_a, l)) - dot(ea, abs(l)) - dot(eb, abs(ct * l));
+      const Fixed l_q = get(c_p, j), minus_l_p = get(c_q, j);
+      if (det2(l_q, l_q, -minus_l_p, minus_l_p) < parallel_cross_sq_tolerance) continue;  // |l|^2
+      const Fixed t_l = det2(get(t_a, q), l_q, get(t_a, p), minus_l_p);
+      const Fixed ea_abs_l = det2(get(ea, p), abs(minus_l_p), -get(ea, q), abs(l_q));
+      // l in B's frame: (c^T l)_k = c_pk l_p + c_qk l_q.
+      const Vec3 l_b{det2(c_q.x, l_q, c_p.x, minus_l_p), det2(c_q.y, l_q, c_p.y, minus_l_p),
+                     det2(c_q.z, l_q, c_p.z, minus_l_p)};
+      const Fixed scaled = abs(t_l) - ea_abs_l - dot(eb, abs(l_b));
       if (scaled <= min(edge.separation, Fixed{})) continue;
-      const Fixed s = scaled / length(l);
+      const Fixed s = scaled / length(cross(unit_axis(i), c.column(j)));
       if (s > speculative_distance) return 0;
       if (s > edge.separation) edge = {s, 3 * i + j};
     }
