@@ -148,7 +148,7 @@ int edge_contact(const Mat33& rot_a, const Mat33& rot_b, Vec3 ea, Vec3 eb, Vec3 
 }  // namespace
 
 int collide_box_box(const WorldShape& a, const WorldShape& b, Fixed speculative_distance, Manifold& out) {
-  const Mat33 rot_a = rotation(a.pose.orientation), rot_b = rotation(b.pose.orientation);
+  const Mat33 rot_a = axes_of(a), rot_b = axes_of(b);
   const Vec3 ea = a.shape->half_extents, eb = b.shape->half_extents;
   const Vec3 d = b.pose.position - a.pose.position;
   const Vec3 t_a = transpose(rot_a) * d;     // B's centre in A's frame

@@ -316,7 +316,7 @@ int collide_capsule_capsule(const WorldShape& a, const WorldShape& b, Fixed spec
 int collide_capsule_box(const WorldShape& capsule, const WorldShape& box, Fixed speculative_distance, Manifold& out) {
   const Fixed h = capsule.shape->half_height, r = capsule.shape->radius;
   const Vec3 e = box.shape->half_extents;
-  const Mat33 rot = rotation(box.pose.orientation);
+  const Mat33 rot = axes_of(box);
   const Vec3 center = transpose(rot) * (capsule.pose.position - box.pose.position);
   for (int k = 0; k < 3; ++k) {
     if (abs(get(center, k)) >= get(e, k) + h + r + speculative_distance) return 0;

@@ -184,6 +184,9 @@ Fixed closest_param_to_point(Vec3 p, Vec3 d, Vec3 q);
 int collide_points_with_radii(Vec3 origin, Vec3 point_a, Fixed radius_a, Vec3 point_b, Fixed radius_b, Vec3 fallback,
                               Fixed speculative_distance, Manifold& out);
 
+// A shape's rotation matrix: the one it carries, else computed.
+inline Mat33 axes_of(const WorldShape& s) { return s.axes ? *s.axes : rotation(s.pose.orientation); }
+
 // Unit outward normal of a plane shape: its local +y in the world.
 Vec3 plane_normal(const WorldShape& plane);
 

@@ -6,7 +6,7 @@ namespace bitstep::collide_detail {
 
 int collide_box_plane(const WorldShape& box, const WorldShape& plane, Fixed speculative_distance, Manifold& out) {
   const Vec3 n = plane_normal(plane);
-  const Mat33 rot = rotation(box.pose.orientation);
+  const Mat33 rot = axes_of(box);
   const Vec3 e = box.shape->half_extents;
   // Height of vertex v above the plane: centre height + sum_k +-(n.b_k) e_k.
   const Fixed center_height = dot(n, box.pose.position - plane.pose.position);

@@ -28,7 +28,7 @@ int collide_sphere_sphere(const WorldShape& a, const WorldShape& b, Fixed specul
 int collide_sphere_box(const WorldShape& sphere, const WorldShape& box, Fixed speculative_distance, Manifold& out) {
   const Fixed r = sphere.shape->radius;
   const Vec3 e = box.shape->half_extents;
-  const Mat33 rot = rotation(box.pose.orientation);
+  const Mat33 rot = axes_of(box);
   const Vec3 center = sphere.pose.position - box.pose.position;  // relative to the box centre, world axes
   const Vec3 p = transpose(rot) * center;                        // in the box frame
   for (int k = 0; k < 3; ++k) {

@@ -146,8 +146,34 @@ void plan_shape_pairs(const std::vector<Body>& bodies, const std::vector<BodyPai
   cache.collided.resize(collided);
 }
 
+// Places the shapes of every body in a test that collide() will run
+// (NarrowphaseCache::placed), each once however many pairs its body is
+// in: a body's pose composed with the shape's, and a box's rotation.
+void place_shapes(const std::vector<Body>& bodies, NarrowphaseCache& cache) {
+  constexpr size_t none = NarrowphaseCache::Test::none;
+  cache.first_placed.assign(bodies.size(), none);
+  cache.placed.clear();
+  cache.placed_axes.clear();
+  for (const NarrowphaseCache::Test& test : cache.tests) {
+    if (test.cached != none) continue;
+    for (const uint32_t id : {test.key.body_a, test.key.body_b}) {
+      if (cache.first_placed[id] != none) continue;
+      cache.first_placed[id] = cache.placed.size();
+      const Body& body = bodies[id];
+      for (const Shape& shape : body.shapes) {
+        const Pose pose = compose(body.pose, shape.local);
+        cache.placed.push_back({&shape, pose});
+        cache.placed_axes.push_back(shape.type == ShapeType::box ? rotation(pose.orientation) : Mat33{});
+      }
+    }
+  }
+  // The matrices are pointed at once their list stops growing.
+  for (size_t k = 0; k < cache.placed.size(); ++k) {
+    if (cache.placed[k].shape->type == ShapeType::box) cache.placed[k].axes = &cache.placed_axes[k];
+  }
+}
+
 struct CollideWork {
-  const std::vector<Body>& bodies;
   NarrowphaseCache& cache;
   int workers;
 };
@@ -163,10 +189,9 @@ void collide_share(void* context, int worker) {
   for (size_t i = n * w / workers; i < n * (w + 1) / workers; ++i) {
     const NarrowphaseCache::Test& test = tests[i];
     if (test.cached != NarrowphaseCache::Test::none) continue;  // restored where it is merged
-    const Body& a = work.bodies[test.key.body_a];
-    const Body& b = work.bodies[test.key.body_b];
-    const WorldShape shape_a{&a.shapes[test.key.shape_a], compose(a.pose, a.shapes[test.key.shape_a].local)};
-    const WorldShape shape_b{&b.shapes[test.key.shape_b], compose(b.pose, b.shapes[test.key.shape_b].local)};
+    const NarrowphaseCache& cache = work.cache;
+    const WorldShape& shape_a = cache.placed[cache.first_placed[test.key.body_a] + test.key.shape_a];
+    const WorldShape& shape_b = cache.placed[cache.first_placed[test.key.body_b] + test.key.shape_b];
     // A fresh manifold, point_count 0 when apart.
     collide(shape_a, shape_b, test.margin, work.cache.collided[test.slot]);
   }
@@ -192,10 +217,11 @@ void update_contacts(const std::vector<Body>& bodies, const std::vector<BodyPair
   }
   // The tests: planned here, run on the workers, merged here in order.
   plan_shape_pairs(bodies, pairs, settings, turn_speed, cache);
+  place_shapes(bodies, cache);
   const size_t to_collide = cache.collided.size();
   const bool parallel = executor && executor->workers() > 1 &&
                         to_collide >= min_parallel_tests * static_cast<size_t>(executor->workers());
-  CollideWork work{bodies, cache, parallel ? executor->workers() : 1};
+  CollideWork work{cache, parallel ? executor->workers() : 1};
   if (parallel) {
     executor->run(collide_share, &work);
   } else {

@@ -60,6 +60,12 @@ struct NarrowphaseCache {
   };
   std::vector<Test> tests;
   std::vector<Manifold> collided;
+  // The shapes of the bodies in a test to run, placed in the world once
+  // each (a body is in several pairs), a box with its rotation matrix:
+  // per slot, where its shapes begin in `placed` (none: not placed).
+  std::vector<size_t> first_placed;
+  std::vector<WorldShape> placed;
+  std::vector<Mat33> placed_axes;
   bool enabled = true;         // off: every pair is tested (the reuse tests compare both)
   uint64_t reused = 0, tested = 0;  // shape pairs over the world's life (bench figures, not state)
 };

@@ -23,11 +23,16 @@ struct Shape {
   Pose local;          // in the body frame (whose origin is the centre of mass)
 };
 
+struct Mat33;
+
 // A shape placed in the world for collision: the body's pose composed with
-// the shape's local pose.
+// the shape's local pose, and, where the caller has it, the rotation matrix
+// of that orientation (collide's box functions read it: the narrowphase
+// computes it once per shape, not once per pair).
 struct WorldShape {
   const Shape* shape;
   Pose pose;
+  const Mat33* axes = nullptr;  // rotation(pose.orientation), or none
 };
 
 }  // namespace bitstep
