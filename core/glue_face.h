@@ -32,6 +32,12 @@ struct GlueFace {
   int8_t gram_bits = 0, inverse_det_bits = 0, alpha_bits = 0;
   int32_t point_count = 0;
   uint32_t first_point = 0, first_middle = 0;  // into GlueFaces::points and ::middles
+  // glue: its target linear velocity, the support's rigid motion at the
+  // mover's centroid, from the support's velocity (kept with it) and the
+  // row's offsets; and the mover's mass, from its inverse (kept with it).
+  bool has_target = false, has_mass = false;
+  Vec3 support_linear, support_angular, target_linear;
+  Fixed inverse_mass, mass;
 };
 
 // What glue_all did: glued, or nothing because the supports do not share

@@ -84,6 +84,9 @@ bool longer_than(Vec3 v, Fixed limit) {
 // levers and the rocking axes' Gram matrix.
 void measure_face(const ManifoldRow& m, const std::vector<PointRow>& rows, GlueFace& face, GlueFaces& faces) {
   face.state = GlueFace::State::never;
+  // A face slot serves another contact in another step: what glue kept of
+  // the last one (a target from other offsets) is not this one's.
+  face.has_target = face.has_mass = false;
   if (m.count < 3 || !m.rocking[0].active || !m.rocking[1].active) return;
   for (size_t i = 0; i < m.count; ++i) {
     if (rows[m.first + i].velocity_target > Fixed{}) return;
@@ -130,13 +133,28 @@ bool glue(SolverBody& mover, const SolverBody& support, const Body& body, bool m
   if (face.state == GlueFace::State::never) return false;
   const Vec3 r_mover = mover_is_b ? m.offset_b : m.offset_a;
   const Vec3 r_support = mover_is_b ? m.offset_a : m.offset_b;
-  // Target rates: the support's rigid motion continued to the mover.
+  // Target rates: the support's rigid motion continued to the mover. A
+  // face glues one mover to one support at the row's offsets, and the
+  // support stays frozen through the passes: the target is taken again
+  // while the support's velocity keeps its bits, and so is the mover's
+  // mass while its inverse does (the same values, so the same bits).
   const Vec3 w = support.velocity.angular;
-  const Vec3 v = support.velocity.linear + cross(w, r_support) - cross(w, r_mover);
+  if (!face.has_target || !(face.support_linear == support.velocity.linear) || !(face.support_angular == w)) {
+    face.target_linear = support.velocity.linear + cross(w, r_support) - cross(w, r_mover);
+    face.support_linear = support.velocity.linear;
+    face.support_angular = w;
+    face.has_target = true;
+  }
+  if (!face.has_mass || !(face.inverse_mass == mover.inverse_mass)) {
+    face.mass = Fixed::one() / mover.inverse_mass;
+    face.inverse_mass = mover.inverse_mass;
+    face.has_mass = true;
+  }
+  const Vec3 v = face.target_linear;
   const Vec3 dv = v - mover.velocity.linear, dw = w - mover.velocity.angular;
   // Impulse P through the centroid and angular impulse L about it:
   // m dv = P, I dw = r x P + L (I in world axes, applied through the body frame).
-  const Fixed mass = Fixed::one() / mover.inverse_mass;
+  const Fixed mass = face.mass;
   // m dv below 2^29; I dw (three products below 2^27, rotated: under
   // 0.65 2^30) less r x P (two products below 2^29): under 2^31. A body at
   // the world's clamps has m R <= 5.4e5 kg m < 2^20 and I <= m R^2 <= 2.7e6
