@@ -15,7 +15,9 @@ struct Vec3 {
   friend constexpr Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
   friend constexpr Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
   friend constexpr Vec3 operator-(Vec3 a) { return {-a.x, -a.y, -a.z}; }
-  friend constexpr Vec3 operator*(Vec3 a, Fixed s) { return {a.x * s, a.y * s, a.z * s}; }
+  // Inlined always, as cross below: out of line, gcc passes the vectors
+  // through the stack both ways, which costs about what the products do.
+  [[gnu::always_inline]] friend constexpr Vec3 operator*(Vec3 a, Fixed s) { return {a.x * s, a.y * s, a.z * s}; }
   friend constexpr Vec3 operator*(Fixed s, Vec3 a) { return a * s; }
   friend constexpr Vec3 operator/(Vec3 a, Fixed s) { return {a.x / s, a.y / s, a.z / s}; }
   constexpr Vec3& operator+=(Vec3 b) { return *this = *this + b; }
@@ -28,7 +30,7 @@ constexpr Fixed dot(Vec3 a, Vec3 b) {
   return Fixed::from_raw(raw::dot3<Wide>(a.x.raw(), b.x.raw(), a.y.raw(), b.y.raw(), a.z.raw(), b.z.raw()));
 }
 
-constexpr Vec3 cross(Vec3 a, Vec3 b) {
+[[gnu::always_inline]] constexpr Vec3 cross(Vec3 a, Vec3 b) {
   auto term = [](Fixed p, Fixed q, Fixed r, Fixed s) {  // p q - r s, rounded once
     return Fixed::from_raw(raw::mul_sub_mul<Wide>(p.raw(), q.raw(), r.raw(), s.raw()));
   };
