@@ -11,17 +11,23 @@
 
 #include "tools/bench/bitstep_engine.h"
 #include "tools/bench/report.h"
+#include "tools/bench/scene_specs.h"
 
 namespace bitstep::bench {
 
 namespace {
 
 // The program that runs the experiments on Bullet, or empty with why not.
-std::string find_peer(std::string& why_not) {
+std::string find_peer(const std::string& scenes, std::string& why_not) {
   const std::string path = executable_dir() + "/bitstep-bullet";
   if (access(path.c_str(), X_OK) != 0) {
     why_not = "Bullet comparison skipped: " + path +
               " was not built (install libbullet-dev - tools/install_deps.sh bench - and build again)";
+    return {};
+  }
+  const std::string stale = stale_program(path, scenes);
+  if (!stale.empty()) {
+    why_not = "Bullet comparison skipped: " + stale;
     return {};
   }
   return path;
@@ -40,6 +46,41 @@ std::string executable_dir() {
   std::error_code error;
   const auto self = std::filesystem::read_symlink("/proc/self/exe", error);
   return error ? std::string(".") : self.parent_path().string();
+}
+
+std::string bitstep_hash(const std::string& scene_path, int steps) {
+  SceneSpecs specs;
+  std::string reason;
+  if (!specs_from_scene_file(scene_path, specs, reason)) return "error: " + reason;
+  for (const Variant& v : bitstep_variants()) {
+    if (v.name != default_variant) continue;
+    auto engine = v.make(StepConfig{});
+    specs.add_to(*engine);
+    for (int i = 0; i < steps; ++i) engine->step();
+    return fmt::format("{:016x}", engine->state_hash());
+  }
+  return "-";
+}
+
+// A program built beside this one is from other sources when its bitstep
+// ends a short run of a moving scene on another hash: `cmake --build` of one
+// target (tools/run.sh builds `bitstep` alone) leaves the others as they
+// were. Timing or comparing such a program would report an old bitstep.
+std::string stale_program(const std::string& program, const std::string& scenes) {
+  constexpr int steps = 60;
+  const std::string scene = scenes + "/" + std::string(freshness_scene);
+  const std::string here = bitstep_hash(scene, steps);
+  if (here.rfind("error", 0) == 0) return {};  // no scene to check with: nothing to say
+  std::string there;
+  const std::string command =
+      fmt::format("{} hash {} --variant {} --steps {}", quote(program), quote(scene), default_variant, steps);
+  if (!capture(command, there)) return program + " failed: " + command;
+  while (!there.empty() && (there.back() == '\n' || there.back() == '\r')) there.pop_back();
+  if (there == here) return {};
+  return fmt::format(
+      "{} is not built from this bitstep's sources ({} steps of {}: {} there, {} here); "
+      "build every target again (cmake --build build/release)",
+      program, steps, freshness_scene, there, here);
 }
 
 std::string quote(const std::string& text) {
@@ -64,7 +105,8 @@ Context::Context(const Options& chosen) : options(chosen) {
   run_options.quick = options.quick;
   run_options.scenes_dir = options.scenes;
   for (const Variant& v : bitstep_variants()) variants.push_back(v.name);
-  if (options.peer) peer = find_peer(peer_note);
+  if (options.peer)
+    peer = find_peer(options.scenes, peer_note);
   else peer_note = "Bullet comparison skipped (--no-peer)";
   if (!peer.empty()) variants.push_back(std::string(peer_variant));
 }

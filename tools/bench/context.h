@@ -43,6 +43,14 @@ struct Row {
 
 // The folder of the running program (the peer programs are built beside it).
 std::string executable_dir();
+// The final state hash of bitstep's default variant after `steps` steps of a
+// scene file, hex ("error: ..." when the scene cannot be read).
+std::string bitstep_hash(const std::string& scene_path, int steps);
+// The scene a peer program's freshness is checked on: it moves from the start.
+inline constexpr std::string_view freshness_scene = "thrown.json";
+// Empty when `program` (built beside this one) runs this bitstep's sources;
+// otherwise why not, in one line.
+std::string stale_program(const std::string& program, const std::string& scenes);
 // 'text' for /bin/sh.
 std::string quote(const std::string& text);
 // Runs a command and returns its output (stdout and stderr); false when it fails.

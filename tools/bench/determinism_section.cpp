@@ -4,6 +4,7 @@
 #include <fmt/core.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <utility>
 
 #include "tools/bench/bitstep_engine.h"
@@ -20,20 +21,6 @@ struct HashRow {
   std::string engine, scene, build_o0, build_fast, this_build;
 };
 
-std::string this_build_hash(const std::string& path) {
-  SceneSpecs specs;
-  std::string reason;
-  if (!specs_from_scene_file(path, specs, reason)) return "error: " + reason;
-  for (const Variant& v : bitstep_variants()) {
-    if (v.name != default_variant) continue;
-    auto engine = v.make(StepConfig{});
-    specs.add_to(*engine);
-    for (int i = 0; i < steps; ++i) engine->step();
-    return fmt::format("{:016x}", engine->state_hash());
-  }
-  return "-";
-}
-
 // The hash from each peer program (and this build's, for bitstep); false
 // (noted) when a program fails.
 bool hash_row(Context& context, const std::string& o0, const std::string& fast, HashRow& row) {
@@ -48,8 +35,12 @@ bool hash_row(Context& context, const std::string& o0, const std::string& fast, 
     }
     while (!out->empty() && (out->back() == '\n' || out->back() == '\r')) out->pop_back();
   }
-  if (row.engine == default_variant) row.this_build = this_build_hash(path);
+  if (row.engine == default_variant) row.this_build = bitstep_hash(path, steps);
   return ok;
+}
+
+bool same_bits(const HashRow& r) {
+  return r.build_o0 == r.build_fast && (r.this_build == "-" || r.this_build == r.build_o0);
 }
 
 std::string determinism_markdown(const std::vector<HashRow>& hashes) {
@@ -59,9 +50,17 @@ std::string determinism_markdown(const std::vector<HashRow>& hashes) {
         "library is a prebuilt binary: only its header-inlined code changes with these flags.\n\n"
         "| engine | scene | -O0 | -O3 -ffast-math | this build | same bits? |\n|---|---|---|---|---|---|\n";
   for (const HashRow& r : hashes) {
-    const bool same = r.build_o0 == r.build_fast && (r.this_build == "-" || r.this_build == r.build_o0);
+    const bool same = same_bits(r);
     md += fmt::format("| {} | {} | `{}` | `{}` | `{}` | {} |\n", r.engine, r.scene, r.build_o0, r.build_fast,
                       r.this_build, same ? "yes" : "**no**");
+  }
+  const bool bitstep_differs = std::any_of(
+      hashes.begin(), hashes.end(), [](const HashRow& r) { return r.engine == default_variant && !same_bits(r); });
+  if (bitstep_differs) {
+    md +=
+        "\nA **no** on bitstep is a determinism bug, or peer programs built from older sources than this bitstep: "
+        "`cmake --build` of one target leaves the others as they were. Build every target "
+        "(`cmake --build build/release`) and run this section again before reading it as a bug.\n";
   }
   return md + "\n";
 }
@@ -76,9 +75,10 @@ Section run_determinism(Context& context) {
   const std::string dir = executable_dir();
   const std::string o0 = dir + "/bitstep-peer-O0", fast = dir + "/bitstep-peer-O3-fast-math";
   if (access(o0.c_str(), X_OK) != 0 || access(fast.c_str(), X_OK) != 0) {
-    const std::string note = "skipped: the peer programs bitstep-peer-O0 / bitstep-peer-O3-fast-math were not built "
-                             "(they need libbullet-dev and the CMake option BITSTEP_FLAG_PEERS, on unless tools/test.sh "
-                             "turned it off: tools/run.sh builds them)";
+    const std::string note =
+        "skipped: the peer programs bitstep-peer-O0 / bitstep-peer-O3-fast-math were not built "
+        "(they need libbullet-dev and the CMake option BITSTEP_FLAG_PEERS, on unless tools/test.sh "
+        "turned it off: `cmake --build build/release` after tools/run.sh builds them)";
     context.progress->note("determinism " + note);
     section.markdown = "## Determinism across builds\n\n" + note + "\n\n";
     return section;
