@@ -296,9 +296,26 @@ constexpr int64_t mul_add(int64_t a, int64_t b, int64_t c) {
   return r;
 }
 
-// a0 b0 + a1 b1 + a2 b2 rounded once.
+// dot3 through the exact accumulator: any operands.
 template <class U>
-constexpr int64_t dot3(int64_t a0, int64_t b0, int64_t a1, int64_t b1, int64_t a2, int64_t b2) {
+[[gnu::noinline]] constexpr int64_t dot3_accumulated(int64_t a0, int64_t b0, int64_t a1, int64_t b1, int64_t a2,
+                                                     int64_t b2) {
+  Accumulator<U> sum;
+  sum.add_product(a0, b0);
+  sum.add_product(a1, b1);
+  sum.add_product(a2, b2);
+  bool saturated = false;
+  const int64_t r = sum.to_raw(saturated);
+  BITSTEP_FAULT_IF(saturated, "dot", "result out of range, saturated", a0, b0);
+  return r;
+}
+
+// a0 b0 + a1 b1 + a2 b2 rounded once. With native 128-bit products the
+// common case (no 128-bit overflow) is inlined always: out of line, the
+// call's register saves cost about what its three products do; the rare
+// rest goes through the accumulator out of line.
+template <class U>
+[[gnu::always_inline]] constexpr int64_t dot3(int64_t a0, int64_t b0, int64_t a1, int64_t b1, int64_t a2, int64_t b2) {
 #if defined(BITSTEP_HAS_NATIVE_128)
   if constexpr (use_native_fast_path<U>) {
     native_i128 s = 0;
@@ -310,14 +327,7 @@ constexpr int64_t dot3(int64_t a0, int64_t b0, int64_t a1, int64_t b1, int64_t a
     }
   }
 #endif
-  Accumulator<U> sum;
-  sum.add_product(a0, b0);
-  sum.add_product(a1, b1);
-  sum.add_product(a2, b2);
-  bool saturated = false;
-  const int64_t r = sum.to_raw(saturated);
-  BITSTEP_FAULT_IF(saturated, "dot", "result out of range, saturated", a0, b0);
-  return r;
+  return dot3_accumulated<U>(a0, b0, a1, b1, a2, b2);
 }
 
 // a b - c d rounded once (one component of a cross product).
