@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages bitstep needs, only those missing.
 #   tools/install_deps.sh build   compiler, cmake and the libraries
-#   tools/install_deps.sh bench   build + gnuplot (the bench's plots) and Bullet (its optional peer)
+#   tools/install_deps.sh bench   build + gnuplot (the bench's plots), Bullet (its optional peer) and
+#                                 valgrind (its instruction counts)
 #   tools/install_deps.sh wasm    cmake, the header-only libraries, emscripten with node
 #   tools/install_deps.sh viewer  wasm + Chromium (the viewer's browser test)
 #   tools/install_deps.sh npm     npm, where node came without it (tools/viewer/install.sh)
@@ -10,7 +11,7 @@
 set -euo pipefail
 
 build_packages=(cmake make gcc g++ catch2 libcli11-dev libfmt-dev nlohmann-json3-dev libxxhash-dev libenet-dev pkg-config)
-bench_packages=(gnuplot-nox libbullet-dev)
+bench_packages=(gnuplot-nox libbullet-dev valgrind)
 # Debian's emscripten 3.1.6 with its prebuilt system libraries; emcc needs
 # node-acorn. nodejs: Debian's, unless a newer one is installed already.
 wasm_packages=(cmake make nlohmann-json3-dev libxxhash-dev emscripten node-acorn nodejs)

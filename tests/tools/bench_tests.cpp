@@ -62,12 +62,17 @@ TEST_CASE("fit_power_law recovers the exponent of exact power laws", "[bench]") 
 TEST_CASE("the speed table reports medians of the rounds and their ratio", "[bench]") {
   CHECK(median({3, 1, 2}) == 2);
   CHECK(median({4, 1, 3, 2}) == 2.5);
-  SpeedRow row{{"stack20.json", "standing", 60, 240}, {3, 1, 2}, {1, 2, 0.5}, {4, 3, 5}, {2, 2.5, 3}};
+  SpeedRow row{{"stack20.json", "standing", 60, 240}, {3, 1, 2}, {1, 2, 0.5}, {4, 3, 5}, {2, 2.5, 3}, 3.6e6, 1.2e6};
   const std::string md = speed_section({row}, "standard+shock", 2);
   // Wall clock: 4 ms on one thread, 2.5 on two (medians): 1.60x.
-  CHECK(md.find("| stack20.json | standing | 60-300 | 2 | 1 | 2.00x | 2.5 | 1.60x |") != std::string::npos);
+  // Instructions per step: 3.6M against 1.2M, 3.00x.
+  CHECK(md.find("| stack20.json | standing | 60-300 | 2 | 1 | 2.00x | 3.6M / 1.2M (3.00x) | 2.5 | 1.60x |") !=
+        std::string::npos);
   CHECK(md.find("median of 3 alternating rounds") != std::string::npos);
-  CHECK(speed_csv({row}, 2).find("stack20.json,standing,60,240,3,2,0.5,5,3\n") != std::string::npos);
+  CHECK(speed_csv({row}, 2).find("stack20.json,standing,60,240,3,2,0.5,5,3,3600000,1200000\n") != std::string::npos);
+  // Not counted (no valgrind): a dash, and zeros in the CSV.
+  row.bitstep_instructions = row.bullet_instructions = 0;
+  CHECK(speed_section({row}, "standard+shock", 2).find("| 2.00x | - | 2.5 |") != std::string::npos);
 }
 
 TEST_CASE("the speed section times the steps after the warm-up, in CPU and wall-clock time", "[bench]") {

@@ -34,6 +34,9 @@ struct SpeedRow {
   // One per round: CPU ms/step of bitstep and Bullet on one thread; wall
   // ms/step of bitstep on one thread and on the threaded column's workers.
   std::vector<double> bitstep_ms, bullet_ms, one_thread_wall_ms, threads_wall_ms;
+  // Instructions per timed step on one thread, counted once by callgrind;
+  // 0 when not counted (no valgrind).
+  double bitstep_instructions = 0, bullet_instructions = 0;
 };
 
 double median(std::vector<double> values);
