@@ -14,10 +14,12 @@ class Executor {
   // How many workers run() calls the task for (1: the step stays on the
   // caller's thread and never calls run()).
   virtual int workers() const = 0;
-  // Calls task(context, w) once for every w in [0, workers()), all at once
-  // on different threads (the caller's may be one of them), and returns when
-  // every call has returned. The calls wait for each other's progress: run
-  // one after another they would never return.
+  // Calls task(context, w) once for every w in [0, workers()), on threads of
+  // its choosing (the caller's may be one of them), and returns when every
+  // call has returned. The calls may wait for each other's progress
+  // (ordered_sweeps.h): a thread must not start a call while inside another,
+  // and no call may have to wait for another to return before it starts
+  // (run one after another on one thread they could never return).
   virtual void run(Task task, void* context) = 0;
 };
 

@@ -17,7 +17,9 @@ bool spin_until(Done done) {
 
 }  // namespace
 
-ThreadPool::ThreadPool(int workers) {
+ThreadPool::ThreadPool(int workers)
+    : claimed_(std::make_unique<std::atomic<uint64_t>[]>(static_cast<size_t>(workers))) {
+  for (int w = 0; w < workers; ++w) claimed_[static_cast<size_t>(w)].store(0, std::memory_order_relaxed);
   for (int w = 1; w < workers; ++w) threads_.emplace_back([this, w] { serve(w); });
 }
 
@@ -30,17 +32,30 @@ ThreadPool::~ThreadPool() {
   for (std::thread& thread : threads_) thread.join();
 }
 
+bool ThreadPool::claim(int worker, uint64_t job) {
+  std::atomic<uint64_t>& last = claimed_[static_cast<size_t>(worker)];
+  uint64_t before = last.load(std::memory_order_acquire);
+  return before < job && last.compare_exchange_strong(before, job, std::memory_order_acq_rel);
+}
+
 void ThreadPool::run(Task task, void* context) {
+  uint64_t job = 0;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     task_ = task;
     context_ = context;
-    running_.store(static_cast<int>(threads_.size()), std::memory_order_relaxed);
-    job_.fetch_add(1, std::memory_order_release);
+    done_.store(0, std::memory_order_relaxed);
+    job = job_.fetch_add(1, std::memory_order_release) + 1;
   }
   job_posted_.notify_all();
   task(context, 0);
-  const auto done = [this] { return running_.load(std::memory_order_acquire) == 0; };
+  const int shares = static_cast<int>(threads_.size());
+  for (int w = 1; w <= shares; ++w) {
+    if (!claim(w, job)) continue;
+    task(context, w);
+    done_.fetch_add(1, std::memory_order_acq_rel);
+  }
+  const auto done = [this, shares] { return done_.load(std::memory_order_acquire) == shares; };
   if (spin_until(done)) return;
   std::unique_lock<std::mutex> lock(mutex_);
   job_done_.wait(lock, done);
@@ -62,10 +77,11 @@ void ThreadPool::serve(int worker) {
       task = task_;
       context = context_;
     }
+    if (!claim(worker, seen)) continue;  // the caller ran this share
     task(context, worker);
-    // The last thread out wakes the caller if it sleeps (under the mutex,
-    // so the wake cannot fall between its test and its wait).
-    if (running_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
+    // The last share to return wakes the caller if it sleeps (under the
+    // mutex, so the wake cannot fall between its test and its wait).
+    if (done_.fetch_add(1, std::memory_order_acq_rel) + 1 == static_cast<int>(threads_.size())) {
       std::lock_guard<std::mutex> lock(mutex_);
       job_done_.notify_one();
     }

@@ -10,12 +10,25 @@
 // before it sleeps on the condition variable, and the caller watches for
 // the job's end as long before it sleeps: an idle pool sleeps, and never
 // spins longer than that after a job.
+//
+// A job's shares are claimed, each by whichever comes first: its own thread,
+// or the caller once the caller's share (worker 0) has returned. A step's
+// jobs come 0.1-1 ms apart, longer than the spin, so a thread is often
+// asleep when a job is posted: the caller then runs the shares the threads
+// have not claimed yet instead of waiting ~50 us for them to wake, and two
+// workers never take longer than one on a job that one thread does in less
+// than a wake-up. Which thread runs a share changes no bit (the shares write
+// their own slots, or keep the one-thread order: core/executor.h). The
+// caller claims only after its own share has returned, so shares that wait
+// for each other's progress still finish: each unclaimed share is claimed
+// by its own thread, which waits for nothing else.
 #pragma once
 
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -44,9 +57,14 @@ class ThreadPool final : public Executor {
   std::condition_variable job_posted_, job_done_;
   Task task_ = nullptr;               // written under mutex_ before job_ moves
   void* context_ = nullptr;
+  // Whether share `worker` of job `job` is this caller's or thread's to run.
+  bool claim(int worker, uint64_t job);
+
   std::atomic<uint64_t> job_{0};      // jobs posted so far (moved under mutex_)
-  std::atomic<int> running_{0};       // threads still in the current job
+  std::atomic<int> done_{0};          // shares 1.. of the current job returned
   std::atomic<bool> stopping_{false};  // set under mutex_
+  // Per share 1..: the last job it was claimed in.
+  std::unique_ptr<std::atomic<uint64_t>[]> claimed_;
 };
 
 }  // namespace bitstep

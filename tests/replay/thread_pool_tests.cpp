@@ -1,6 +1,7 @@
-// The thread pool runs each job once on every worker, returns only when all
-// are done, and sleeps when it has no work (it watches for the next job
-// only briefly after each one).
+// The thread pool runs each job's shares once each, returns only when all
+// are done, finishes shares that wait for each other's progress whichever
+// thread claims them, and sleeps when it has no work (it watches for the
+// next job only briefly after each one).
 #include <catch2/catch.hpp>
 
 #include <atomic>
@@ -33,6 +34,23 @@ double process_cpu_ms() {
   return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) * 1e-6;
 }
 
+// Shares that wait for each other, as the ordered sweeps do: share w waits
+// until share `waits_for(w)` has started (-1: for nothing).
+struct Chain {
+  std::vector<std::atomic<int>> started;
+  int (*waits_for)(int worker, int workers);
+  int workers;
+  explicit Chain(int n, int (*rule)(int, int)) : started(static_cast<size_t>(n)), waits_for(rule), workers(n) {}
+};
+
+void chained(void* context, int worker) {
+  Chain& chain = *static_cast<Chain*>(context);
+  chain.started[static_cast<size_t>(worker)].store(1, std::memory_order_release);
+  const int other = chain.waits_for(worker, chain.workers);
+  if (other < 0) return;
+  while (chain.started[static_cast<size_t>(other)].load(std::memory_order_acquire) == 0) std::this_thread::yield();
+}
+
 }  // namespace
 
 TEST_CASE("every worker runs every job once, and run returns after all of them", "[threads]") {
@@ -63,4 +81,25 @@ TEST_CASE("an idle thread pool sleeps instead of spinning", "[threads]") {
   // And it wakes for the next job.
   pool.run(count, &tally);
   CHECK(tally.total.load() == 4);
+}
+
+TEST_CASE("shares that wait for each other finish, the threads asleep or awake when a job comes", "[threads]") {
+  // Share 0 (the caller's) waits for the last share; or each share for the
+  // one before it; or share 1 for share 0 (run after it, on any thread).
+  const auto last = [](int worker, int workers) { return worker == 0 ? workers - 1 : -1; };
+  const auto previous = [](int worker, int) { return worker - 1; };
+  const auto first = [](int worker, int) { return worker == 1 ? 0 : -1; };
+  for (const int workers : {2, 3, 8}) {
+    for (int (*rule)(int, int) : {+last, +previous, +first}) {
+      ThreadPool pool(workers);
+      for (int job = 0; job < 40; ++job) {
+        INFO(workers << " workers, job " << job);
+        // Every other job after a pause past spin_time: the threads asleep.
+        if (job % 2 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        Chain chain(workers, rule);
+        pool.run(chained, &chain);
+        for (const std::atomic<int>& started : chain.started) REQUIRE(started.load() == 1);
+      }
+    }
+  }
 }
