@@ -122,7 +122,9 @@ struct Joint {
 // The most a joint keeps of any accumulated impulse, per component (N s;
 // the angular rows' N m s alike): 2^27, above the largest a step gives
 // at the envelope's bounds (1e5 kg stopped from twice the speed clamp,
-// 2 x 500 m/s: 1e8 N s) and far from the range.
+// 2 x 500 m/s: 1e8 N s) and far from the range. The solve can accumulate
+// more over steps (bodies driven apart step after step against a joint
+// that does not break): World::step clamps what a joint keeps to it.
 inline constexpr Fixed max_joint_impulse = Fixed::from_raw(int64_t{1} << 59);
 
 // Whether a joint as a world keeps it is one World::create_joint makes

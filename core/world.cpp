@@ -66,6 +66,24 @@ Fixed bounded_sum(Fixed a, Fixed b) {
 }
 Vec3 bounded_sum(Vec3 a, Vec3 b) { return {bounded_sum(a.x, b.x), bounded_sum(a.y, b.y), bounded_sum(a.z, b.z)}; }
 
+// The impulses a joint keeps for the next step's warm start, each
+// component within max_joint_impulse, as the state readers require of a
+// saved world. Two bodies driven apart step after step (a joint that
+// holds against ever larger blows, with no break_impulse) accumulate past
+// any one step's impulse; the bound is far above what a joint that holds
+// needs, so only such a joint's warm start changes.
+void keep_joint_impulses_in_bound(std::vector<Joint>& joints) {
+  const auto bound = [](Fixed& x) { x = clamp(x, -max_joint_impulse, max_joint_impulse); };
+  for (Joint& joint : joints) {
+    if (!joint.alive) continue;
+    for (Fixed* x : {&joint.point_impulse.x, &joint.point_impulse.y, &joint.point_impulse.z, &joint.distance_impulse,
+                     &joint.hinge_impulse[0], &joint.hinge_impulse[1], &joint.limit_impulse, &joint.angular_impulse.x,
+                     &joint.angular_impulse.y, &joint.angular_impulse.z, &joint.motor_impulse}) {
+      bound(*x);
+    }
+  }
+}
+
 }  // namespace
 
 uint64_t WorldInstance::next() {
@@ -551,6 +569,7 @@ void World::step() {
   // step's settings, on the islands of the last substep.
   if (settings_.sleep_method != SleepMethod::off) sleep_islands(settings_, bodies_, scratch_->sleep_scratch);
   break_joints();
+  keep_joint_impulses_in_bound(joints_);
   ++step_count_;
   report_events();
   remove_beyond_bound();
