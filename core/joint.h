@@ -4,6 +4,7 @@
 // split-impulse channel (or Baumgarte when the scene asks for it).
 #pragma once
 
+#include <array>
 #include <cstdint>
 
 #include "core/body.h"
@@ -126,6 +127,13 @@ struct Joint {
 // more over steps (bodies driven apart step after step against a joint
 // that does not break): World::step clamps what a joint keeps to it.
 inline constexpr Fixed max_joint_impulse = Fixed::from_raw(int64_t{1} << 59);
+
+// Every component of the impulses a joint keeps for its next warm start.
+inline std::array<Fixed*, 11> kept_impulses(Joint& joint) {
+  return {&joint.point_impulse.x,   &joint.point_impulse.y,   &joint.point_impulse.z, &joint.distance_impulse,
+          &joint.hinge_impulse[0],  &joint.hinge_impulse[1],  &joint.limit_impulse,   &joint.angular_impulse.x,
+          &joint.angular_impulse.y, &joint.angular_impulse.z, &joint.motor_impulse};
+}
 
 // Whether a joint as a world keeps it is one World::create_joint makes
 // between bodies a and b: create_joint's own checks of the numbers, unit

@@ -371,11 +371,7 @@ void keep_warm_start_in_range(const SolverBody& a, const SolverBody& b, const Jo
   }
   if (halvings == 0) return;
   const int64_t divisor = int64_t{1} << halvings;
-  for (Fixed* x : {&joint.point_impulse.x, &joint.point_impulse.y, &joint.point_impulse.z, &joint.distance_impulse,
-                   &joint.hinge_impulse[0], &joint.hinge_impulse[1], &joint.limit_impulse, &joint.angular_impulse.x,
-                   &joint.angular_impulse.y, &joint.angular_impulse.z, &joint.motor_impulse}) {
-    *x = Fixed::from_raw(x->raw() / divisor);  // toward zero: the same for either sign
-  }
+  for (Fixed* x : kept_impulses(joint)) *x = Fixed::from_raw(x->raw() / divisor);  // toward zero: either sign alike
 }
 
 }  // namespace

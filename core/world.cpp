@@ -76,11 +76,7 @@ void keep_joint_impulses_in_bound(std::vector<Joint>& joints) {
   const auto bound = [](Fixed& x) { x = clamp(x, -max_joint_impulse, max_joint_impulse); };
   for (Joint& joint : joints) {
     if (!joint.alive) continue;
-    for (Fixed* x : {&joint.point_impulse.x, &joint.point_impulse.y, &joint.point_impulse.z, &joint.distance_impulse,
-                     &joint.hinge_impulse[0], &joint.hinge_impulse[1], &joint.limit_impulse, &joint.angular_impulse.x,
-                     &joint.angular_impulse.y, &joint.angular_impulse.z, &joint.motor_impulse}) {
-      bound(*x);
-    }
+    for (Fixed* x : kept_impulses(joint)) bound(*x);
   }
 }
 
