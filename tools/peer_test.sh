@@ -19,7 +19,9 @@ scene=scenes/playground.json
 match=scenes/match
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-base=$((20000 + $$ % 20000))  # ports of this run
+# Ports of this run: below Linux's ephemeral range (32768 up), where the
+# system hands out ports to other programs' sockets, so a peer's port is free.
+base=$((20000 + $$ % 12000))
 status=0
 
 scripts() { for p in $(seq 0 $(($1 - 1))); do printf -- '--inputs %s/player%d.inputs.json ' "$match" "$p"; done; }
@@ -144,7 +146,7 @@ join_reference() {  # the chain after tick $1, with the host's roster changes $2
 }
 # Usage: rejoin NAME --join|--watch FLOOD(0|1)
 rejoin() {
-  local name=$1 how=$2 flood=$3 pids=() flooder=0 failed=0
+  local name=$1 how=$2 flood=$3 pids=() flooder=0 failed=0 ended
   offset=$((offset + 10))
   for p in 0 1 2; do
     local connect=()
@@ -154,7 +156,15 @@ rejoin() {
     pids+=($!)
   done
   sleep 4
-  kill "${pids[2]}"  # timeout passes the signal on: the peer dies without a word
+  # timeout passes the signal on: the peer dies without a word
+  if ! kill "${pids[2]}" 2>/dev/null; then
+    wait "${pids[2]}" && ended=0 || ended=$?
+    echo "peer_test.sh: $name: player 2 ended (status $ended) before it was to be killed:" >&2
+    cat "$out/join2.err" >&2
+    for pid in "${pids[0]}" "${pids[1]}"; do kill "$pid" 2>/dev/null || true; wait "$pid" || true; done
+    status=1
+    return
+  fi
   if [ "$flood" -eq 1 ]; then
     python3 - "$((base + offset))" <<'PY' &
 import os, random, socket, sys, time
