@@ -123,9 +123,12 @@ struct Joint {
 // The most a joint keeps of any accumulated impulse, per component (N s;
 // the angular rows' N m s alike): 2^27, above the largest a step gives
 // at the envelope's bounds (1e5 kg stopped from twice the speed clamp,
-// 2 x 500 m/s: 1e8 N s) and far from the range. The solve can accumulate
-// more over steps (bodies driven apart step after step against a joint
-// that does not break): World::step clamps what a joint keeps to it.
+// 2 x 500 m/s: 1e8 N s) and far from the range. Joints that cannot all
+// hold (two hinges on one pair of bodies whose axes differ in one body's frame)
+// trade ever larger impulses pass after pass: every row's accumulation is
+// held within the bound as it goes (bounded_total, joint_parts.h), and
+// World::step clamps what a joint keeps once more (a slider's projection
+// of its point impulse across its axis can lengthen a component).
 inline constexpr Fixed max_joint_impulse = Fixed::from_raw(int64_t{1} << 59);
 
 // Every component of the impulses a joint keeps for its next warm start.

@@ -103,7 +103,7 @@ void ConeJoint::solve_rows(const SolverBody& sa, const SolverBody& sb, BodyRates
   if (target.swing_on && !(in_tree && row.swing_in_tree)) {
     // The swing back toward the cone: an impulse >= 0 about s.
     const Fixed total =
-        clamp_swing(impulse.hinge[0] + row.hinge_mass[0] * (target.hinge[0] - spin(a, b, row.hinge[0])));
+        clamp_swing(bounded_total(impulse.hinge[0], row.hinge_mass[0] * (target.hinge[0] - spin(a, b, row.hinge[0]))));
     apply_paired(sa, sb, a, b, row, row.hinge[0], row.hinge_anchor[0], total - impulse.hinge[0], impulse.point);
     impulse.hinge[0] = total;
   }

@@ -25,7 +25,7 @@ void prepare_motor(const JointSetup& setup, JointRow& row, Vec3 axis) {
 void solve_motor(const SolverBody& sa, const SolverBody& sb, BodyRates& a, BodyRates& b, const JointRow& row,
                  const Targets& target, Impulses& impulse) {
   const Fixed change = row.motor_mass * (target.motor - spin(a, b, row.motor_turn));
-  const Fixed total = max(min(impulse.motor + change, row.motor_limit), -row.motor_limit);
+  const Fixed total = max(min(bounded_total(impulse.motor, change), row.motor_limit), -row.motor_limit);
   apply_paired(sa, sb, a, b, row, row.motor_turn, row.motor_anchor, total - impulse.motor, impulse.point);
   impulse.motor = total;
 }
@@ -92,8 +92,7 @@ void HingeJoint::solve_rows(const SolverBody& sa, const SolverBody& sb, BodyRate
                             const Targets& target, Impulses impulse, bool in_tree) {
   if (target.motor_on) solve_motor(sa, sb, a, b, row, target, impulse);
   for (int k = 0; k < 2 && !in_tree; ++k) {
-    const Fixed lambda = row.hinge_mass[k] * (target.hinge[k] - spin(a, b, row.hinge[k]));
-    impulse.hinge[k] += lambda;
+    const Fixed lambda = accumulate(impulse.hinge[k], row.hinge_mass[k] * (target.hinge[k] - spin(a, b, row.hinge[k])));
     apply_paired(sa, sb, a, b, row, row.hinge[k], row.hinge_anchor[k], lambda, impulse.point);
   }
   solve_angle_limit(sa, sb, a, b, row, target, impulse, in_tree);

@@ -65,6 +65,57 @@ struct Impulses {
   Fixed& motor;
 };
 
+// An accumulated impulse of a joint row after a change: total + change
+// held within +-max_joint_impulse (core/joint.h: more than any step gives
+// at the envelope's bounds). Joints whose rows contradict each other (two
+// hinges on one pair of bodies whose axes differ in one body's frame: the
+// C API fuzz target's finding) otherwise trade ever larger impulses,
+// pass after pass and step after step, until a sum wraps. `change` is held to twice
+// the bound first, so the sum of the two cannot wrap. Where nothing
+// reaches the bound the result is total + change, bit for bit. The one-
+// sided clamps (clamp_swing, clamp_limit, a rope's, a motor's) apply to the
+// result, which they keep within the bound.
+// The common case in one add and one compare: whether total + change
+// neither wraps nor leaves the bound (sum + bound in 0..2 bound, unsigned).
+inline bool sum_within_bound(Fixed total, Fixed change, int64_t& sum) {
+  constexpr uint64_t bound = max_joint_impulse.raw();
+  return !__builtin_add_overflow(total.raw(), change.raw(), &sum) && static_cast<uint64_t>(sum) + bound <= 2 * bound;
+}
+inline Fixed bounded_total(Fixed total, Fixed change) {
+  int64_t sum = 0;
+  if (sum_within_bound(total, change, sum)) return Fixed::from_raw(sum);
+  constexpr Fixed reach = Fixed::from_raw(max_joint_impulse.raw() * 2);
+  return clamp(total + clamp(change, -reach, reach), -max_joint_impulse, max_joint_impulse);
+}
+
+// total += change within the bound (bounded_total); returns the change made,
+// which is what the row applies to the bodies.
+inline Fixed accumulate(Fixed& total, Fixed change) {
+  int64_t sum = 0;
+  if (sum_within_bound(total, change, sum)) {
+    total = Fixed::from_raw(sum);
+    return change;
+  }
+  const Fixed next = bounded_total(total, change);
+  const Fixed made = next - total;
+  total = next;
+  return made;
+}
+inline Vec3 accumulate(Vec3& total, Vec3 change) {
+  return {accumulate(total.x, change.x), accumulate(total.y, change.y), accumulate(total.z, change.z)};
+}
+
+// A slider block's impulses (two rows across its axis, three angular
+// rows; core/joint_slider.cpp) added to the joint's: the linear rows' as a
+// world vector, the angular rows' about the world axes, each component
+// within the bound (bounded_total). The bodies take the lambdas as solved:
+// the world vector's components do not map back to the two rows.
+template <class Lambdas>
+void add_block_impulses(const JointRow& row, const Lambdas& lambda, Vec3& point, Vec3& angular) {
+  accumulate(point, row.slide[0].direction * lambda[0] + row.slide[1].direction * lambda[1]);
+  accumulate(angular, Vec3{lambda[2], lambda[3], lambda[4]});
+}
+
 // pi (rad) rounded to Q32.32: the angle limits' range.
 inline constexpr Fixed half_turn = Fixed::from_raw(0x3243F6A89);
 
@@ -141,8 +192,7 @@ inline void apply_paired(const SolverBody& sa, const SolverBody& sb, BodyRates& 
                          const AngularPart& part, Vec3 anchor, Fixed lambda, Vec3& point_impulse) {
   if (lambda == Fixed{}) return;
   apply_turn(a, b, part, lambda);
-  const Vec3 point = anchor * lambda;
-  point_impulse += point;
+  const Vec3 point = accumulate(point_impulse, anchor * lambda);
   apply_point(sa, sb, a, b, row.ra, row.rb, point);
 }
 
@@ -199,8 +249,7 @@ void prepare_motor_limit(const JointSetup& setup, JointRow& row);
 // The point block's own row-by-row solve (where the tree does not take it).
 inline void solve_point_rows(const SolverBody& sa, const SolverBody& sb, BodyRates& a, BodyRates& b,
                              const JointRow& row, const Targets& target, Impulses& impulse) {
-  const Vec3 lambda = row.point_mass * (target.point - anchor_rate(a, b, row.ra, row.rb));
-  impulse.point += lambda;
+  const Vec3 lambda = accumulate(impulse.point, row.point_mass * (target.point - anchor_rate(a, b, row.ra, row.rb)));
   apply_point(sa, sb, a, b, row.ra, row.rb, lambda);
 }
 
@@ -209,7 +258,8 @@ inline void solve_point_rows(const SolverBody& sa, const SolverBody& sb, BodyRat
 inline void solve_angle_limit(const SolverBody& sa, const SolverBody& sb, BodyRates& a, BodyRates& b,
                               const JointRow& row, const Targets& target, Impulses& impulse, bool in_tree) {
   if (!target.limit_on || (in_tree && row.limit_in_tree)) return;
-  const Fixed total = clamp_limit(row, impulse.limit + row.limit_mass * (target.limit - spin(a, b, row.limit)));
+  const Fixed total =
+      clamp_limit(row, bounded_total(impulse.limit, row.limit_mass * (target.limit - spin(a, b, row.limit))));
   apply_paired(sa, sb, a, b, row, row.limit, row.limit_anchor, total - impulse.limit, impulse.point);
   impulse.limit = total;
 }

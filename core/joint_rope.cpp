@@ -60,7 +60,7 @@ void RopeJoint::solve_rows(const SolverBody&, const SolverBody&, BodyRates& a, B
   if (!target.rope_on) return;
   // Pulling only: the impulse along the line from a to b is <= 0.
   const Fixed rate = relative_rate(a, b, row.rope);
-  const Fixed total = min(impulse.rope + row.rope.mass * (target.rope - rate), Fixed{});
+  const Fixed total = min(bounded_total(impulse.rope, row.rope.mass * (target.rope - rate)), Fixed{});
   apply_rate(a, b, row.rope, total - impulse.rope);
   impulse.rope = total;
 }

@@ -100,8 +100,7 @@ void prepare_axis(const JointSetup& setup, JointRow& row, Vec3 arm_a, Vec3 axis)
 void apply_block(BodyRates& a, BodyRates& b, const JointRow& row, const Fixed (&lambda)[block_rows], Vec3& point,
                  Vec3& angular) {
   for (int p = 0; p < block_rows; ++p) apply_rate(a, b, row.slide[p], lambda[p]);
-  point += row.slide[0].direction * lambda[0] + row.slide[1].direction * lambda[1];
-  angular += Vec3{lambda[2], lambda[3], lambda[4]};
+  add_block_impulses(row, lambda, point, angular);
 }
 
 // An impulse on the axis row with its paired block impulse.
@@ -118,7 +117,7 @@ void apply_axis(BodyRates& a, BodyRates& b, const JointRow& row, Fixed lambda, V
 void solve_axis_row(BodyRates& a, BodyRates& b, const JointRow& row, Fixed target, Fixed& accumulated, Fixed low,
                     Fixed high, Vec3& point, Vec3& angular) {
   const Fixed change = row.slide_axis_mass * (target - relative_rate(a, b, row.slide_axis));
-  const Fixed total = max(min(accumulated + change, high), low);
+  const Fixed total = max(min(bounded_total(accumulated, change), high), low);
   apply_axis(a, b, row, total - accumulated, point, angular);
   accumulated = total;
 }

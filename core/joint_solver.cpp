@@ -102,12 +102,12 @@ bool release_pulling_rows(std::vector<SolverBody>& bodies, std::vector<JointRow>
     if (layout.swing < 0 && layout.limit < 0) continue;
     const Impulses impulse = impulses_of(row);
     bool leaves = false;
-    if (layout.swing >= 0 && impulse.hinge[0] + tree.rhs[p].at[layout.swing] < -pull_tolerance) {
+    if (layout.swing >= 0 && bounded_total(impulse.hinge[0], tree.rhs[p].at[layout.swing]) < -pull_tolerance) {
       row.swing_in_tree = false;
       leaves = true;
     }
     if (layout.limit >= 0) {
-      const Fixed total = impulse.limit + tree.rhs[p].at[layout.limit];
+      const Fixed total = bounded_total(impulse.limit, tree.rhs[p].at[layout.limit]);
       if (row.limit_side > 0 ? total < -pull_tolerance : total > pull_tolerance) {
         row.limit_in_tree = false;
         leaves = true;
@@ -127,10 +127,9 @@ bool release_pulling_rows(std::vector<SolverBody>& bodies, std::vector<JointRow>
 void apply_slide_node(BodyRates& a, BodyRates& b, const JointRow& row, const Column& lambda, const NodeLayout& layout,
                       Impulses& impulse) {
   for (int k = 0; k < 5; ++k) apply_rate(a, b, row.slide[k], lambda.at[k]);
-  impulse.point += row.slide[0].direction * lambda.at[0] + row.slide[1].direction * lambda.at[1];
-  impulse.angular += Vec3{lambda.at[2], lambda.at[3], lambda.at[4]};
+  add_block_impulses(row, lambda.at, impulse.point, impulse.angular);
   if (layout.limit >= 0) {
-    const Fixed total = clamp_limit(row, impulse.limit + lambda.at[layout.limit]);
+    const Fixed total = clamp_limit(row, bounded_total(impulse.limit, lambda.at[layout.limit]));
     apply_rate(a, b, row.slide_axis, total - impulse.limit);
     impulse.limit = total;
   }
@@ -189,23 +188,20 @@ void solve_tree(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, Jo
       apply_slide_node(a, b, row, lambda, layout, impulse);
       continue;
     }
-    const Vec3 point{lambda.at[0], lambda.at[1], lambda.at[2]};
-    impulse.point += point;
+    const Vec3 point = accumulate(impulse.point, Vec3{lambda.at[0], lambda.at[1], lambda.at[2]});
     apply_point(sa, sb, a, b, row.ra, row.rb, point);
     if (layout.hinge >= 0) {
-      for (int k = 0; k < 2; ++k) {
-        impulse.hinge[k] += lambda.at[layout.hinge + k];
-        apply_turn(a, b, row.hinge[k], lambda.at[layout.hinge + k]);
-      }
+      for (int k = 0; k < 2; ++k)
+        apply_turn(a, b, row.hinge[k], accumulate(impulse.hinge[k], lambda.at[layout.hinge + k]));
     }
     // What rounding left on the wrong side of zero, taken back row by row.
     if (layout.swing >= 0) {
-      const Fixed total = clamp_swing(impulse.hinge[0] + lambda.at[layout.swing]);
+      const Fixed total = clamp_swing(bounded_total(impulse.hinge[0], lambda.at[layout.swing]));
       apply_turn(a, b, row.hinge[0], total - impulse.hinge[0]);
       impulse.hinge[0] = total;
     }
     if (layout.limit >= 0) {
-      const Fixed total = clamp_limit(row, impulse.limit + lambda.at[layout.limit]);
+      const Fixed total = clamp_limit(row, bounded_total(impulse.limit, lambda.at[layout.limit]));
       apply_turn(a, b, row.limit, total - impulse.limit);
       impulse.limit = total;
     }

@@ -68,10 +68,10 @@ Vec3 bounded_sum(Vec3 a, Vec3 b) { return {bounded_sum(a.x, b.x), bounded_sum(a.
 
 // The impulses a joint keeps for the next step's warm start, each
 // component within max_joint_impulse, as the state readers require of a
-// saved world. Two bodies driven apart step after step (a joint that
-// holds against ever larger blows, with no break_impulse) accumulate past
-// any one step's impulse; the bound is far above what a joint that holds
-// needs, so only such a joint's warm start changes.
+// saved world. The rows hold their accumulations within it as they solve
+// (bounded_total); this catches what is set outside them (a slider's
+// point impulse projected across its axis). The bound is far above what a
+// joint that holds needs, so only a joint that cannot hold is touched.
 void keep_joint_impulses_in_bound(std::vector<Joint>& joints) {
   const auto bound = [](Fixed& x) { x = clamp(x, -max_joint_impulse, max_joint_impulse); };
   for (Joint& joint : joints) {

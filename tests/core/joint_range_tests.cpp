@@ -13,11 +13,11 @@
 // and sliders near their speed limits, and a small body anchored far from
 // its joint (a die whose anchor lies 50 of its sizes away); none of these
 // cases is run here.
-#include <catch2/catch.hpp>
-
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 
+#include "core/joint_parts.h"
 #include "tests/core/test_world.h"
 #include "tests/test_support.h"
 
@@ -195,4 +195,29 @@ TEST_CASE("a light link between two sliders under heavy boxes swinging stays on 
       CHECK(peak <= start * 1.01);
     }
   }
+}
+
+TEST_CASE("a joint row's accumulated impulse stays within the bound, bit for bit below it", "[joint][range]") {
+  const Fixed bound = max_joint_impulse;
+  // Below the bound: the plain sum, and the change made is the change asked.
+  Fixed total = 1000.5_fx;
+  CHECK(accumulate(total, -250.25_fx) == -250.25_fx);
+  CHECK(total == 750.25_fx);
+  CHECK(bounded_total(-bound + 1.0_fx, -0.5_fx) == -bound + 0.5_fx);
+  // At it: held there, whatever the change, and only what fits is made.
+  total = bound - 1.0_fx;
+  CHECK(accumulate(total, 5.0_fx) == 1.0_fx);
+  CHECK(total == bound);
+  for (const Fixed change : {Fixed::max(), Fixed::lowest(), Fixed::from_raw(bound.raw() * 3)}) {
+    for (const Fixed start : {bound, -bound, Fixed{}}) {
+      const Fixed next = bounded_total(start, change);
+      CHECK(next >= -bound);
+      CHECK(next <= bound);
+      CHECK((change >= Fixed{} ? next >= start : next <= start));  // never against the change
+    }
+  }
+  Vec3 point{bound, -bound, Fixed{}};
+  const Vec3 made = accumulate(point, Vec3{Fixed::max(), Fixed::lowest(), 2.0_fx});
+  CHECK(made == Vec3{Fixed{}, Fixed{}, 2.0_fx});
+  CHECK(point == Vec3{bound, -bound, 2.0_fx});
 }
