@@ -313,7 +313,10 @@ const std::vector<uint8_t>* Session::checked_state(int64_t tick) const {
 }
 
 void Session::simulate(int64_t tick) {
-  if (config_.mode == SessionMode::rollback) save_state(tick - 1);  // the state this tick starts from
+  // The state this tick starts from, unless the ring holds it already (a
+  // checksum tick's state_after saved it; a rollback restored it).
+  const size_t start = static_cast<size_t>(tick - 1) % ring_.size();
+  if (config_.mode == SessionMode::rollback && ring_tick_[start] != tick - 1) save_state(tick - 1);
   const size_t k = static_cast<size_t>(tick) % used_.size();
   std::vector<PlayerInput>& used = used_[k];  // its strings' memory kept
   used.resize(static_cast<size_t>(config_.players));
@@ -335,6 +338,8 @@ void Session::roll_back() {
   rollback_from_ = INT64_MAX;
   const size_t k = static_cast<size_t>(from - 1) % ring_.size();
   if (ring_tick_[k] != from - 1 || !states_.restore(ring_[k], sim_.world()).ok()) return;  // cannot happen: our own state
+  // The states after `from` on are the mispredicted run's: saved again as it is run again.
+  for (int64_t t = from; t <= to; ++t) ring_tick_[static_cast<size_t>(t) % ring_.size()] = -1;
   for (int64_t t = from; t <= to; ++t) simulate(t);
   ++stats_.rollbacks;
   stats_.resimulated_ticks += to - from + 1;
