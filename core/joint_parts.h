@@ -65,22 +65,23 @@ struct Impulses {
   Fixed& motor;
 };
 
-// An accumulated impulse of a joint row after a change: total + change
-// held within +-max_joint_impulse (core/joint.h: more than any step gives
-// at the envelope's bounds). Joints whose rows contradict each other (two
-// hinges on one pair of bodies whose axes differ in one body's frame: the
-// C API fuzz target's finding) otherwise trade ever larger impulses,
-// pass after pass and step after step, until a sum wraps. `change` is held to twice
-// the bound first, so the sum of the two cannot wrap. Where nothing
-// reaches the bound the result is total + change, bit for bit. The one-
-// sided clamps (clamp_swing, clamp_limit, a rope's, a motor's) apply to the
-// result, which they keep within the bound.
-// The common case in one add and one compare: whether total + change
-// neither wraps nor leaves the bound (sum + bound in 0..2 bound, unsigned).
+// Whether total + change (raw, into `sum`) neither wraps nor leaves
+// +-max_joint_impulse: one add and one compare (sum + bound in 0..2 bound,
+// unsigned), the case of every joint that holds.
 inline bool sum_within_bound(Fixed total, Fixed change, int64_t& sum) {
   constexpr uint64_t bound = max_joint_impulse.raw();
   return !__builtin_add_overflow(total.raw(), change.raw(), &sum) && static_cast<uint64_t>(sum) + bound <= 2 * bound;
 }
+// An accumulated impulse of a joint row after a change: total + change
+// held within +-max_joint_impulse (core/joint.h: more than any step gives
+// at the envelope's bounds). Joints whose rows contradict each other (two
+// hinges on one pair of bodies whose axes differ in one body's frame: the
+// C API fuzz target's finding) otherwise trade ever larger impulses, pass
+// after pass and step after step, until a sum wraps. Past the bound,
+// `change` is held to twice it first, so the sum cannot wrap. Below it the
+// result is total + change, bit for bit. The one-sided clamps
+// (clamp_swing, clamp_limit, a rope's, a motor's) apply to the result,
+// which they keep within the bound.
 inline Fixed bounded_total(Fixed total, Fixed change) {
   int64_t sum = 0;
   if (sum_within_bound(total, change, sum)) return Fixed::from_raw(sum);
@@ -89,7 +90,8 @@ inline Fixed bounded_total(Fixed total, Fixed change) {
 }
 
 // total += change within the bound (bounded_total); returns the change made,
-// which is what the row applies to the bodies.
+// which is what the row applies to the bodies (`change` itself below the
+// bound, without the subtraction).
 inline Fixed accumulate(Fixed& total, Fixed change) {
   int64_t sum = 0;
   if (sum_within_bound(total, change, sum)) {
