@@ -431,16 +431,28 @@ void factor_positions(const std::vector<SolverBody>& bodies, const std::vector<J
       tree.scale[p].exponent[i] = i < row.tree_size ? scale_exponent(pivot.at[i][i]) : int8_t{0};
     }
     scale_block(pivot, row.tree_size, row.tree_size, tree.scale[p], tree.scale[p]);
-    // Each row's floor: in a tree that may have dependent rows, what its
-    // pivot may keep of its K_ii diagonal and still be a row of its own,
-    // 2^-24 of it and 64 raw units (rounding leaves a dependent row's
-    // pivot within ~2^-25 of its diagonal of 0: 11 raw units for a 128 kg
-    // box, 3,000 for a 0.05 kg one); elsewhere 0. (A 0.01 kg
-    // link holding 1e5 kg keeps 2^-36 of its diagonal: exact, as a tree
-    // held once is, but under any floor that catches rounding.)
+    // Each row's floor: in a tree held to immovable bodies at two or more
+    // joints (a loop through the world), what its pivot must keep of its
+    // K_ii diagonal to be a row of its own: 2^-5 of it, and 64 raw units;
+    // elsewhere 0. Such a tree may ask for what no motion gives: a beam
+    // pinned to a post and to an arm that turns, whose pins' span changes.
+    // Its rows along the beam then nearly depend on each other (only the
+    // beam's small tilt tells them apart), and the exact answer to the
+    // contradiction is a spin that grows as the tilt shrinks: 8.5e8 N s on
+    // a 100 t beam in one pass, and the beam flew off at the speed cap. A
+    // row that keeps less than 1/32 of its diagonal is dropped instead,
+    // and holds with the other joints' impulses alone (as does an exactly
+    // dependent row: two pins of a door, whose pivot rounding leaves a few
+    // raw units from 0). 1/32 was measured: 1/128 and 1/64 still let such
+    // beams and chains abort the checked build in 3,000 steps of 252
+    // cases; the pins of a 16-plank deck hung between two posts, which
+    // keep shrinking fractions of their diagonals, stay within 0.08 mm (at
+    // 1/16 one of its rows went, and they parted by 0.95 mm). A tree held
+    // once has no floor: a 0.01 kg link holding 1e5 kg keeps 2^-36 of its
+    // diagonal, exact, as a tree held once is.
     const bool may_depend = tree.holds_to_immovable[tree.component[p]] >= 2;
     for (int i = 0; i < row.tree_size; ++i) {
-      tree.floor[p].at[i] = may_depend ? Fixed::from_raw((pivot.at[i][i].raw() >> 24) + 64) : Fixed{};
+      tree.floor[p].at[i] = may_depend ? Fixed::from_raw((pivot.at[i][i].raw() >> 5) + 64) : Fixed{};
     }
     if (!recouple) continue;
     for (uint32_t c = tree.couplings_begin[p]; c < tree.couplings_begin[p + 1]; ++c) {
