@@ -1,11 +1,12 @@
 #include "replay/session.h"
 
 #include <algorithm>
+#include <limits>
 #include <utility>
 
 #include "replay/snapshot.h"
-#include "replay/state_hash.h"
 #include "replay/state_dump.h"
+#include "replay/state_hash.h"
 
 namespace bitstep {
 
@@ -17,6 +18,9 @@ namespace {
 int64_t window(const SessionConfig& c) {
   return c.max_prediction + c.input_delay + static_cast<int64_t>(max_inputs_per_message) + 2;
 }
+
+// host_asked_at_ before the host asks: long ago (frames_ minus it cannot overflow).
+constexpr int64_t never_asked = std::numeric_limits<int64_t>::min() / 2;
 
 // Confirmed hashes remembered (for confirmed_hash and late checksums).
 constexpr size_t remembered_hashes = 1024;
@@ -58,6 +62,8 @@ Session::Session(Simulation sim, SessionConfig config, ApplyInput apply)
       start_hash_(sim_.hash()),
       joined_(!config.joining),
       heard_at_(static_cast<size_t>(config.players), 0),
+      spoke_at_(static_cast<size_t>(config.players), 0),
+      host_asked_at_(static_cast<size_t>(config.players), never_asked),
       wants_in_(static_cast<size_t>(config.players), Presence::absent),
       join_tick_(static_cast<size_t>(config.players), 0),
       join_state_(static_cast<size_t>(config.players)) {
@@ -97,6 +103,20 @@ void Session::save_state(int64_t tick) {
 // The input of a player who does not play (absent, watching) is known: empty.
 bool Session::known(int player, int64_t tick) const {
   return !roster_.plays(player, tick) || inputs_[static_cast<size_t>(player)].count(tick) != 0;
+}
+
+// Whether this peer (not the host) must wait for the host to confirm the
+// tick before it confirms it (lockstep: runs it): a player plays there
+// whom the host asked for lately. The host may yet mark that player absent
+// from a tick it never got the input for; a tick the host has confirmed it
+// had every input for.
+bool Session::awaits_host(int64_t tick) const {
+  if (config_.local_player == 0 || config_.leave_after == 0 || acked_[0] >= tick) return false;
+  for (int p = 1; p < config_.players; ++p) {
+    const bool asked = frames_ - host_asked_at_[static_cast<size_t>(p)] < config_.leave_after;
+    if (p != config_.local_player && asked && roster_.plays(p, tick)) return true;
+  }
+  return false;
 }
 
 // The player's input for the tick, or its last one before (the prediction).
@@ -175,7 +195,7 @@ void Session::apply_roster(const RosterEvent& e) {
   roster_.set(e.player, e.from, e.presence);
   if (e.presence != Presence::absent) {
     wants_in_[p] = Presence::absent;
-    heard_at_[p] = frames_;
+    heard_at_[p] = spoke_at_[p] = frames_;
     if (e.player != config_.local_player) {
       join_tick_[p] = e.from;
       acked_[p] = e.from - 1;
@@ -206,6 +226,7 @@ void Session::run_roster() {
     const size_t k = static_cast<size_t>(p);
     if (p == config_.local_player) continue;
     const int64_t silent = frames_ - heard_at_[k];
+    const int half = std::max(1, config_.leave_after / 2);
     // A joiner is silent until its state reaches it: counted from the state on.
     const bool awaits_state = join_tick_[k] != 0 && !join_state_[k];
     if (host && config_.leave_after > 0 && roster_.follows(p) && silent >= config_.leave_after && !awaits_state &&
@@ -215,9 +236,16 @@ void Session::run_roster() {
     if (host && wants_in_[k] != Presence::absent && !roster_.follows(p) && !queued(p)) {
       next_roster_.push_back({0, 0, p, wants_in_[k]});
     }
-    // What a silent player sent to us and maybe not to others (the host
-    // above all: it decides where its inputs end).
-    if (config_.leave_after > 0 && silent >= std::max(1, config_.leave_after / 2)) {
+    // What a player sent to us and maybe not to others, the host above all
+    // (it decides where a leaver's inputs end): relayed when the player is
+    // silent to us, or when the host asked for it lately. The host asks by
+    // relaying a player whose own messages it has not had for half of
+    // `leave_after` (its relayed inputs count as news, not as its voice),
+    // with what it holds of it or nothing: a player may be silent to the
+    // host alone (it started late, its link to the host is cut).
+    const bool host_asks = host && roster_.follows(p) && frames_ - spoke_at_[k] >= half;
+    const bool asked = !host && frames_ - host_asked_at_[k] < config_.leave_after;
+    if (config_.leave_after > 0 && (silent >= half || asked || host_asks)) {
       const int64_t acked = acked_by_all(p);
       SessionMessage m;
       m.kind = SessionMessage::Kind::relay;
@@ -230,7 +258,7 @@ void Session::run_roster() {
         if (at->first != m.tick + static_cast<int64_t>(m.inputs.size())) break;
         m.inputs.push_back(at->second);
       }
-      if (!m.inputs.empty()) send(std::move(m));
+      if (!m.inputs.empty() || host_asks) send(std::move(m));
     }
     const int64_t joins = join_tick_[k];
     if (joins == 0) continue;
@@ -357,6 +385,7 @@ bool Session::advance() {
     ready = config_.mode == SessionMode::rollback || known(p, next);
   }
   if (config_.mode == SessionMode::rollback && next - confirmed_ > config_.max_prediction) ready = false;
+  if (config_.mode == SessionMode::lockstep && ready && awaits_host(next)) ready = false;
   if (!ready) {
     ++stats_.stalls;
     send_inputs();  // what the peers may have lost, again
@@ -374,7 +403,7 @@ void Session::confirm() {
     const int64_t c = confirmed_ + 1;
     bool all = true;
     for (int p = 0; p < config_.players && all; ++p) all = known(p, c);
-    if (!all) break;
+    if (!all || awaits_host(c)) break;
     confirmed_ = c;
     const uint64_t hash = hashes_[static_cast<size_t>(c) % hashes_.size()];  // run_tick_ has c: not confirmed, so kept
     confirmed_hashes_[c] = hash;
@@ -434,7 +463,7 @@ void Session::keep_join_state(int64_t c) {
     m.state = snapshot_of(state_after(c));
     send(m);
     join_state_[static_cast<size_t>(p)] = std::move(m);
-    heard_at_[static_cast<size_t>(p)] = frames_;
+    heard_at_[static_cast<size_t>(p)] = spoke_at_[static_cast<size_t>(p)] = frames_;
   }
 }
 
@@ -442,6 +471,9 @@ void Session::check_checksum(int64_t tick, int player) {
   const auto local = confirmed_hashes_.find(tick);
   const auto theirs = remote_checksums_.find(std::pair<int64_t, int>{tick, player});
   if (desync_ || local == confirmed_hashes_.end() || theirs == remote_checksums_.end()) return;
+  // A player absent at the tick is not in the match there: its hash is of
+  // a run of its own (one the host gave up on while it played on unheard).
+  if (roster_.at(player, tick) == Presence::absent) return;
   if (theirs->second == local->second) return;
   desync_ = Desync{tick, player, local->second, theirs->second, {}};
   const std::vector<uint8_t>* state = checked_state(tick);
@@ -493,6 +525,8 @@ bool Session::receive(const SessionMessage& m) {
       if (m.subject < 0 || m.subject >= config_.players || !m.roster.empty()) return refuse();
       // Our own inputs, relayed by a peer that stopped hearing us: we have them.
       if (m.subject != config_.local_player && !receive_inputs(m, m.subject)) return refuse();
+      // The host's: it does not hear the player itself, and asks for its inputs.
+      if (m.player == 0 && m.subject != config_.local_player) host_asked_at_[static_cast<size_t>(m.subject)] = frames_;
       break;
     case SessionMessage::Kind::checksum:
       remote_checksums_[std::pair<int64_t, int>{m.tick, m.player}] = m.checksum;
@@ -520,7 +554,7 @@ bool Session::receive(const SessionMessage& m) {
     case SessionMessage::Kind::join_check: break;
   }
   acked_[static_cast<size_t>(m.player)] = std::max(acked_[static_cast<size_t>(m.player)], m.ack);
-  heard_at_[static_cast<size_t>(m.player)] = frames_;
+  heard_at_[static_cast<size_t>(m.player)] = spoke_at_[static_cast<size_t>(m.player)] = frames_;
   confirm();
   return true;
 }
@@ -620,7 +654,7 @@ void Session::try_join() {
   for (size_t p = 0; p < inputs_.size(); ++p) {
     inputs_[p].clear();
     acked_[p] = c;
-    heard_at_[p] = frames_;
+    heard_at_[p] = spoke_at_[p] = frames_;
   }
   // A player's input for its first `input_delay` ticks is empty; a spectator gives none.
   const int delay = config_.watching ? 0 : config_.input_delay;

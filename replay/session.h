@@ -36,8 +36,9 @@
 // every peer applies them at the same tick. A player the host has heard
 // nothing from for `leave_after` frames is marked absent from the first
 // tick whose input the host never got (the others first relay to it every
-// input of the silent player they hold); its inputs from then on are
-// empty, and its own inputs for those ticks are refused. A player may join
+// input of the silent player they hold, once it asks; a player silent to
+// the host alone plays on through those relays); its inputs from then on
+// are empty, and its own inputs for those ticks are refused. A player may join
 // (or rejoin) a slot that is absent: the host announces it present from
 // its next input's tick T, and once it has confirmed T - 1 sends the joiner
 // its snapshot after T - 1; every peer sends the joiner the hash it
@@ -174,6 +175,7 @@ class Session {
 
  private:
   bool known(int player, int64_t tick) const;
+  bool awaits_host(int64_t tick) const;
   const PlayerInput& input_for(int player, int64_t tick, bool& predicted) const;
   void save_state(int64_t tick);
   std::vector<uint8_t> snapshot_of(const std::vector<uint8_t>& state);
@@ -236,6 +238,8 @@ class Session {
   int64_t first_tick_ = 0;
   int64_t frames_ = 0;                                   // advance calls
   std::vector<int64_t> heard_at_;                        // per player: the frame it was last heard (or relayed)
+  std::vector<int64_t> spoke_at_;                        // per player: the frame its own message last came
+  std::vector<int64_t> host_asked_at_;                   // per player: the frame the host last relayed (asked for) it
   std::vector<RosterEvent> next_roster_;                 // the host's: for its next input
   std::map<int64_t, std::vector<RosterEvent>> roster_at_;  // the host's: by the tick of the input carrying them
   std::vector<Presence> wants_in_;                       // the host's: slots asked for (absent: none)

@@ -124,6 +124,80 @@ TEST_CASE("a spectator joins a free slot at tick 200 and follows the match on th
   }
 }
 
+TEST_CASE("a player the host alone cannot hear plays on: its peers relay its inputs to the host", "[session][join]") {
+  // Player 1's messages never reach the host for its first 3 x leave_after
+  // frames (a process that started late on a loaded machine, a link cut
+  // one way), while player 2 hears it from the start and confirms ticks
+  // with its inputs. The host asks for what it lacks, player 2 relays it,
+  // and nobody is marked absent. Before, peers relayed only the players
+  // they themselves found silent: the host marked player 1 absent from
+  // tick 1 and player 2, which had confirmed tick 1 with its input,
+  // reported a desync (the CI failure of tools/peer_test.sh's rejoin part).
+  constexpr int64_t ticks = 400;
+  for (const SessionMode mode : {SessionMode::lockstep, SessionMode::rollback}) {
+    for (const int64_t cut_from : {int64_t{0}, int64_t{100}}) {
+      INFO((mode == SessionMode::lockstep ? "lockstep" : "rollback") << ", cut from frame " << cut_from);
+      Match match(3, mode, 1, {10, 3, 9, 5}, 1, leave_after);
+      int64_t now = 0;
+      const int64_t cut_until = cut_from + 3 * leave_after;
+      match.deliver = [&](int to, const SessionMessage& m) {
+        return !(to == 0 && m.player == 1 && now > cut_from && now <= cut_until);
+      };
+      while (now <= cut_until) match.frame(++now, ticks);
+      now = match.play(ticks, now);
+      const std::vector<uint64_t> expected = reference_chain(3, 1, ticks);
+      for (int p = 0; p < 3; ++p) {
+        INFO("peer " << p << " after " << now << " frames");
+        const Session& s = *match.peers[static_cast<size_t>(p)];
+        CHECK(changes_of(s, 1).empty());
+        CHECK_FALSE(s.desync());
+        REQUIRE(s.confirmed_tick() >= ticks);
+        CHECK(slice(match.chains[static_cast<size_t>(p)], 0, ticks) == slice(expected, 0, ticks));
+      }
+    }
+  }
+}
+
+TEST_CASE("a peer that first hears a player as the host gives it up waits for the host's word", "[session][join]") {
+  // Player 1 is silent to everyone for its first frames; its messages reach
+  // player 2 from frame leave_after - 2 on, the host never. The host gives
+  // it up at frame leave_after, before any relay can reach it (3 to 9
+  // frames on the way): absent from tick 2, its first input. Player 2,
+  // asked by the host, holds tick 2 (which it could run with player 1's
+  // input) until the host confirms it, and applies the absence without a
+  // desync. (Without the hold: "roster: player 1 changes from tick 2,
+  // confirmed here already".) Player 1 plays on unheard; its checksums,
+  // for ticks where it is absent, are not compared.
+  constexpr int64_t ticks = 300;
+  for (const SessionMode mode : {SessionMode::lockstep, SessionMode::rollback}) {
+    INFO((mode == SessionMode::lockstep ? "lockstep" : "rollback"));
+    Match match(3, mode, 1, {10, 3, 9, 5}, 1, leave_after);
+    int64_t now = 0;
+    match.deliver = [&](int to, const SessionMessage& m) {
+      return m.player != 1 || (to == 2 && now >= leave_after - 2);
+    };
+    while (now < 4 * leave_after) match.frame(++now, ticks);
+    match.online[1] = false;  // given up: it plays on unheard, and leaves the match here
+    now = match.play(ticks, now);
+    const Session& host = *match.peers[0];
+    const auto changes = changes_of(host, 1);
+    REQUIRE(changes.size() == 1);
+    INFO("absent from " << changes[0].first);
+    CHECK(changes[0] == std::pair<int64_t, Presence>{2, Presence::absent});  // its first input, after the delay
+    const std::vector<uint64_t> expected = reference_chain(3, 1, ticks, host.roster_log());
+    for (const int p : {0, 2}) {
+      INFO("peer " << p << " after " << now << " frames");
+      const Session& s = *match.peers[static_cast<size_t>(p)];
+      if (s.desync())
+        UNSCOPED_INFO("desync at " << s.desync()->tick << " with " << s.desync()->player << ": "
+                                   << s.desync()->difference);
+      CHECK_FALSE(s.desync());
+      REQUIRE(s.confirmed_tick() >= ticks);
+      CHECK(slice(match.chains[static_cast<size_t>(p)], 0, ticks) == slice(expected, 0, ticks));
+    }
+  }
+}
+
 TEST_CASE("a joiner refuses a forged or stale state and waits for the one the peers checked", "[session][join]") {
   constexpr int64_t ticks = 400;
   Match match(3, SessionMode::rollback, 1, {10, 3, 9, 5}, 1, leave_after);
