@@ -242,7 +242,7 @@ TEST_CASE("a 16-plank deck hung between two posts holds its pins within 0.5 mm a
   // hangs in a V, 10 degrees down from each post: taut and straight, it
   // could not sag without stretching. (Longer decks, or a crate of ten
   // planks' mass, tear it apart at any floor: the tension's transverse
-  // stiffness, core/README.md's open findings.)
+  // stiffness, core/README.md, the joint tree's floors.)
   TestWorld t;
   constexpr int planks = 16;
   const Fixed width = 0.5_fx;
