@@ -1,7 +1,7 @@
 // The world envelope's corners (tests/envelope_corners.h) through every
 // command: `run --json --events --trace`, `record` with the largest impulse
 // and force at the farthest point and a velocity set past the clamps, and
-// `--trace`, `verify --trace` and `synctest`: exit 0 and nothing on stderr
+// `--trace`, `verify --trace`, `synctest` and `bench sleep`: exit 0 and nothing on stderr
 // (the checked build, whose binary the checked tests run, aborts on any
 // saturation, and its sanitizers report there), the same trace from record
 // and verify, and step 0's velocities as written.
@@ -76,6 +76,14 @@ void sweep(const std::string& name, const std::string& scene, const std::vector<
   check("verify sweep.replay.json --trace verify.csv");
   CHECK(read_all(dir / "record.csv") == read_all(dir / "verify.csv"));
   check("synctest sweep.replay.json --frames 8");
+  // The bench's commands that read a scene of the user's (`bench sleep`
+  // reads stack20.json and pyramid20.json from --scenes): the scene
+  // stepped awake, then with each sleep method until all sleeps (600 steps
+  // at most), the sleepers checked still.
+  std::ofstream(dir / "stack20.json") << scene;
+  std::ofstream(dir / "pyramid20.json") << scene;
+  check("bench sleep --quick --scenes .");
+  check("bench sleep --quick --still --scenes .");
   const std::vector<std::vector<double>> written = first_velocities(read_all(dir / "run.csv"));
   for (size_t i = 0; i < thrown.size(); ++i) {
     INFO(thrown[i].name);
