@@ -8,8 +8,9 @@
 # both at tick 200 with the body and field; an intruder that does not fit
 # the match is refused while the match plays on; a peer killed mid-match is
 # marked absent and a new process rejoins (or watches in) its slot, all on
-# the reference chain of that roster, under a flood of random datagrams; and
-# the sync test rolls
+# the reference chain of that roster, under a flood of random datagrams; a
+# joiner refuses the state of a host whose world was corrupted (not what the
+# other player confirmed) and never runs; and the sync test rolls
 # the playground's golden replay back 8 ticks after every tick. Each run is
 # bounded by `timeout`. Usage: tools/peer_test.sh [BITSTEP]
 set -euo pipefail
@@ -141,8 +142,8 @@ join_script() { [ "$1" -eq 2 ] && echo "$out/busy2.inputs.json" || echo "$match/
 # started late on a loaded CI machine) is given up, absent from its first
 # input: a roster the test does not expect. (One that another peer heard
 # plays on through its relays: replay/README.md, "Leaving".)
-join_options=(--scene "$scene" --players 3 --mode rollback --hz 100 --leave-after 100 --loss 10 --jitter 50-150
-  --timeout 60 --json)
+join_common=(--scene "$scene" --players 3 --mode rollback --hz 100 --leave-after 100 --loss 10 --jitter 50-150 --json)
+join_options=("${join_common[@]}" --timeout 60)
 join_reference() {  # the chain after tick $1, with the host's roster changes $2 (word-split on purpose)
   # shellcheck disable=SC2086
   "$bitstep" peer --reference --scene "$scene" --players 3 --inputs "$match/player0.inputs.json" \
@@ -233,6 +234,58 @@ PY
 }
 rejoin "rejoin under a datagram flood" --join 1
 rejoin "a spectator in a dropped player's slot" --watch 0
+
+# A joiner refuses a state that is not the one its peers confirmed: the
+# host's world has one bit flipped before tick 150 (--corrupt; no checksum
+# in the match, so nobody notices), so its state for the joiner hashes to
+# what the host confirmed, not to what player 1 did. The joiner refuses it
+# each time it comes, never runs, and times out; the host, which never hears
+# from it, gives the slot up again; host and player 1 finish.
+refused_join() {
+  local pids=() failed=0 ended roster err
+  offset=$((offset + 10))
+  for p in 0 1 2; do
+    local connect=() corrupt=()
+    for q in $(seq 0 $((p - 1))); do connect+=(--connect "127.0.0.1:$((base + offset + q))"); done
+    [ "$p" -eq 0 ] && corrupt=(--corrupt ball.0@150)
+    timeout 90 "$bitstep" peer "${join_options[@]}" --checksum-every 3600 "${corrupt[@]}" --player "$p" \
+      --port $((base + offset + p)) "${connect[@]}" --inputs "$(join_script "$p")" --seed $((p + 1)) \
+      >"$out/forged$p.json" 2>"$out/forged$p.err" &
+    pids+=($!)
+  done
+  sleep 4
+  if ! kill "${pids[2]}" 2>/dev/null; then
+    wait "${pids[2]}" && ended=0 || ended=$?
+    echo "peer_test.sh: refused join: player 2 ended (status $ended) before it was to be killed:" >&2
+    cat "$out/forged2.err" >&2
+    for pid in "${pids[0]}" "${pids[1]}"; do kill "$pid" 2>/dev/null || true; wait "$pid" || true; done
+    status=1
+    return
+  fi
+  wait "${pids[2]}" || true
+  sleep 1
+  local joiner=0
+  timeout 60 "$bitstep" peer "${join_common[@]}" --timeout 8 --checksum-every 3600 --player 2 --join \
+    --port $((base + offset + 3)) --connect "127.0.0.1:$((base + offset))" --connect "127.0.0.1:$((base + offset + 1))" \
+    --inputs "$(join_script 2)" --seed 9 >"$out/forged3.json" 2>"$out/forged3.err" || joiner=$?
+  for pid in "${pids[0]}" "${pids[1]}"; do wait "$pid" || failed=1; done
+  roster=$(sed -n 's/.*"roster": "\([^"]*\)".*/\1/p' "$out/forged0.json")
+  err=$(cat "$out/forged3.err")
+  if [ "$failed" -ne 0 ]; then
+    echo "peer_test.sh: refused join: the host or player 1 failed:" >&2
+    cat "$out"/forged[01].err >&2
+    status=1
+  elif [ "$joiner" -ne 1 ] || [[ "$err" != *"timed out"*"confirmed 0, "[1-9]*" refused"* ]]; then
+    echo "peer_test.sh: refused join: the joiner did not refuse the state and time out (status $joiner): $err" >&2
+    status=1
+  elif [[ "$roster" != "--absent 2@"*" --present 2@"*" --absent 2@"* ]]; then
+    echo "peer_test.sh: refused join: the host's roster is '$roster', not a drop, a return and a drop" >&2
+    status=1
+  else
+    echo "refused join: the joiner refused the corrupted host's state and never ran (${err#bitstep peer: }); host: $roster"
+  fi
+}
+refused_join
 
 # GGPO's sync test on the playground's golden inputs: the golden chain.
 "$bitstep" synctest scenes/playground.replay.json --frames 8 || status=1

@@ -17,7 +17,8 @@
 #      WebAssembly under node;
 #   7. bitstep peer processes on 127.0.0.1 playing a match, 2 and 4 peers,
 #      lockstep and rollback, with and without faults, and a killed peer's
-#      slot rejoined or watched (tools/peer_test.sh), alone;
+#      slot rejoined or watched, a corrupted host's state refused by a joiner
+#      (tools/peer_test.sh), alone;
 #   8. the browser viewer: its wasm engine (the one 6 built) under node, then
 #      the page in headless Chromium (tools/viewer_test.sh).
 # The cross check writes to build/crosscheck.log, printed under its heading
