@@ -150,27 +150,36 @@ join_reference() {  # the chain after tick $1, with the host's roster changes $2
     --inputs "$match/player1.inputs.json" --inputs "$(join_script 2)" --chain-from "$1" $2 --json >"$out/jref.json"
   chain_of "$out/jref.json"
 }
-# Usage: rejoin NAME --join|--watch FLOOD(0|1)
-rejoin() {
-  local name=$1 how=$2 flood=$3 pids=() flooder=0 failed=0 ended
-  offset=$((offset + 10))
+# Starts players 0-2 of a join match (ports base+offset..), their output
+# in $out/PREFIXk.json and .err, into the caller's `pids`; ARGS go to every
+# player, the caller's `host_args` to player 0 alone. Then, 4 s in, kills
+# player 2 (timeout passes the signal on: it dies without a word); if it
+# ended before, says why, stops the other two and fails.
+start_and_drop_player_2() {  # NAME PREFIX ARGS...
+  local name=$1 prefix=$2 ended
+  shift 2
   for p in 0 1 2; do
-    local connect=()
+    local connect=() extra=()
     for q in $(seq 0 $((p - 1))); do connect+=(--connect "127.0.0.1:$((base + offset + q))"); done
-    timeout 90 "$bitstep" peer "${join_options[@]}" --player "$p" --port $((base + offset + p)) "${connect[@]}" \
-      --inputs "$(join_script "$p")" --seed $((p + 1)) >"$out/join$p.json" 2>"$out/join$p.err" &
+    [ "$p" -eq 0 ] && extra=("${host_args[@]}")
+    timeout 90 "$bitstep" peer "${join_options[@]}" "$@" "${extra[@]}" --player "$p" --port $((base + offset + p)) \
+      "${connect[@]}" --inputs "$(join_script "$p")" --seed $((p + 1)) >"$out/$prefix$p.json" 2>"$out/$prefix$p.err" &
     pids+=($!)
   done
   sleep 4
-  # timeout passes the signal on: the peer dies without a word
-  if ! kill "${pids[2]}" 2>/dev/null; then
-    wait "${pids[2]}" && ended=0 || ended=$?
-    echo "peer_test.sh: $name: player 2 ended (status $ended) before it was to be killed:" >&2
-    cat "$out/join2.err" >&2
-    for pid in "${pids[0]}" "${pids[1]}"; do kill "$pid" 2>/dev/null || true; wait "$pid" || true; done
-    status=1
-    return
-  fi
+  kill "${pids[2]}" 2>/dev/null && return 0
+  wait "${pids[2]}" && ended=0 || ended=$?
+  echo "peer_test.sh: $name: player 2 ended (status $ended) before it was to be killed:" >&2
+  cat "$out/${prefix}2.err" >&2
+  for pid in "${pids[0]}" "${pids[1]}"; do kill "$pid" 2>/dev/null || true; wait "$pid" || true; done
+  status=1
+  return 1
+}
+# Usage: rejoin NAME --join|--watch FLOOD(0|1)
+rejoin() {
+  local name=$1 how=$2 flood=$3 pids=() host_args=() flooder=0 failed=0
+  offset=$((offset + 10))
+  start_and_drop_player_2 "$name" join || return 0
   if [ "$flood" -eq 1 ]; then
     python3 - "$((base + offset))" <<'PY' &
 import os, random, socket, sys, time
@@ -242,26 +251,9 @@ rejoin "a spectator in a dropped player's slot" --watch 0
 # each time it comes, never runs, and times out; the host, which never hears
 # from it, gives the slot up again; host and player 1 finish.
 refused_join() {
-  local pids=() failed=0 ended roster err
+  local pids=() host_args=(--corrupt ball.0@150) failed=0 roster err
   offset=$((offset + 10))
-  for p in 0 1 2; do
-    local connect=() corrupt=()
-    for q in $(seq 0 $((p - 1))); do connect+=(--connect "127.0.0.1:$((base + offset + q))"); done
-    [ "$p" -eq 0 ] && corrupt=(--corrupt ball.0@150)
-    timeout 90 "$bitstep" peer "${join_options[@]}" --checksum-every 3600 "${corrupt[@]}" --player "$p" \
-      --port $((base + offset + p)) "${connect[@]}" --inputs "$(join_script "$p")" --seed $((p + 1)) \
-      >"$out/forged$p.json" 2>"$out/forged$p.err" &
-    pids+=($!)
-  done
-  sleep 4
-  if ! kill "${pids[2]}" 2>/dev/null; then
-    wait "${pids[2]}" && ended=0 || ended=$?
-    echo "peer_test.sh: refused join: player 2 ended (status $ended) before it was to be killed:" >&2
-    cat "$out/forged2.err" >&2
-    for pid in "${pids[0]}" "${pids[1]}"; do kill "$pid" 2>/dev/null || true; wait "$pid" || true; done
-    status=1
-    return
-  fi
+  start_and_drop_player_2 "refused join" forged --checksum-every 3600 || return 0
   wait "${pids[2]}" || true
   sleep 1
   local joiner=0
