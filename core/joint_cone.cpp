@@ -117,6 +117,11 @@ void ConeJoint::solve_friction(const SolverBody& sa, const SolverBody& sb, BodyR
 
 bool ConeJoint::breaks(const Joint& joint) { return length(joint.point_impulse) > joint.break_impulse; }
 
+// An engaged swing and twist limit must be in the tree.
+bool ConeJoint::tree_alone(const JointRow& row) {
+  return row.is_tree_node() && (!row.swing_active || row.swing_in_tree) && (row.limit_side == 0 || row.limit_in_tree);
+}
+
 // A cone's twist: a's reference carried by the swing (the shortest turn
 // taking a's axis onto b's, about k = axis_a x axis_b / sin, by Rodrigues'
 // formula), then its angle to b's reference about b's axis. Measured about

@@ -112,4 +112,9 @@ void HingeJoint::solve_friction(const SolverBody&, const SolverBody&, BodyRates&
 
 bool HingeJoint::breaks(const Joint& joint) { return length(joint.point_impulse) > joint.break_impulse; }
 
+// Its motor is a row of its own; an engaged limit must be in the tree.
+bool HingeJoint::tree_alone(const JointRow& row) {
+  return row.is_tree_node() && !row.motor && (row.limit_side == 0 || row.limit_in_tree);
+}
+
 }  // namespace bitstep

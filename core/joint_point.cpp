@@ -38,4 +38,6 @@ void PointJoint::solve_friction(const SolverBody& sa, const SolverBody& sb, Body
 
 bool PointJoint::breaks(const Joint& joint) { return length(joint.point_impulse) > joint.break_impulse; }
 
+bool PointJoint::tree_alone(const JointRow& row) { return row.is_tree_node(); }
+
 }  // namespace bitstep

@@ -69,4 +69,7 @@ void RopeJoint::solve_friction(const SolverBody&, const SolverBody&, BodyRates&,
 
 bool RopeJoint::breaks(const Joint& joint) { return -joint.distance_impulse > joint.break_impulse; }
 
+// A taut rope is a one-sided row of its own, solved row by row.
+bool RopeJoint::tree_alone(const JointRow& row) { return !row.rope_active && row.rope_push_target == Fixed{}; }
+
 }  // namespace bitstep

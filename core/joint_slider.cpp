@@ -225,6 +225,12 @@ void SliderJoint::solve_friction(const SolverBody&, const SolverBody&, BodyRates
 
 bool SliderJoint::breaks(const Joint& joint) { return length(joint.point_impulse) > joint.break_impulse; }
 
+// Its motor is a row of its own along the axis; an engaged limit must be
+// in the tree.
+bool SliderJoint::tree_alone(const JointRow& row) {
+  return row.is_tree_node() && !row.motor && (row.limit_side == 0 || row.limit_in_tree);
+}
+
 Fixed slider_translation(const Joint& joint, const Body& a, const Body& b) {
   const Vec3 anchor_a = a.pose.apply(joint.local_anchor_a), anchor_b = b.pose.apply(joint.local_anchor_b);
   return dot(anchor_b - anchor_a, rotate(a.pose.orientation, joint.local_axis_a));

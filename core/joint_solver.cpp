@@ -135,16 +135,49 @@ void apply_slide_node(BodyRates& a, BodyRates& b, const JointRow& row, const Col
   }
 }
 
+// A tree island's residual below which its tree is held for the rest of
+// the solve on that rate (tree_islands.h): 2^-20 m/s or rad/s, a drift of
+// about 1e-8 m a step at 60 Hz. A healthy tree's is a few ulp after one
+// solve; a 10 g link holding a 100 t ball needs a few passes to reach it.
+constexpr Fixed tree_residual_tolerance = Fixed::from_raw(int64_t{1} << 12);
+
+// Each tree island's tree whose residual (tree.rhs, per row) is within
+// tree_residual_tolerance is held: its rows' rhs set to 0 (their lambda
+// is then exactly 0: solve_tree), marked `held` for the later passes.
+// Uses tree.residual per position. Returns whether a row is left to solve.
+bool hold_converged_trees(std::vector<JointRow>& rows, JointTree& tree, bool JointRow::*held) {
+  const size_t n = tree.row_of.size();
+  std::vector<Fixed>& largest = tree.residual;
+  largest.assign(n, Fixed{});
+  for (size_t p = 0; p < n; ++p) {
+    Fixed& most = largest[tree.component[p]];
+    for (int k = 0; k < tree.size[p]; ++k) most = max(most, abs(tree.rhs[p].at[k]));
+  }
+  bool left = false;
+  for (size_t p = 0; p < n; ++p) {
+    JointRow& row = rows[tree.row_of[p]];
+    if (row.tree_island && largest[tree.component[p]] <= tree_residual_tolerance) {
+      row.*held = true;
+      tree.rhs[p] = Column{};
+    } else {
+      for (int k = 0; k < tree.size[p]; ++k) left = left || tree.rhs[p].at[k] != Fixed{};
+    }
+  }
+  return left;
+}
+
 // Every joint's tree rows at once on one rate of the bodies: lambda = K^-1
 // (target - J v), solved again while an engaged row pulls
-// (release_pulling_rows), then each joint's impulses applied. A joint
+// (release_pulling_rows), then each joint's impulses applied. Returns
+// whether a row left the tree. A joint
 // that takes no part in this pass (an island's extra pass: solve_joints)
 // gets b = 0: its tree's lambda is exactly 0 (no tree couples to another),
 // and its bodies keep their bits.
 template <class Rate, class TargetsOf, class ImpulsesOf, class TakesPart>
-void solve_tree(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree, Rate rate_of,
-                TargetsOf targets_of, ImpulsesOf impulses_of, TakesPart takes_part) {
-  for (;;) {
+bool solve_tree(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree, Rate rate_of,
+                TargetsOf targets_of, ImpulsesOf impulses_of, TakesPart takes_part, bool JointRow::*held) {
+  bool released = false;
+  for (bool first = true;; first = false) {
     for (size_t p = 0; p < tree.row_of.size(); ++p) {
       const JointRow& row = rows[tree.row_of[p]];
       if (!takes_part(row)) {
@@ -171,8 +204,10 @@ void solve_tree(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, Jo
       if (layout.swing >= 0) rhs.at[layout.swing] = target.hinge[0] - spin(a, b, row.hinge[0]);
       if (layout.limit >= 0) rhs.at[layout.limit] = target.limit - spin(a, b, row.limit);
     }
+    if (first && !hold_converged_trees(rows, tree, held)) return false;
     solve_joint_tree(tree, tree.rhs);
     if (!release_pulling_rows(bodies, rows, tree, impulses_of, takes_part)) break;
+    released = true;
   }
   for (size_t p = 0; p < tree.row_of.size(); ++p) {
     JointRow& row = rows[tree.row_of[p]];
@@ -206,6 +241,20 @@ void solve_tree(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, Jo
       impulse.limit = total;
     }
   }
+  return released;
+}
+
+// A row that left the tree in a tree island (tree_islands.h) is solved
+// row by row from here on: its tree takes every pass. (A row that joins
+// the tree was not tree_alone, so its island was never a tree island.)
+void end_tree_island(std::vector<JointRow>& rows, const JointTree& tree) {
+  for (size_t p = 0; p < tree.row_of.size(); ++p) {
+    const JointRow& left = rows[tree.row_of[p]];
+    if (!left.released || !left.tree_island) continue;
+    for (size_t q = 0; q < tree.row_of.size(); ++q) {
+      if (tree.component[q] == tree.component[p]) rows[tree.row_of[q]].tree_island = false;
+    }
+  }
 }
 
 // Whether a swing or limit row that binds in a pass joins the tree for the
@@ -223,7 +272,10 @@ enum class Promote : bool { none, binding };
 // by one).
 template <class Rate, class TargetsOf, class ImpulsesOf, class TakesPart>
 void solve_pass(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree, Rate rate_of,
-                TargetsOf targets_of, ImpulsesOf impulses_of, TakesPart takes_part, Promote promote) {
+                TargetsOf targets_of, ImpulsesOf impulses_of, TakesPart takes_part, Promote promote,
+                bool JointRow::*held) {
+  // Nothing takes part: the tree's lambda would be exactly 0 (solve_tree).
+  if (std::none_of(rows.begin(), rows.end(), takes_part)) return;
   bool promoted = false;
   for (JointRow& row : rows) {
     if (!takes_part(row)) continue;
@@ -244,7 +296,7 @@ void solve_pass(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, Jo
   }
   if (!tree.exact) return;
   if (promoted) refactor_joint_tree(bodies, rows, tree);
-  solve_tree(bodies, rows, tree, rate_of, targets_of, impulses_of, takes_part);
+  if (solve_tree(bodies, rows, tree, rate_of, targets_of, impulses_of, takes_part, held)) end_tree_island(rows, tree);
 }
 
 BodyRates& velocity_of(SolverBody& body) { return body.velocity; }
@@ -277,8 +329,8 @@ void set_tree_axes(JointRow& row) {
 
 }  // namespace
 
-void prepare_joint_rows(const Settings& settings, const std::vector<Body>& bodies, std::vector<Joint>& joints,
-                        const std::vector<SolverBody>& solver_bodies, std::vector<JointRow>& rows, JointTree& tree) {
+void build_joint_rows(const Settings& settings, const std::vector<Body>& bodies, std::vector<Joint>& joints,
+                      const std::vector<SolverBody>& solver_bodies, std::vector<JointRow>& rows) {
   rows.clear();
   const Fixed inverse_dt = Fixed::one() / settings.dt;
   const Fixed factor = settings.baumgarte ? settings.baumgarte_factor : settings.split_impulse_factor;
@@ -302,6 +354,11 @@ void prepare_joint_rows(const Settings& settings, const std::vector<Body>& bodie
   for (JointRow& row : rows) {
     if (row.is_tree_node()) set_tree_axes(row);
   }
+}
+
+void prepare_joint_rows(const Settings& settings, const std::vector<Body>& bodies, std::vector<Joint>& joints,
+                        const std::vector<SolverBody>& solver_bodies, std::vector<JointRow>& rows, JointTree& tree) {
+  build_joint_rows(settings, bodies, joints, solver_bodies, rows);
   factor_joint_tree(solver_bodies, rows, tree);
 }
 
@@ -383,7 +440,7 @@ void warm_start_joints(std::vector<SolverBody>& bodies, const std::vector<JointR
 
 void solve_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree, int extra_pass) {
   const auto takes_part = [extra_pass](const JointRow& row) {
-    return extra_pass < 0 || row.extra_velocity_passes > extra_pass;
+    return !row.velocity_held && (extra_pass < 0 || row.extra_velocity_passes > extra_pass);
   };
   for (JointRow& row : rows) {
     if (!row.friction || !takes_part(row)) continue;
@@ -392,27 +449,33 @@ void solve_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, 
     with_joint_type(row.joint->type,
                     [&](auto type) { decltype(type)::solve_friction(a, b, a.velocity, b.velocity, row); });
   }
-  solve_pass(bodies, rows, tree, velocity_of, velocity_targets, velocity_impulses, takes_part, Promote::binding);
+  solve_pass(bodies, rows, tree, velocity_of, velocity_targets, velocity_impulses, takes_part, Promote::binding,
+             &JointRow::velocity_held);
 }
 
 void push_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree, int extra_pass) {
   const auto takes_part = [extra_pass](const JointRow& row) {
-    return extra_pass < 0 || row.extra_position_passes > extra_pass;
+    return !row.push_held && (extra_pass < 0 || row.extra_position_passes > extra_pass);
   };
-  solve_pass(bodies, rows, tree, push_of, push_targets, push_impulses, takes_part, Promote::none);
+  solve_pass(bodies, rows, tree, push_of, push_targets, push_impulses, takes_part, Promote::none, &JointRow::push_held);
+}
+
+Fixed largest_push_target(const JointRow& row) {
+  Fixed largest;
+  const auto take = [&](Fixed target) { largest = max(largest, abs(target)); };
+  take(row.point_push_target.x);
+  take(row.point_push_target.y);
+  take(row.point_push_target.z);
+  take(row.rope_push_target);
+  take(row.hinge_push_target[0]);
+  take(row.hinge_push_target[1]);
+  take(row.limit_push_target);
+  for (const Fixed target : row.slide_push_target) take(target);
+  return largest;
 }
 
 bool joints_to_push(const std::vector<JointRow>& rows) {
-  for (const JointRow& row : rows) {
-    if (row.point_push_target != Vec3{} || row.rope_push_target != Fixed{} || row.hinge_push_target[0] != Fixed{} ||
-        row.hinge_push_target[1] != Fixed{} || row.limit_push_target != Fixed{}) {
-      return true;
-    }
-    for (const Fixed target : row.slide_push_target) {
-      if (target != Fixed{}) return true;
-    }
-  }
-  return false;
+  return std::any_of(rows.begin(), rows.end(), [](const JointRow& row) { return largest_push_target(row) != Fixed{}; });
 }
 
 bool over_break_impulse(const Joint& joint) {

@@ -110,6 +110,11 @@ struct JointRow {
   Fixed slide_axis_mass;
   // The passes its island runs beyond the world's (island_passes.h).
   uint16_t extra_velocity_passes = 0, extra_position_passes = 0;
+  // The tree alone holds its island (tree_islands.h): once a pass finds
+  // its tree's residual within tree_residual_tolerance on a rate, it takes
+  // part in no later pass on that rate (velocity_held, push_held).
+  bool tree_island = false;
+  bool velocity_held = false, push_held = false;
   // Split impulses, this solve's only.
   Vec3 point_push_impulse;
   Fixed rope_push_impulse, hinge_push_impulse[2], limit_push_impulse;
@@ -117,8 +122,10 @@ struct JointRow {
   Fixed motor_push_impulse;  // always 0: a motor pushes nothing
 };
 
-// Rows for every live joint with an awake dynamic body, in joint order,
-// and their point blocks' tree factorised (joint_tree.h).
+// Rows for every live joint with an awake dynamic body, in joint order.
+void build_joint_rows(const Settings& settings, const std::vector<Body>& bodies, std::vector<Joint>& joints,
+                      const std::vector<SolverBody>& solver_bodies, std::vector<JointRow>& rows);
+// The same, and their point blocks' tree factorised (joint_tree.h).
 void prepare_joint_rows(const Settings& settings, const std::vector<Body>& bodies, std::vector<Joint>& joints,
                         const std::vector<SolverBody>& solver_bodies, std::vector<JointRow>& rows, JointTree& tree);
 void warm_start_joints(std::vector<SolverBody>& bodies, const std::vector<JointRow>& rows);
@@ -127,11 +134,14 @@ void warm_start_joints(std::vector<SolverBody>& bodies, const std::vector<JointR
 // block where the joints close a loop. extra_pass >= 0: one of the passes
 // beyond the world's (core/island_passes.h), over the joints whose island
 // runs more than extra_pass of them; the others are left as they are.
+// A held row (velocity_held) takes part in no pass.
 void solve_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree, int extra_pass = -1);
 // One position pass over the joints (on the push rates), likewise. Whether
 // any row has something to push.
 void push_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree, int extra_pass = -1);
 bool joints_to_push(const std::vector<JointRow>& rows);
+// The row's largest push target (m/s or rad/s).
+Fixed largest_push_target(const JointRow& row);
 
 // The angle of b's reference vector about the hinge axis, from a's (rad,
 // -pi..pi): 0 at creation. For a cone, the twist: b's reference projected

@@ -94,6 +94,7 @@ struct JointTree {
   // Workspace, kept from step to step.
   std::vector<Block> pivot;
   std::vector<Column> rhs;
+  std::vector<Fixed> residual;  // per tree (at its lowest position): the largest |rhs| (joint_solver.cpp)
   std::vector<uint32_t> parent, depth, position_of, body_rows, body_rows_begin, queue;
   std::vector<Coupling> unsorted;
   std::vector<uint32_t> owner;  // per unsorted coupling: the position it belongs to

@@ -27,6 +27,9 @@
 //   solve_friction(sa, sb, a, b, row)
 //                       its friction on the velocities (where row.friction)
 //   breaks(joint)       whether its impulse this step passed break_impulse
+//   tree_alone(row)     whether the tree solve takes all its rows this step
+//                       (an exact tree: solve_rows with in_tree does nothing;
+//                       friction is the caller's test), tree_islands.h
 // Internal to core/.
 #pragma once
 
@@ -46,7 +49,8 @@ namespace bitstep {
   static void solve_rows(const SolverBody& sa, const SolverBody& sb, BodyRates& a, BodyRates& b, JointRow& row,      \
                          const Targets& target, Impulses impulse, bool in_tree);                                     \
   static void solve_friction(const SolverBody& sa, const SolverBody& sb, BodyRates& a, BodyRates& b, JointRow& row); \
-  static bool breaks(const Joint& joint);
+  static bool breaks(const Joint& joint);                                                                            \
+  static bool tree_alone(const JointRow& row);
 
 // Ball and socket (joint_point.cpp).
 struct PointJoint {

@@ -8,6 +8,7 @@
 #include "core/position_passes.h"
 #include "core/shock.h"
 #include "core/soft_step.h"
+#include "core/tree_islands.h"
 
 namespace bitstep {
 
@@ -191,6 +192,12 @@ void plan_passes(Solve& s) {
   s.passes = plan.all_passes;
 }
 
+// Which joint islands one tree solve holds (tree_islands.h).
+void mark_tree_islands(Solve& s) {
+  mark_tree_islands(s.bodies(), *s.rows, *s.manifold_rows, s.tyre_rows(), s.context.joints.tree, s.joint_rows(),
+                    s.scratch().tree_islands);
+}
+
 // Without warm starting (and in the collision pass, whose impulses are its
 // own) every row starts from zero.
 void begin_impulses(Solve& s) {
@@ -370,11 +377,10 @@ constexpr Stage collision_stages[] = {gather,           prepare_joints,  prepare
                                       iterate,          write_back_copies, moving_passes,  store_impulses,
                                       island_passes,    keep_collision_impulses, write_velocities};
 // The standard solve and the guendelman contact pass.
-constexpr Stage contact_stages[] = {gather,           prepare_joints,    prepare_contacts, plan_passes,
-                                    begin_impulses,   split_rows,        sweep_on_workers, warm_start,
-                                    iterate,          write_back_copies, moving_passes,    store_impulses,
-                                    island_passes,    shock_step,        position_passes,  write_velocities,
-                                    write_push};
+constexpr Stage contact_stages[] = {
+    gather,         prepare_joints,   prepare_contacts, plan_passes,     mark_tree_islands, begin_impulses,
+    split_rows,     sweep_on_workers, warm_start,       iterate,         write_back_copies, moving_passes,
+    store_impulses, island_passes,    shock_step,       position_passes, write_velocities,  write_push};
 
 // The soft step (Settings::soft_substeps).
 constexpr Stage soft_stages[] = {gather,    prepare_joints, prepare_contacts, begin_impulses, soft_step,

@@ -17,6 +17,7 @@
 #include "core/soft_step.h"
 #include "core/solver_rows.h"
 #include "core/stable_pool.h"
+#include "core/tree_islands.h"
 
 namespace bitstep {
 
@@ -76,6 +77,7 @@ struct SolverScratch {
   // The passes beyond the world's for islands whose joints ask for more.
   IslandPasses island_passes;
   HeldIslands held_islands;  // the velocity passes per island (held_islands.h)
+  TreeIslands tree_islands;  // the joint islands one tree solve holds (tree_islands.h)
   PositionScratch positions;  // the position passes' (position_passes.h)
 };
 

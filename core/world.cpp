@@ -594,7 +594,7 @@ void World::substep(const Settings& s) {
   }
   if (driving) record_tyre_forces(scratch_->tyres, s.dt, cars_);
   bitstep::integrate_positions(s, bodies_, scratch_->push, scratch_->solver_scratch.start_velocities, contacts_, joints_, scratch_->tyres, scratch_->touching);
-  project_joints(s, bodies_, joints_, scratch_->joint_projection);
+  project_joints(s, bodies_, joints_, scratch_->joint_rows, scratch_->joint_projection);
 }
 
 // settings_.substeps substeps of dt / n (rounded once: n of them differ
