@@ -122,6 +122,10 @@ bool ConeJoint::tree_alone(const JointRow& row) {
   return row.is_tree_node() && (!row.swing_active || row.swing_in_tree) && (row.limit_side == 0 || row.limit_in_tree);
 }
 
+// Its swing and twist limits are not measured here: the projection builds
+// its rows.
+Fixed ConeJoint::position_error(const Joint&, const Body&, const Body&) { return Fixed::max(); }
+
 // A cone's twist: a's reference carried by the swing (the shortest turn
 // taking a's axis onto b's, about k = axis_a x axis_b / sin, by Rodrigues'
 // formula), then its angle to b's reference about b's axis. Measured about

@@ -117,4 +117,18 @@ bool HingeJoint::tree_alone(const JointRow& row) {
   return row.is_tree_node() && !row.motor && (row.limit_side == 0 || row.limit_in_tree);
 }
 
+// The anchors' gap; the axes' misalignment, |axis_b x axis_a| bounded by
+// its components' sum (each angular row closes its part along p_k); and
+// how far the angle is past either limit.
+Fixed HingeJoint::position_error(const Joint& joint, const Body& a, const Body& b) {
+  const Vec3 misalignment =
+      cross(rotate(b.pose.orientation, joint.local_axis_b), rotate(a.pose.orientation, joint.local_axis_a));
+  Fixed error = max(largest_gap(joint, a, b), abs(misalignment.x) + abs(misalignment.y) + abs(misalignment.z));
+  if (joint.limited) {
+    const Fixed angle = hinge_angle(joint, a, b);
+    error = max(error, max(joint.lower_angle - angle, angle - joint.upper_angle));
+  }
+  return error;
+}
+
 }  // namespace bitstep

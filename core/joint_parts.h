@@ -31,6 +31,18 @@ inline Vec3 anchor_gap(const JointSetup& setup, const JointRow& row) {
   return (setup.body_b.pose.position + row.rb) - (setup.body_a.pose.position + row.ra);
 }
 
+// b's anchor from a's (m) at the bodies' poses, from the joint alone.
+inline Vec3 anchor_gap(const Joint& joint, const Body& a, const Body& b) {
+  return (b.pose.position + rotate(b.pose.orientation, joint.local_anchor_b)) -
+         (a.pose.position + rotate(a.pose.orientation, joint.local_anchor_a));
+}
+
+// Its largest component (m).
+inline Fixed largest_gap(const Joint& joint, const Body& a, const Body& b) {
+  const Vec3 gap = anchor_gap(joint, a, b);
+  return max(max(abs(gap.x), abs(gap.y)), abs(gap.z));
+}
+
 // The joint's axis as each body carries it (local_axis_a, local_axis_b),
 // in the world frame at the step's poses.
 struct AxisPair {

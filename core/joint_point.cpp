@@ -40,4 +40,7 @@ bool PointJoint::breaks(const Joint& joint) { return length(joint.point_impulse)
 
 bool PointJoint::tree_alone(const JointRow& row) { return row.is_tree_node(); }
 
+// The anchors' gap, each component as prepare_point_rows closes it.
+Fixed PointJoint::position_error(const Joint& joint, const Body& a, const Body& b) { return largest_gap(joint, a, b); }
+
 }  // namespace bitstep

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/islands.h"
+#include "core/joint_types.h"
 #include "fixed/mat33.h"
 #include "fixed/quat.h"
 
@@ -37,46 +38,59 @@ constexpr int max_passes = 2;
 // mm into its chest.
 constexpr Fixed projection_tolerance = Fixed::from_raw(int64_t{1} << 14);
 
-// Drops the rows of the trees (joints joined through movable bodies) that
-// were tree islands in the step's solve and whose every push target closes
-// less than projection_tolerance in the step. Trees are factorised and
-// solved apart (joint_tree.h), so the others' projection has the bits it
-// would have with them.
-void drop_trees_within_tolerance(const std::vector<SolverBody>& bodies, Fixed dt, JointProjection& scratch) {
-  std::vector<JointRow>& rows = scratch.rows;
+// Takes out of the projection (marks not alive, in scratch.joints, the
+// joints' copy) the trees (joints joined through awake dynamic bodies)
+// whose joints all were in tree islands in the step's solve and are all
+// within projection_tolerance of holding (each type's position_error).
+// Trees are factorised and solved apart (joint_tree.h), so the others'
+// projection has the bits it would have with them.
+void leave_settled_trees(const std::vector<Body>& bodies, JointProjection& scratch) {
+  std::vector<Joint>& joints = scratch.joints;
   std::vector<uint32_t>& parent = scratch.parent;
   parent.resize(bodies.size());
   for (uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
-  for (const JointRow& row : rows) {
-    if (!immovable(bodies[row.a]) && !immovable(bodies[row.b])) unite(parent, row.a, row.b);
+  for (const Joint& joint : joints) {
+    if (joint.alive && is_awake_dynamic(bodies[joint.body_a]) && is_awake_dynamic(bodies[joint.body_b])) {
+      unite(parent, joint.body_a, joint.body_b);
+    }
   }
-  const auto root_of = [&](const JointRow& row) { return find_root(parent, immovable(bodies[row.a]) ? row.b : row.a); };
-  std::vector<Fixed>& largest = scratch.largest;
-  std::vector<uint8_t>& all_tree_island = scratch.all_tree_island;
-  largest.assign(bodies.size(), Fixed{});
-  all_tree_island.assign(bodies.size(), 1);
-  for (const JointRow& row : rows) {
-    const uint32_t root = root_of(row);
-    largest[root] = max(largest[root], largest_push_target(row));
-    if (!scratch.tree_island[static_cast<size_t>(row.joint - scratch.joints.data())]) all_tree_island[root] = 0;
+  const auto root_of = [&](const Joint& joint) {
+    return find_root(parent, is_awake_dynamic(bodies[joint.body_a]) ? joint.body_a : joint.body_b);
+  };
+  std::vector<uint8_t>& settled = scratch.settled;
+  settled.assign(bodies.size(), 1);
+  for (size_t j = 0; j < joints.size(); ++j) {
+    const Joint& joint = joints[j];
+    if (!joint.alive || (!is_awake_dynamic(bodies[joint.body_a]) && !is_awake_dynamic(bodies[joint.body_b]))) continue;
+    uint8_t& tree = settled[root_of(joint)];
+    if (!tree) continue;
+    const Body& a = bodies[joint.body_a];
+    const Body& b = bodies[joint.body_b];
+    tree = scratch.tree_island[j] && with_joint_type(joint.type, [&](auto type) {
+                                       return decltype(type)::position_error(joint, a, b);
+                                     }) < projection_tolerance;
   }
-  std::erase_if(rows, [&](const JointRow& row) {
-    const uint32_t root = root_of(row);
-    return all_tree_island[root] && largest[root] * dt < projection_tolerance;
-  });
+  for (Joint& joint : joints) {
+    if (joint.alive && (is_awake_dynamic(bodies[joint.body_a]) || is_awake_dynamic(bodies[joint.body_b])) &&
+        settled[root_of(joint)]) {
+      joint.alive = false;
+    }
+  }
 }
 
-// One projection: the joints' position rows at the current poses, solved
-// exactly for pseudo-velocities that close them in one step, applied to
-// the poses. Returns the largest turn (rad) of a body, or -1 when no row
+// One projection: the joints' position rows at the current poses (but the
+// settled trees'), solved exactly for pseudo-velocities that close them in
+// one step, applied to the poses. Returns the largest turn (rad) of a body, or -1 when no row
 // had anything to push.
 Fixed project_once(const Settings& settings, std::vector<Body>& bodies, const std::vector<Joint>& joints,
                    JointProjection& scratch) {
   // The bodies a joint holds, with their inverse inertia at the current
   // orientation; every other body stands still.
+  scratch.joints = joints;
+  leave_settled_trees(bodies, scratch);
   std::vector<SolverBody>& solver_bodies = scratch.bodies;
   solver_bodies.assign(bodies.size(), SolverBody{});
-  for (const Joint& joint : joints) {
+  for (const Joint& joint : scratch.joints) {
     if (!joint.alive) continue;
     for (const uint32_t slot : {joint.body_a, joint.body_b}) {
       const Body& body = bodies[slot];
@@ -91,11 +105,9 @@ Fixed project_once(const Settings& settings, std::vector<Body>& bodies, const st
   Settings closing = settings;
   closing.split_impulse_factor = Fixed::one();
   closing.max_push_out_speed = projection_max_speed;
-  scratch.joints = joints;
   build_joint_rows(closing, bodies, scratch.joints, solver_bodies, scratch.rows);
-  const Fixed dt = settings.dt;
-  drop_trees_within_tolerance(solver_bodies, dt, scratch);
   if (scratch.rows.empty()) return -Fixed::one();
+  const Fixed dt = settings.dt;
   factor_joint_tree(solver_bodies, scratch.rows, scratch.tree);
   push_joints(solver_bodies, scratch.rows, scratch.tree);
   Fixed largest_rate;

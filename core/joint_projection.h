@@ -40,12 +40,11 @@ struct JointProjection {
   JointTree tree;
   // Per joint: whether the step's solve found it in a tree island
   // (tree_islands.h). Per body slot: the union-find over the joints
-  // (through movable bodies), and per root its joints' largest push target
-  // and whether they all were.
+  // (through awake dynamic bodies), and per root whether its tree is
+  // settled (joint_projection.cpp).
   std::vector<uint8_t> tree_island;
   std::vector<uint32_t> parent;
-  std::vector<Fixed> largest;
-  std::vector<uint8_t> all_tree_island;
+  std::vector<uint8_t> settled;
 };
 
 // Moves the awake bodies that joints hold so that every joint holds at

@@ -72,4 +72,9 @@ bool RopeJoint::breaks(const Joint& joint) { return -joint.distance_impulse > jo
 // A taut rope is a one-sided row of its own, solved row by row.
 bool RopeJoint::tree_alone(const JointRow& row) { return !row.rope_active && row.rope_push_target == Fixed{}; }
 
+// How far the anchors are apart beyond the length.
+Fixed RopeJoint::position_error(const Joint& joint, const Body& a, const Body& b) {
+  return max(length(anchor_gap(joint, a, b)) - joint.length, Fixed{});
+}
+
 }  // namespace bitstep

@@ -231,6 +231,10 @@ bool SliderJoint::tree_alone(const JointRow& row) {
   return row.is_tree_node() && !row.motor && (row.limit_side == 0 || row.limit_in_tree);
 }
 
+// Its five rows and limit are not measured here: the projection builds its
+// rows.
+Fixed SliderJoint::position_error(const Joint&, const Body&, const Body&) { return Fixed::max(); }
+
 Fixed slider_translation(const Joint& joint, const Body& a, const Body& b) {
   const Vec3 anchor_a = a.pose.apply(joint.local_anchor_a), anchor_b = b.pose.apply(joint.local_anchor_b);
   return dot(anchor_b - anchor_a, rotate(a.pose.orientation, joint.local_axis_a));

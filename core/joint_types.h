@@ -30,6 +30,10 @@
 //   tree_alone(row)     whether the tree solve takes all its rows this step
 //                       (an exact tree: solve_rows with in_tree does nothing;
 //                       friction is the caller's test), tree_islands.h
+//   position_error(joint, a, b)
+//                       a bound of what its position rows would close at
+//                       the bodies' poses (m or rad; Fixed::max() where the
+//                       type does not measure it cheaply), joint_projection.cpp
 // Internal to core/.
 #pragma once
 
@@ -50,7 +54,8 @@ namespace bitstep {
                          const Targets& target, Impulses impulse, bool in_tree);                                     \
   static void solve_friction(const SolverBody& sa, const SolverBody& sb, BodyRates& a, BodyRates& b, JointRow& row); \
   static bool breaks(const Joint& joint);                                                                            \
-  static bool tree_alone(const JointRow& row);
+  static bool tree_alone(const JointRow& row);                                                                       \
+  static Fixed position_error(const Joint& joint, const Body& a, const Body& b);
 
 // Ball and socket (joint_point.cpp).
 struct PointJoint {
