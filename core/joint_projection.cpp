@@ -80,8 +80,8 @@ void leave_settled_trees(const std::vector<Body>& bodies, JointProjection& scrat
 
 // One projection: the joints' position rows at the current poses (but the
 // settled trees'), solved exactly for pseudo-velocities that close them in
-// one step, applied to the poses. Returns the largest turn (rad) of a body, or -1 when no row
-// had anything to push.
+// one step, applied to the poses. Returns the largest turn (rad) of a
+// body, or -1 when no row had anything to push.
 Fixed project_once(const Settings& settings, std::vector<Body>& bodies, const std::vector<Joint>& joints,
                    JointProjection& scratch) {
   // The bodies a joint holds, with their inverse inertia at the current
@@ -106,7 +106,7 @@ Fixed project_once(const Settings& settings, std::vector<Body>& bodies, const st
   closing.split_impulse_factor = Fixed::one();
   closing.max_push_out_speed = projection_max_speed;
   build_joint_rows(closing, bodies, scratch.joints, solver_bodies, scratch.rows);
-  if (scratch.rows.empty()) return -Fixed::one();
+  if (!joints_to_push(scratch.rows)) return -Fixed::one();
   const Fixed dt = settings.dt;
   factor_joint_tree(solver_bodies, scratch.rows, scratch.tree);
   push_joints(solver_bodies, scratch.rows, scratch.tree);

@@ -142,10 +142,10 @@ void apply_slide_node(BodyRates& a, BodyRates& b, const JointRow& row, const Col
 constexpr Fixed tree_residual_tolerance = Fixed::from_raw(int64_t{1} << 12);
 
 // Each tree island's tree whose residual (tree.rhs, per row) is within
-// tree_residual_tolerance is held: its rows' rhs set to 0 (their lambda
-// is then exactly 0: solve_tree), marked `held` for the later passes.
-// Uses tree.residual per position. Returns whether a row is left to solve.
-bool hold_converged_trees(std::vector<JointRow>& rows, JointTree& tree, bool JointRow::*held) {
+// tree_residual_tolerance is held: marked `held`, it takes part in no
+// later pass, nor in the rest of this one. Uses tree.residual per
+// position.
+void hold_converged_trees(std::vector<JointRow>& rows, JointTree& tree, bool JointRow::*held) {
   const size_t n = tree.row_of.size();
   std::vector<Fixed>& largest = tree.residual;
   largest.assign(n, Fixed{});
@@ -153,26 +153,19 @@ bool hold_converged_trees(std::vector<JointRow>& rows, JointTree& tree, bool Joi
     Fixed& most = largest[tree.component[p]];
     for (int k = 0; k < tree.size[p]; ++k) most = max(most, abs(tree.rhs[p].at[k]));
   }
-  bool left = false;
   for (size_t p = 0; p < n; ++p) {
     JointRow& row = rows[tree.row_of[p]];
-    if (row.tree_island && largest[tree.component[p]] <= tree_residual_tolerance) {
-      row.*held = true;
-      tree.rhs[p] = Column{};
-    } else {
-      for (int k = 0; k < tree.size[p]; ++k) left = left || tree.rhs[p].at[k] != Fixed{};
-    }
+    if (row.tree_island && largest[tree.component[p]] <= tree_residual_tolerance) row.*held = true;
   }
-  return left;
 }
 
 // Every joint's tree rows at once on one rate of the bodies: lambda = K^-1
 // (target - J v), solved again while an engaged row pulls
 // (release_pulling_rows), then each joint's impulses applied. Returns
-// whether a row left the tree. A joint
-// that takes no part in this pass (an island's extra pass: solve_joints)
-// gets b = 0: its tree's lambda is exactly 0 (no tree couples to another),
-// and its bodies keep their bits.
+// whether a row left the tree. A joint that takes no part in this pass
+// (an island's extra pass: solve_joints; a held tree) gets b = 0: its
+// tree's lambda is exactly 0 (no tree couples to another), and its bodies
+// keep their bits.
 template <class Rate, class TargetsOf, class ImpulsesOf, class TakesPart>
 bool solve_tree(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree, Rate rate_of,
                 TargetsOf targets_of, ImpulsesOf impulses_of, TakesPart takes_part, bool JointRow::*held) {
@@ -204,7 +197,15 @@ bool solve_tree(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, Jo
       if (layout.swing >= 0) rhs.at[layout.swing] = target.hinge[0] - spin(a, b, row.hinge[0]);
       if (layout.limit >= 0) rhs.at[layout.limit] = target.limit - spin(a, b, row.limit);
     }
-    if (first && !hold_converged_trees(rows, tree, held)) return false;
+    if (first) {
+      // Held rows now take no part; with none left, nothing is solved.
+      hold_converged_trees(rows, tree, held);
+      const auto left = [&](uint32_t r) { return takes_part(rows[r]); };
+      if (std::none_of(tree.row_of.begin(), tree.row_of.end(), left)) return false;
+      for (size_t p = 0; p < tree.row_of.size(); ++p) {
+        if (!takes_part(rows[tree.row_of[p]])) tree.rhs[p] = Column{};
+      }
+    }
     solve_joint_tree(tree, tree.rhs);
     if (!release_pulling_rows(bodies, rows, tree, impulses_of, takes_part)) break;
     released = true;
@@ -460,22 +461,17 @@ void push_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, J
   solve_pass(bodies, rows, tree, push_of, push_targets, push_impulses, takes_part, Promote::none, &JointRow::push_held);
 }
 
-Fixed largest_push_target(const JointRow& row) {
-  Fixed largest;
-  const auto take = [&](Fixed target) { largest = max(largest, abs(target)); };
-  take(row.point_push_target.x);
-  take(row.point_push_target.y);
-  take(row.point_push_target.z);
-  take(row.rope_push_target);
-  take(row.hinge_push_target[0]);
-  take(row.hinge_push_target[1]);
-  take(row.limit_push_target);
-  for (const Fixed target : row.slide_push_target) take(target);
-  return largest;
-}
-
 bool joints_to_push(const std::vector<JointRow>& rows) {
-  return std::any_of(rows.begin(), rows.end(), [](const JointRow& row) { return largest_push_target(row) != Fixed{}; });
+  for (const JointRow& row : rows) {
+    if (row.point_push_target != Vec3{} || row.rope_push_target != Fixed{} || row.hinge_push_target[0] != Fixed{} ||
+        row.hinge_push_target[1] != Fixed{} || row.limit_push_target != Fixed{}) {
+      return true;
+    }
+    for (const Fixed target : row.slide_push_target) {
+      if (target != Fixed{}) return true;
+    }
+  }
+  return false;
 }
 
 bool over_break_impulse(const Joint& joint) {

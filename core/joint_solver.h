@@ -140,8 +140,6 @@ void solve_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, 
 // any row has something to push.
 void push_joints(std::vector<SolverBody>& bodies, std::vector<JointRow>& rows, JointTree& tree, int extra_pass = -1);
 bool joints_to_push(const std::vector<JointRow>& rows);
-// The row's largest push target (m/s or rad/s).
-Fixed largest_push_target(const JointRow& row);
 
 // The angle of b's reference vector about the hinge axis, from a's (rad,
 // -pi..pi): 0 at creation. For a cone, the twist: b's reference projected
