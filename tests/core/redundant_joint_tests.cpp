@@ -42,6 +42,16 @@ double largest_gap(const World& world) {
   return gap;
 }
 
+// The largest gap of largest_gap over `steps` steps of the world (m).
+double largest_gap_over(World& world, int steps) {
+  double gap = 0;
+  for (int i = 0; i < steps; ++i) {
+    world.step();
+    gap = std::max(gap, largest_gap(world));
+  }
+  return gap;
+}
+
 // The largest angle between a hinge's two copies of its axis (rad).
 double largest_tilt(const World& world) {
   double tilt = 0;
@@ -170,11 +180,7 @@ TEST_CASE("a light link holding a heavy ball keeps its rows: only a tree held tw
       def.anchor_a = at;
       REQUIRE(t.world.create_joint(def).ok());
     }
-    double gap = 0;
-    for (int i = 0; i < 300; ++i) {
-      t.world.step();
-      gap = std::max(gap, largest_gap(t.world));
-    }
+    const double gap = largest_gap_over(t.world, 300);
     INFO("largest pivot gap " << gap * 1000 << " mm, ball at y " << to_double(t.body(ball).pose.position.y) << " m");
     CHECK(gap < 0.01);
   }
@@ -271,11 +277,7 @@ TEST_CASE("a 16-plank deck hung between two posts holds its pins within 0.5 mm a
   crate_def.mass = 20.0_fx;
   crate_def.linear_velocity = {Fixed{}, -5.0_fx, Fixed{}};
   const BodyId crate = t.world.create_body(crate_def).value();
-  double gap = 0;
-  for (int i = 0; i < 300; ++i) {
-    t.world.step();
-    gap = std::max(gap, largest_gap(t.world));
-  }
+  const double gap = largest_gap_over(t.world, 300);
   INFO("largest pin gap " << gap * 1000 << " mm; crate at y " << to_double(t.body(crate).pose.position.y) << " m");
   CHECK(gap < 0.0005);
   CHECK(t.body(crate).pose.position.y > 9.0_fx);  // on the deck (its lowest pin at 9.31 m), not through it
