@@ -214,11 +214,17 @@ bool edge_axes(const BoxPair& pair, Fixed speculative_distance, Axis& edge) {
       if (det2(l_q, l_q, -minus_l_p, minus_l_p) < parallel_cross_sq_tolerance) continue;  // |l|^2
       const Fixed t_l = det2(get(t_a, q), l_q, get(t_a, p), minus_l_p);
       const Fixed ea_abs_l = det2(get(ea, p), abs(minus_l_p), -get(ea, q), abs(l_q));
+      // B's part, eb . |c^T l| below, is >= 0 (a sum of products of
+      // non-negative numbers, rounded): without it the scaled separation is
+      // already an upper bound, and an axis that cannot win on it is
+      // skipped with the same answer.
+      const Fixed beat = min(edge.separation, Fixed{});
+      if (abs(t_l) - ea_abs_l <= beat) continue;
       // l in B's frame: (c^T l)_k = c_pk l_p + c_qk l_q.
       const Vec3 l_b{det2(c_q.x, l_q, c_p.x, minus_l_p), det2(c_q.y, l_q, c_p.y, minus_l_p),
                      det2(c_q.z, l_q, c_p.z, minus_l_p)};
       const Fixed scaled = abs(t_l) - ea_abs_l - dot(eb, abs(l_b));
-      if (scaled <= min(edge.separation, Fixed{})) continue;
+      if (scaled <= beat) continue;
       const Fixed s = scaled / length(cross(unit_axis(i), c.column(j)));
       if (s > speculative_distance) return false;
       if (s > edge.separation) edge = {s, 3 * i + j};
