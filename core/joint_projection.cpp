@@ -38,6 +38,11 @@ constexpr int max_passes = 2;
 // mm into its chest.
 constexpr Fixed projection_tolerance = Fixed::from_raw(int64_t{1} << 14);
 
+// A live joint on an awake dynamic body: one the projection moves.
+bool holds_awake_body(const Joint& joint, const std::vector<Body>& bodies) {
+  return joint.alive && (is_awake_dynamic(bodies[joint.body_a]) || is_awake_dynamic(bodies[joint.body_b]));
+}
+
 // Takes out of the projection (marks not alive, in scratch.joints, the
 // joints' copy) the trees (joints joined through awake dynamic bodies)
 // whose joints all were in tree islands in the step's solve and are all
@@ -61,7 +66,7 @@ void leave_settled_trees(const std::vector<Body>& bodies, JointProjection& scrat
   settled.assign(bodies.size(), 1);
   for (size_t j = 0; j < joints.size(); ++j) {
     const Joint& joint = joints[j];
-    if (!joint.alive || (!is_awake_dynamic(bodies[joint.body_a]) && !is_awake_dynamic(bodies[joint.body_b]))) continue;
+    if (!holds_awake_body(joint, bodies)) continue;
     uint8_t& tree = settled[root_of(joint)];
     if (!tree) continue;
     const Body& a = bodies[joint.body_a];
@@ -71,10 +76,7 @@ void leave_settled_trees(const std::vector<Body>& bodies, JointProjection& scrat
                                      }) < projection_tolerance;
   }
   for (Joint& joint : joints) {
-    if (joint.alive && (is_awake_dynamic(bodies[joint.body_a]) || is_awake_dynamic(bodies[joint.body_b])) &&
-        settled[root_of(joint)]) {
-      joint.alive = false;
-    }
+    if (holds_awake_body(joint, bodies) && settled[root_of(joint)]) joint.alive = false;
   }
 }
 
@@ -128,9 +130,8 @@ Fixed project_once(const Settings& settings, std::vector<Body>& bodies, const st
 void project_joints(const Settings& settings, std::vector<Body>& bodies, const std::vector<Joint>& joints,
                     const std::vector<JointRow>& solved, JointProjection& scratch) {
   if (settings.baumgarte) return;
-  const bool any = std::any_of(joints.begin(), joints.end(), [&](const Joint& j) {
-    return j.alive && (is_awake_dynamic(bodies[j.body_a]) || is_awake_dynamic(bodies[j.body_b]));
-  });
+  const bool any =
+      std::any_of(joints.begin(), joints.end(), [&](const Joint& j) { return holds_awake_body(j, bodies); });
   if (!any) return;
   scratch.tree_island.assign(joints.size(), 0);
   for (const JointRow& row : solved) {

@@ -194,7 +194,7 @@ void plan_passes(Solve& s) {
 
 // Which joint islands one tree solve holds (tree_islands.h).
 void mark_tree_islands(Solve& s) {
-  mark_tree_islands(s.bodies(), *s.rows, *s.manifold_rows, s.tyre_rows(), s.context.joints.tree, s.joint_rows(),
+  mark_tree_islands(s.bodies(), *s.manifold_rows, s.tyre_rows(), s.context.joints.tree, s.joint_rows(),
                     s.scratch().tree_islands);
 }
 

@@ -34,8 +34,8 @@ struct TreeIslands {
 };
 
 // Sets every joint row's tree_island.
-void mark_tree_islands(const std::vector<SolverBody>& bodies, const std::vector<PointRow>& rows,
-                       const std::vector<ManifoldRow>& manifold_rows, const std::vector<TyreRow>& tyre_rows,
-                       const JointTree& tree, std::vector<JointRow>& joint_rows, TreeIslands& scratch);
+void mark_tree_islands(const std::vector<SolverBody>& bodies, const std::vector<ManifoldRow>& manifold_rows,
+                       const std::vector<TyreRow>& tyre_rows, const JointTree& tree, std::vector<JointRow>& joint_rows,
+                       TreeIslands& scratch);
 
 }  // namespace bitstep
