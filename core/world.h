@@ -140,6 +140,7 @@ class World {
   // the contacts a step, 65% of a sleeping wall128's step).
   const std::vector<SensorOverlap>& sensor_overlaps() const { return sensor_overlaps_; }
   void set_events(bool on) { events_on_ = on; }
+  bool events_on() const { return events_on_; }
   const std::vector<WorldEvent>& events() const { return events_; }
 
   // Exact reuse of last step's broadphase pairs where no body's bounds or

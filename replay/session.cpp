@@ -1,5 +1,7 @@
 #include "replay/session.h"
 
+#include <xxhash.h>
+
 #include <algorithm>
 #include <limits>
 #include <utility>
@@ -35,6 +37,18 @@ void erase_before(Map& map, int64_t tick) {
   map.erase(map.begin(), map.lower_bound(tick));
 }
 
+// Where two game states first differ, when the worlds do not.
+std::string game_difference(const std::vector<uint8_t>& mine, const std::vector<uint8_t>& theirs) {
+  if (mine == theirs) return "no field differs";
+  size_t at = 0;
+  while (at < mine.size() && at < theirs.size() && mine[at] == theirs[at]) ++at;
+  if (at == mine.size() || at == theirs.size()) {
+    return "the game's state: " + std::to_string(mine.size()) + " bytes vs " + std::to_string(theirs.size());
+  }
+  return "the game's state: byte " + std::to_string(at) + ": " + std::to_string(mine[at]) + " vs " +
+         std::to_string(theirs[at]);
+}
+
 }  // namespace
 
 Result<void> check_config(const SessionConfig& c) {
@@ -49,10 +63,25 @@ Result<void> check_config(const SessionConfig& c) {
   return {};
 }
 
+Result<void> check_hooks(const GameHooks& hooks) {
+  if (!hooks.apply) return Error{"game hooks", "apply is required"};
+  if (static_cast<bool>(hooks.save) != static_cast<bool>(hooks.load)) {
+    return Error{"game hooks", "save and load come together (one is set, the other not)"};
+  }
+  return {};
+}
+
+uint64_t tick_checksum(uint64_t world_hash, std::span<const uint8_t> game_state) {
+  return XXH3_64bits_withSeed(game_state.data(), game_state.size(), world_hash);
+}
+
 Session::Session(Simulation sim, SessionConfig config, ApplyInput apply)
+    : Session(std::move(sim), config, GameHooks{std::move(apply), {}, {}, {}}) {}
+
+Session::Session(Simulation sim, SessionConfig config, GameHooks game)
     : sim_(std::move(sim)),
       config_(config),
-      apply_(std::move(apply)),
+      game_(std::move(game)),
       inputs_(static_cast<size_t>(config.players),
               PooledMap<int64_t, PlayerInput>(PoolAllocator<std::pair<const int64_t, PlayerInput>>(pool_.get()))),
       acked_(static_cast<size_t>(config.players), 0),
@@ -77,9 +106,12 @@ Session::Session(Simulation sim, SessionConfig config, ApplyInput apply)
   ring_.resize(static_cast<size_t>(config_.max_prediction) + 2);
   ring_tick_.assign(ring_.size(), -1);
   used_.resize(ring_.size());
+  game_states_.resize(ring_.size());
+  game_tick_.assign(ring_.size(), -1);
+  checksum_after(0);  // the game's state before tick 1
   hashes_.assign(ring_.size(), 0);
   run_tick_.assign(ring_.size(), -1);
-  checked_states_.assign(remembered_states, {-1, {}});
+  checked_states_.resize(remembered_states);
   if (config_.mode == SessionMode::rollback) save_state(0);
 }
 
@@ -315,7 +347,9 @@ SessionMessage& Session::next_message(SessionMessage::Kind kind) {
   m.ack = m.tick = 0;
   m.inputs.clear();
   m.checksum = 0;
+  m.earlier.clear();
   m.state.clear();
+  m.game_state.clear();
   m.roster.clear();
   m.present = m.watching = 0;
   m.start_hash = 0;
@@ -333,9 +367,9 @@ std::vector<PlayerInput>* Session::used_at(int64_t tick) {
   return tick > 0 && run_tick_[k] == tick ? &used_[k] : nullptr;
 }
 
-const std::vector<uint8_t>* Session::checked_state(int64_t tick) const {
-  for (const auto& [kept, state] : checked_states_) {
-    if (kept == tick) return &state;
+const Session::CheckedState* Session::checked_state(int64_t tick) const {
+  for (const CheckedState& kept : checked_states_) {
+    if (kept.tick == tick) return &kept;
   }
   return nullptr;
 }
@@ -352,12 +386,32 @@ void Session::simulate(int64_t tick) {
     bool predicted = false;
     used[static_cast<size_t>(p)] = input_for(p, tick, predicted);
     if (predicted) ++stats_.predicted_inputs;
-    apply_(sim_, p, used[static_cast<size_t>(p)]);
+    game_.apply(sim_, p, used[static_cast<size_t>(p)]);
   }
   sim_.step();
+  if (game_.advance) game_.advance(sim_, tick);
   tick_ = tick;
-  hashes_[k] = sim_.hash();
+  hashes_[k] = checksum_after(tick);
   run_tick_[k] = tick;
+}
+
+// The checksum after `tick`, just run (or the state a joiner starts from):
+// the world's hash, with the game's state saved into its place first.
+uint64_t Session::checksum_after(int64_t tick) {
+  const uint64_t world = sim_.hash();
+  if (!game_.save) return world;
+  const size_t k = static_cast<size_t>(tick) % game_states_.size();
+  game_states_[k].clear();  // its memory kept
+  game_.save(game_states_[k]);
+  game_tick_[k] = tick;
+  return tick_checksum(world, game_states_[k]);
+}
+
+// The game's state after a tick from the confirmed one on (empty without save).
+const std::vector<uint8_t>& Session::game_after(int64_t tick) const {
+  static const std::vector<uint8_t> none;
+  const size_t k = static_cast<size_t>(tick) % game_states_.size();
+  return game_tick_[k] == tick ? game_states_[k] : none;
 }
 
 // Back to the state before the first mispredicted tick, and forward again.
@@ -366,6 +420,7 @@ void Session::roll_back() {
   rollback_from_ = INT64_MAX;
   const size_t k = static_cast<size_t>(from - 1) % ring_.size();
   if (ring_tick_[k] != from - 1 || !states_.restore(ring_[k], sim_.world()).ok()) return;  // cannot happen: our own state
+  if (game_.load && (game_tick_[k] != from - 1 || !game_.load(game_states_[k]))) return;   // the game's own, as saved
   // The states after `from` on are the mispredicted run's: saved again as it is run again.
   for (int64_t t = from; t <= to; ++t) ring_tick_[static_cast<size_t>(t) % ring_.size()] = -1;
   for (int64_t t = from; t <= to; ++t) simulate(t);
@@ -410,15 +465,25 @@ void Session::confirm() {
     keep_join_state(c);
     if (c % config_.checksum_interval != 0) continue;
     // The state after c, kept (as a rollback state) until the peers' checksums agree.
-    auto& [kept, state] = checked_states_[static_cast<size_t>(c / config_.checksum_interval) % checked_states_.size()];
-    kept = c;
-    const std::vector<uint8_t>& now = state_after(c);
-    state.assign(now.begin(), now.end());  // its memory kept
+    if (!desync_) {  // once there is one, the states around it stay for its report
+      CheckedState& kept = checked_states_[static_cast<size_t>(c / config_.checksum_interval) % checked_states_.size()];
+      kept.tick = c;
+      const std::vector<uint8_t>& now = state_after(c);
+      kept.world.assign(now.begin(), now.end());  // its memory kept
+      const std::vector<uint8_t>& game = game_after(c);
+      kept.game.assign(game.begin(), game.end());
+    }
     SessionMessage& m = next_message(SessionMessage::Kind::checksum);
     m.player = config_.local_player;
     m.ack = confirmed_;
     m.tick = c;
     m.checksum = hash;
+    for (int64_t t = c - config_.checksum_interval; m.earlier.size() < max_earlier_checksums;
+         t -= config_.checksum_interval) {
+      const auto earlier = confirmed_hashes_.find(t);
+      if (earlier == confirmed_hashes_.end()) break;
+      m.earlier.push_back(earlier->second);
+    }
     ++outgoing_count_;
     for (auto remote = remote_checksums_.lower_bound(std::pair<int64_t, int>{c, 0});
          remote != remote_checksums_.end() && remote->first.first == c; ++remote) {
@@ -461,6 +526,7 @@ void Session::keep_join_state(int64_t c) {
     m.watching = roster_.mask_at(c, Presence::watching);
     m.start_hash = start_hash_;
     m.state = snapshot_of(state_after(c));
+    m.game_state = game_after(c);
     send(m);
     join_state_[static_cast<size_t>(p)] = std::move(m);
     heard_at_[static_cast<size_t>(p)] = spoke_at_[static_cast<size_t>(p)] = frames_;
@@ -476,16 +542,34 @@ void Session::check_checksum(int64_t tick, int player) {
   if (roster_.at(player, tick) == Presence::absent) return;
   if (theirs->second == local->second) return;
   desync_ = Desync{tick, player, local->second, theirs->second, {}};
-  const std::vector<uint8_t>* state = checked_state(tick);
-  if (state == nullptr) return;
-  desync_snapshot_ = snapshot_of(*state);
+  report_desync_at(tick, player);
+}
+
+// Our state at a desync's tick, kept for its report and sent to the peer
+// (which names the first field that differs); false when not kept. A peer
+// that found the desync at another tick moves ours there.
+bool Session::report_desync_at(int64_t tick, int player) {
+  const CheckedState* state = checked_state(tick);
+  if (state == nullptr) return false;
+  if (desync_->tick != tick) {
+    const auto local = confirmed_hashes_.find(tick);
+    const auto theirs = remote_checksums_.find(std::pair<int64_t, int>{tick, player});
+    desync_->tick = tick;
+    desync_->player = player;
+    desync_->local = local == confirmed_hashes_.end() ? 0 : local->second;
+    desync_->remote = theirs == remote_checksums_.end() ? 0 : theirs->second;
+  }
+  desync_snapshot_ = snapshot_of(state->world);
+  desync_game_ = state->game;
   SessionMessage m;
   m.kind = SessionMessage::Kind::state;
   m.player = config_.local_player;
   m.ack = confirmed_;
   m.tick = tick;
   m.state = desync_snapshot_;
+  m.game_state = desync_game_;
   send(std::move(m));
+  return true;
 }
 
 // A whole snapshot of a kept rollback state: the world goes there and back.
@@ -528,21 +612,20 @@ bool Session::receive(const SessionMessage& m) {
       // The host's: it does not hear the player itself, and asks for its inputs.
       if (m.player == 0 && m.subject != config_.local_player) host_asked_at_[static_cast<size_t>(m.subject)] = frames_;
       break;
-    case SessionMessage::Kind::checksum:
+    case SessionMessage::Kind::checksum: {
+      if (m.earlier.size() > max_earlier_checksums) return refuse();
+      // The earliest first: a desync is found at the first tick that differs.
+      for (size_t i = m.earlier.size(); i-- > 0;) {
+        const int64_t t = m.tick - static_cast<int64_t>(i + 1) * config_.checksum_interval;
+        if (t < 1) continue;
+        remote_checksums_.emplace(std::pair<int64_t, int>{t, m.player}, m.earlier[i]);
+        check_checksum(t, m.player);
+      }
       remote_checksums_[std::pair<int64_t, int>{m.tick, m.player}] = m.checksum;
       check_checksum(m.tick, m.player);
       break;
-    case SessionMessage::Kind::state: {
-      if (!desync_ || desync_->tick != m.tick || !desync_->difference.empty()) break;
-      if (desync_snapshot_.empty()) break;
-      World mine, theirs;
-      if (const Result<void> read = restore(m.state, theirs); !read.ok()) {
-        desync_->difference = "the peer's state cannot be read: " + read.error().message();
-      } else if (restore(desync_snapshot_, mine).ok()) {
-        desync_->difference = diff_dumps(dump_state(mine), dump_state(theirs)).value().value_or("no field differs");
-      }
-      break;
     }
+    case SessionMessage::Kind::state: receive_desync_state(m); break;
     case SessionMessage::Kind::join_state:
       // We run already: the one we started from again (the host repeats it
       // until we acknowledge our first tick) is nothing new, any other is stale.
@@ -557,6 +640,37 @@ bool Session::receive(const SessionMessage& m) {
   heard_at_[static_cast<size_t>(m.player)] = spoke_at_[static_cast<size_t>(m.player)] = frames_;
   confirm();
   return true;
+}
+
+// A peer's state at a tick of its desync: compared with ours there and the
+// first differing field named. Found by it at a tick earlier than ours (a
+// checksum lost on the way), ours moves there when we kept that state and
+// theirs is not ours; one that agrees with ours (a third player's desync)
+// explains nothing.
+void Session::receive_desync_state(const SessionMessage& m) {
+  if (!desync_ || !desync_->difference.empty() || m.tick > desync_->tick) return;
+  World theirs;
+  const Result<void> read = restore(m.state, theirs);
+  if (read.ok()) {
+    const uint64_t world = state_hash(theirs);
+    const uint64_t remote = game_.save ? tick_checksum(world, m.game_state) : world;
+    const auto ours = confirmed_hashes_.find(m.tick);
+    if (ours == confirmed_hashes_.end() || ours->second == remote) return;
+    if (m.tick < desync_->tick) {
+      if (!report_desync_at(m.tick, m.player)) return;
+      desync_->remote = remote;
+    }
+  } else if (m.tick < desync_->tick) {
+    return;
+  }
+  World mine;
+  if (desync_snapshot_.empty() || !restore(desync_snapshot_, mine).ok()) return;
+  if (!read.ok()) {
+    desync_->difference = "the peer's state cannot be read: " + read.error().message();
+    return;
+  }
+  desync_->difference =
+      diff_dumps(dump_state(mine), dump_state(theirs)).value().value_or(game_difference(desync_game_, m.game_state));
 }
 
 // A player's inputs (its own, or relayed); false, with nothing changed,
@@ -642,11 +756,12 @@ void Session::try_join() {
   }
   World candidate;
   if (!restore(m.state, candidate).ok() || candidate.step_count() != static_cast<uint64_t>(m.tick)) return refuse();
-  const uint64_t hash = state_hash(candidate);
+  const uint64_t hash = game_.save ? tick_checksum(state_hash(candidate), m.game_state) : state_hash(candidate);
   for (const auto& [q, check] : join_checks_) {
     if (((m.present | m.watching) & (1u << q)) != 0 && check.second != hash) return refuse();  // not what they confirmed
   }
   if (!sim_.load(m.state).ok()) return refuse();
+  if (game_.load && !game_.load(m.game_state)) return refuse();
   // From the state on, as if the match had started there.
   const int64_t c = m.tick;
   roster_ = Roster(config_.players, m.present, m.watching);
@@ -664,9 +779,14 @@ void Session::try_join() {
   run_tick_.assign(run_tick_.size(), -1);
   run_tick_[static_cast<size_t>(c) % run_tick_.size()] = c;
   hashes_[static_cast<size_t>(c) % hashes_.size()] = hash;
+  game_tick_.assign(game_tick_.size(), -1);
+  if (game_.save) {
+    game_states_[static_cast<size_t>(c) % game_states_.size()] = m.game_state;
+    game_tick_[static_cast<size_t>(c) % game_tick_.size()] = c;
+  }
   confirmed_hashes_.clear();
   confirmed_hashes_[c] = hash;
-  for (auto& checked : checked_states_) checked.first = -1;
+  for (CheckedState& checked : checked_states_) checked.tick = -1;
   remote_checksums_.clear();
   rollback_from_ = INT64_MAX;
   states_ = RollbackStates{};  // a new world: no state of the old one restores into it

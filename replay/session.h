@@ -12,9 +12,13 @@
 // A local input applies `input_delay` ticks later (ticks 1..delay have no
 // input): a little delay hides the network's and saves rollbacks.
 //
-// Peers compare a checksum (the state hash) of every `checksum_interval`-th
-// confirmed tick; on a mismatch each sends the other its state at that tick
-// and both name the first field that differs (the dump's diff).
+// Peers compare a checksum (the state hash, with the game's state: see
+// GameHooks) of every `checksum_interval`-th confirmed tick, each message
+// repeating the last three (a lost one costs no comparison); on a mismatch
+// each sends the other its state at that tick and both name the first
+// field that differs (the dump's diff). From a desync on, the states kept
+// for it are no longer replaced: a peer told of a desync at another of
+// the kept ticks answers with its own state there.
 //
 // No transport here: the session says what to send (take_outgoing) and is
 // told what arrived (receive). Every input message carries all the local
@@ -94,7 +98,9 @@ struct SessionMessage {
   int64_t tick = 0;                 // inputs: of inputs[0]; checksum, state: the tick
   std::vector<PlayerInput> inputs;  // inputs: the sender's for ticks tick, tick + 1, ...
   uint64_t checksum = 0;            // checksum: the state hash after `tick`
+  std::vector<uint64_t> earlier;    // checksum: those of the checksum ticks before `tick`, latest first (<= 3)
   std::vector<uint8_t> state;       // state: the snapshot after `tick` (after a mismatch); join_state: the joiner's start
+  std::vector<uint8_t> game_state;  // state, join_state: the game's state after `tick` (GameHooks::save)
   std::vector<RosterEvent> roster;  // inputs (the host's only): the roster changes its inputs carry
   uint32_t present = 0;             // join_state: who plays at `tick` (bit p: player p)
   uint32_t watching = 0;            // join_state: who watches at `tick`
@@ -102,6 +108,7 @@ struct SessionMessage {
 };
 
 inline constexpr size_t max_roster_events = 16;
+inline constexpr size_t max_earlier_checksums = 3;
 
 inline constexpr size_t max_input_bytes = 1024;
 inline constexpr size_t max_inputs_per_message = 128;
@@ -123,9 +130,41 @@ struct SessionStats {
 // Applies one player's input to the simulation, before a tick.
 using ApplyInput = std::function<void(Simulation& sim, int player, const PlayerInput& input)>;
 
+// The game's side of every tick (GGRS's advance, save and load requests).
+// A tick runs: `apply` for each player's input, in player order; the
+// world's step; `advance`, the game's own logic of the tick (scores,
+// health, timers, AI; it may read the step's events and contacts). Then
+// the session keeps the game's state (`save`) beside the world's, a
+// rollback restores both (`load`), and the checksums peers compare cover
+// both (tick_checksum). The game's state is everything of the game its
+// future depends on: what save leaves out a rollback does not take back,
+// and the peers desync. Without save and load the session rolls back the
+// world alone and the checksum is the world's state hash.
+struct GameHooks {
+  ApplyInput apply;
+  std::function<void(Simulation& sim, int64_t tick)> advance;
+  // Writes the game's state into `out`, which is empty (its memory is kept
+  // from call to call: a game state of steady size allocates nothing).
+  std::function<void(std::vector<uint8_t>& out)> save;
+  // Makes the game's state what `state` (written by save) says; false when
+  // it cannot read it (a joiner then refuses the state it was sent).
+  std::function<bool(std::span<const uint8_t> state)> load;
+};
+
+// What is wrong with the hooks: apply is required, save and load come together.
+Result<void> check_hooks(const GameHooks& hooks);
+
+// The checksum of a tick that peers compare: the world's state hash alone
+// when the game keeps no state, else XXH3-64 of the game's saved state
+// seeded with it.
+uint64_t tick_checksum(uint64_t world_hash, std::span<const uint8_t> game_state);
+
 class Session {
  public:
-  // `config` must pass check_config.
+  // `config` must pass check_config, `game` check_hooks. The game's save
+  // is called here for its state before tick 1.
+  Session(Simulation sim, SessionConfig config, GameHooks game);
+  // A game that keeps no state of its own beside the world.
   Session(Simulation sim, SessionConfig config, ApplyInput apply);
 
   // The local player's next input (for the tick input_delay after the last
@@ -174,20 +213,30 @@ class Session {
   std::optional<uint64_t> confirmed_hash(int64_t tick) const;
 
  private:
+  // The states at a checksum tick, until compared (rollback states).
+  struct CheckedState {
+    int64_t tick = -1;
+    std::vector<uint8_t> world, game;
+  };
+
   bool known(int player, int64_t tick) const;
   bool awaits_host(int64_t tick) const;
   const PlayerInput& input_for(int player, int64_t tick, bool& predicted) const;
   void save_state(int64_t tick);
   std::vector<uint8_t> snapshot_of(const std::vector<uint8_t>& state);
+  uint64_t checksum_after(int64_t tick);
+  const std::vector<uint8_t>& game_after(int64_t tick) const;
   void simulate(int64_t tick);
   void roll_back();
   void confirm();
   void check_checksum(int64_t tick, int player);
+  bool report_desync_at(int64_t tick, int player);
+  void receive_desync_state(const SessionMessage& m);
   void send_inputs(bool always = false);
   SessionMessage& next_message(SessionMessage::Kind kind);
   void send(SessionMessage message);
   std::vector<PlayerInput>* used_at(int64_t tick);
-  const std::vector<uint8_t>* checked_state(int64_t tick) const;
+  const CheckedState* checked_state(int64_t tick) const;
   int64_t acked_by_all(int except = -1) const;
   void apply_roster(const RosterEvent& event);
   void run_roster();
@@ -202,7 +251,7 @@ class Session {
 
   Simulation sim_;
   SessionConfig config_;
-  ApplyInput apply_;
+  GameHooks game_;
   // The maps' nodes (every tick's input, hash, checksum): kept when freed,
   // so a warm session does not call the allocator per tick.
   std::unique_ptr<NodePool> pool_ = std::make_unique<NodePool>();
@@ -217,12 +266,14 @@ class Session {
   // At ring_tick_'s places too, for the ticks from the confirmed one to the
   // last run: the inputs each ran with, and the hash after it.
   std::vector<std::vector<PlayerInput>> used_;
+  std::vector<std::vector<uint8_t>> game_states_;  // the game's state after each of those ticks (GameHooks::save)
+  std::vector<int64_t> game_tick_;
   std::vector<uint64_t> hashes_;
   std::vector<int64_t> run_tick_;
   PooledMap<int64_t, uint64_t> confirmed_hashes_;      // the last confirmed ticks'
   // The state at checksum ticks, until compared: the last few, by tick.
-  std::vector<std::pair<int64_t, std::vector<uint8_t>>> checked_states_;
-  std::vector<uint8_t> desync_snapshot_;                    // ours, at the desync's tick
+  std::vector<CheckedState> checked_states_;
+  std::vector<uint8_t> desync_snapshot_, desync_game_;             // ours, at the desync's tick
   PooledMap<std::pair<int64_t, int>, uint64_t> remote_checksums_;  // by (tick, player)
   std::vector<SessionMessage> outgoing_;  // [0, outgoing_count_) to send; the rest kept for reuse
   size_t outgoing_count_ = 0;

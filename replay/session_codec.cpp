@@ -7,7 +7,7 @@ namespace bitstep {
 namespace {
 
 constexpr uint8_t magic[2] = {'b', 'S'};
-constexpr uint8_t version = 2;
+constexpr uint8_t version = 3;
 constexpr uint8_t last_message_type = 5;
 constexpr uint8_t hello_type = 16;
 
@@ -63,6 +63,12 @@ std::vector<uint8_t> encode(const SessionMessage& m) {
       out.insert(out.end(), input.begin(), input.end());
     }
   };
+  const auto put_state = [&] {
+    put(out, m.state.size(), 4);
+    out.insert(out.end(), m.state.begin(), m.state.end());
+    put(out, m.game_state.size(), 4);
+    out.insert(out.end(), m.game_state.begin(), m.game_state.end());
+  };
   switch (m.kind) {
     case SessionMessage::Kind::inputs:
       put_inputs();
@@ -74,11 +80,12 @@ std::vector<uint8_t> encode(const SessionMessage& m) {
         put(out, static_cast<uint64_t>(e.presence), 1);
       }
       break;
-    case SessionMessage::Kind::checksum: put(out, m.checksum, 8); break;
-    case SessionMessage::Kind::state:
-      put(out, m.state.size(), 4);
-      out.insert(out.end(), m.state.begin(), m.state.end());
+    case SessionMessage::Kind::checksum:
+      put(out, m.checksum, 8);
+      put(out, m.earlier.size(), 1);
+      for (const uint64_t earlier : m.earlier) put(out, earlier, 8);
       break;
+    case SessionMessage::Kind::state: put_state(); break;
     case SessionMessage::Kind::relay:
       put(out, static_cast<uint64_t>(m.subject), 1);
       put_inputs();
@@ -88,8 +95,7 @@ std::vector<uint8_t> encode(const SessionMessage& m) {
       put(out, m.present, 2);
       put(out, m.watching, 2);
       put(out, m.start_hash, 8);
-      put(out, m.state.size(), 4);
-      out.insert(out.end(), m.state.begin(), m.state.end());
+      put_state();
       break;
     case SessionMessage::Kind::join_check:
       put(out, static_cast<uint64_t>(m.subject), 1);
@@ -153,6 +159,10 @@ Result<Packet> decode(std::span<const uint8_t> packet) {
     if (length > max_state_bytes) return Error{"state", "longer than 64 MiB"};
     const auto bytes = r.bytes(static_cast<size_t>(length));
     m.state.assign(bytes.begin(), bytes.end());
+    const uint64_t game_length = r.take(4);
+    if (game_length > max_game_state_bytes) return Error{"state", "a game state longer than 16 MiB"};
+    const auto game = r.bytes(static_cast<size_t>(game_length));
+    m.game_state.assign(game.begin(), game.end());
     return {};
   };
   switch (m.kind) {
@@ -172,7 +182,13 @@ Result<Packet> decode(std::span<const uint8_t> packet) {
       }
       break;
     }
-    case SessionMessage::Kind::checksum: m.checksum = r.take(8); break;
+    case SessionMessage::Kind::checksum: {
+      m.checksum = r.take(8);
+      const uint64_t count = r.take(1);
+      if (count > max_earlier_checksums) return Error{"checksum", "more than 3 earlier checksums"};
+      for (uint64_t i = 0; i < count && r.ok(); ++i) m.earlier.push_back(r.take(8));
+      break;
+    }
     case SessionMessage::Kind::state:
       if (Result<void> taken = take_state(); !taken.ok()) return taken.error();
       break;

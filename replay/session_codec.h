@@ -1,19 +1,22 @@
 // Session messages as network packets, and the hello a peer opens with.
 // Little-endian, versioned:
-//   "bS", version (u8: 2), type (u8: 0 inputs, 1 checksum, 2 state, 3 relay,
+//   "bS", version (u8: 3), type (u8: 0 inputs, 1 checksum, 2 state, 3 relay,
 //   4 join state, 5 join check, 16 hello), then
 //   inputs:     player u8, ack i64, tick i64, count u8 (<= 128), each input: length u16 (<= 1024), bytes;
 //               roster count u8 (<= 16), each change: at i64, from i64, player u8, presence u8
 //               (0 absent, 1 present, 2 watching)
-//   checksum:   player u8, ack i64, tick i64, checksum u64
-//   state:      player u8, ack i64, tick i64, length u32 (<= 64 MiB), a snapshot image
+//   checksum:   player u8, ack i64, tick i64, checksum u64, count u8 (<= 3), the earlier checksums u64
+//   state:      player u8, ack i64, tick i64, length u32 (<= 64 MiB), a snapshot image,
+//               game length u32 (<= 16 MiB), the game's state (GameHooks::save)
 //   relay:      player u8, ack i64, tick i64, subject u8, count u8, the inputs as above
 //   join state: player u8, ack i64, tick i64, subject u8, present u16, watching u16, start hash u64,
-//               length u32, a snapshot image
+//               length u32, a snapshot image, game length u32, the game's state
 //   join check: player u8, ack i64, tick i64, subject u8, checksum u64
 //   hello:      player u8, players u8, mode u8, input delay u8, the start state's hash u64,
 //               joining u8 (0 no, 1 to play, 2 to watch)
-// Version 1 (no roster, relay or join) is refused: peers of one match run one build.
+// Versions 1 (no roster, relay or join) and 2 (no game state, no earlier
+// checksums) are refused:
+// peers of one match run one build.
 // decode refuses anything else (a wrong magic, version or type, a count or
 // length over its limit, bytes missing or left over) with a reason; the
 // session then checks the values against its window.
@@ -43,6 +46,7 @@ struct Hello {
 };
 
 inline constexpr size_t max_state_bytes = size_t{64} << 20;
+inline constexpr size_t max_game_state_bytes = size_t{16} << 20;
 
 std::vector<uint8_t> encode(const SessionMessage& message);
 std::vector<uint8_t> encode(const Hello& hello);

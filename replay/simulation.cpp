@@ -161,7 +161,14 @@ std::optional<Pose> Simulation::pose(BodyId id) const {
 
 std::vector<uint8_t> Simulation::save() const { return snapshot(world_); }
 
-Result<void> Simulation::load(std::span<const uint8_t> image) { return restore(image, world_); }
+// The world is replaced by the image's; whether it lists events (not
+// state, a choice of the game's) stays as it was.
+Result<void> Simulation::load(std::span<const uint8_t> image) {
+  const bool events = world_.events_on();
+  Result<void> loaded = restore(image, world_);
+  world_.set_events(events);
+  return loaded;
+}
 
 uint64_t Simulation::hash() const { return state_hash(world_); }
 

@@ -83,8 +83,9 @@ class Simulation {
 
   // The whole state as a snapshot image (replay/snapshot.h); load restores
   // one into this simulation (a rollback, or a late joiner's start) or
-  // says why it cannot and changes nothing. hash() is the state hash the
-  // replays' chains hold.
+  // says why it cannot and changes nothing (whether the world lists its
+  // events, a choice not in the state, stays). hash() is the state hash
+  // the replays' chains hold.
   std::vector<uint8_t> save() const;
   Result<void> load(std::span<const uint8_t> image);
   uint64_t hash() const;

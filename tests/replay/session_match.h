@@ -5,11 +5,13 @@
 // session may take its slot (a rejoin).
 #pragma once
 
-#include <catch2/catch.hpp>
-
 #include <algorithm>
+#include <array>
+#include <catch2/catch.hpp>
+#include <cstdint>
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -43,6 +45,82 @@ inline void push(Simulation& sim, int player, const PlayerInput& input) {
   sim.apply_force(ball, {Fixed::from_int(200 * x), Fixed{}, Fixed::from_int(200 * z)}, sim.world().body(ball).pose.position);
 }
 
+// The game's own state beside the world (GameHooks): each ball's health and
+// score, changed by the contacts a step begins: a ball that begins touching
+// a crate loses 7 health, two balls that meet score a point each and lose
+// 3; every 30th tick a ball below 100 heals 1 (a timer). Its state is 4 +
+// 4 little-endian i32s; anything it keeps outside them (`leak`, counted by
+// a game that forgets to save it) does not roll back.
+struct ArenaGame {
+  std::array<int32_t, 4> health{100, 100, 100, 100};
+  std::array<int32_t, 4> score{};
+  bool leak = false;     // a buggy game: heals by the ticks it has run, a count it never saves
+  int64_t advances = 0;  // ticks run, rollbacks' included (kept outside the state)
+
+  // The game's input: ball p charges at the crates in the middle (3000 N
+  // toward the origin) and steers with the input (as push, 15 times as hard).
+  static void charge(Simulation& sim, int player, const PlayerInput& input) {
+    const BodyId ball = *sim.find_body("ball." + std::to_string(player));
+    const Vec3 at = sim.world().body(ball).pose.position;
+    Vec3 force = normalize_or(Vec3{at.x, Fixed{}, at.z}, Vec3{}) * Fixed::from_int(-3000);
+    if (!input.empty()) {
+      force += Vec3{Fixed::from_int(3000 * (input[0] - '1')), Fixed{}, Fixed::from_int(3000 * (input[2] - '1'))};
+    }
+    sim.apply_force(ball, force, at);
+  }
+  int ball_of(const Simulation& sim, uint32_t slot) const {
+    for (int p = 0; p < 4; ++p) {
+      if (sim.find_body("ball." + std::to_string(p))->index == slot) return p;
+    }
+    return -1;
+  }
+  void advance(Simulation& sim, int64_t tick) {
+    ++advances;
+    const uint32_t floor = sim.find_body("floor")->index;
+    for (const WorldEvent& e : sim.world().events()) {
+      if (e.kind != EventKind::contact_begin || e.key.body_a == floor || e.key.body_b == floor) continue;
+      const int a = ball_of(sim, e.key.body_a), b = ball_of(sim, e.key.body_b);
+      if (a >= 0 && b >= 0) {
+        for (const int p : {a, b}) {
+          score[static_cast<size_t>(p)] += 1;
+          health[static_cast<size_t>(p)] -= 3;
+        }
+      } else if (a >= 0 || b >= 0) {
+        health[static_cast<size_t>(a >= 0 ? a : b)] -= 7;
+      }
+    }
+    const bool heal = leak ? advances % 30 == 0 : tick % 30 == 0;
+    for (int32_t& h : health) {
+      if (heal && h < 100) ++h;
+    }
+  }
+  void save(std::vector<uint8_t>& out) const {
+    for (const auto& values : {health, score}) {
+      for (const int32_t v : values) {
+        for (int i = 0; i < 4; ++i) out.push_back(static_cast<uint8_t>(static_cast<uint32_t>(v) >> (8 * i)));
+      }
+    }
+  }
+  bool load(std::span<const uint8_t> in) {
+    if (in.size() != 32) return false;
+    for (size_t k = 0; k < 8; ++k) {
+      uint32_t v = 0;
+      for (size_t i = 0; i < 4; ++i) v |= uint32_t{in[4 * k + i]} << (8 * i);
+      (k < 4 ? health[k] : score[k - 4]) = static_cast<int32_t>(v);
+    }
+    return true;
+  }
+  std::vector<uint8_t> state() const {
+    std::vector<uint8_t> out;
+    save(out);
+    return out;
+  }
+  GameHooks hooks() {
+    return {charge, [this](Simulation& sim, int64_t tick) { advance(sim, tick); },
+            [this](std::vector<uint8_t>& out) { save(out); }, [this](std::span<const uint8_t> in) { return load(in); }};
+  }
+};
+
 // Player p's k-th input (k from 1): a direction held for 15 ticks, then another.
 inline PlayerInput script(int player, int64_t k) {
   const int64_t phase = (k / 15 + player) % 5;
@@ -54,8 +132,12 @@ inline PlayerInput script(int player, int64_t k) {
 // k-th input a player gives applies at tick k + delay. With the roster
 // changes a match made (its host's log): an absent player's input is
 // empty, and so is a joiner's for the `delay` ticks from its first.
-inline std::vector<uint64_t> reference_chain(int players, int delay, int64_t ticks, const std::vector<RosterEvent>& log = {}) {
+// With `game`, the arena's game plays too: the chain is of tick_checksum
+// (the world's hash and the game's state), and `game` ends as it does.
+inline std::vector<uint64_t> reference_chain(int players, int delay, int64_t ticks,
+                                             const std::vector<RosterEvent>& log = {}, ArenaGame* game = nullptr) {
   Simulation sim = arena_simulation();
+  sim.world().set_events(game != nullptr);
   Roster roster(players);
   std::vector<int64_t> joined(static_cast<size_t>(players), 0);
   for (const RosterEvent& e : log) {
@@ -67,10 +149,15 @@ inline std::vector<uint64_t> reference_chain(int players, int delay, int64_t tic
     for (int p = 0; p < players; ++p) {
       const int64_t since = joined[static_cast<size_t>(p)];
       const bool silent = t <= delay || !roster.plays(p, t) || (since > 0 && t >= since && t < since + delay);
-      push(sim, p, silent ? PlayerInput{} : script(p, t - delay));
+      (game != nullptr ? ArenaGame::charge : push)(sim, p, silent ? PlayerInput{} : script(p, t - delay));
     }
     sim.step();
-    chain.push_back(sim.hash());
+    if (game == nullptr) {
+      chain.push_back(sim.hash());
+      continue;
+    }
+    game->advance(sim, t);
+    chain.push_back(tick_checksum(sim.hash(), game->state()));
   }
   return chain;
 }
@@ -81,11 +168,21 @@ struct Faults {
   int duplicate_percent = 0;
 };
 
+// A match's shape, for tests that play several.
+struct MatchCase {
+  int players;
+  SessionMode mode;
+  int delay;  // input delay, ticks
+  Faults faults;
+  const char* name;
+};
+
 // Peers exchanging messages through a queue that loses, delays (so
 // reorders) and duplicates them; every frame each peer gives its input and
 // advances once. Records each peer's confirmed chain (from its first tick).
 struct Match {
   std::vector<std::unique_ptr<Session>> peers;
+  std::vector<std::unique_ptr<ArenaGame>> games;  // with a game: each peer's
   std::vector<std::vector<uint64_t>> chains;  // chains[p][i]: the hash after tick first_tick + i + 1
   std::vector<bool> online;
   struct InFlight {
@@ -102,10 +199,12 @@ struct Match {
   // Sees each message as it is delivered; false holds it back for good.
   std::function<bool(int to, const SessionMessage&)> deliver;
 
-  Match(int players, SessionMode match_mode, int input_delay, Faults f, int checksum_interval = 1, int leave_frames = 0)
+  Match(int players, SessionMode match_mode, int input_delay, Faults f, int checksum_interval = 1, int leave_frames = 0,
+        bool with_game = false)
       : faults(f), delay(input_delay), mode(match_mode), leave_after(leave_frames) {
     for (int p = 0; p < players; ++p) {
-      peers.push_back(std::make_unique<Session>(arena_simulation(), config(players, p, checksum_interval), push));
+      if (with_game) games.push_back(std::make_unique<ArenaGame>());
+      peers.push_back(session(config(players, p, checksum_interval), p));
     }
     chains.resize(static_cast<size_t>(players));
     online.assign(static_cast<size_t>(players), true);
@@ -121,12 +220,22 @@ struct Match {
     REQUIRE(check_config(c).ok());
     return c;
   }
+  // Player p's session, playing the game when the match has one.
+  std::unique_ptr<Session> session(const SessionConfig& c, int p) {
+    if (games.empty()) return std::make_unique<Session>(arena_simulation(), c, push);
+    ArenaGame& game = *games[static_cast<size_t>(p)];
+    Simulation sim = arena_simulation();
+    sim.world().set_events(true);
+    REQUIRE(check_hooks(game.hooks()).ok());
+    return std::make_unique<Session>(std::move(sim), c, game.hooks());
+  }
   // A new process in slot p, joining the match in progress (to play, or to watch).
   void rejoin(int p, bool watching = false) {
     SessionConfig c = config(static_cast<int>(peers.size()), p, 1);
     c.joining = true;
     c.watching = watching;
-    peers[static_cast<size_t>(p)] = std::make_unique<Session>(arena_simulation(), c, push);
+    if (!games.empty()) games[static_cast<size_t>(p)] = std::make_unique<ArenaGame>();  // a new process's
+    peers[static_cast<size_t>(p)] = session(c, p);
     chains[static_cast<size_t>(p)].clear();
     online[static_cast<size_t>(p)] = true;
   }

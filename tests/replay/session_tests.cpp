@@ -22,20 +22,13 @@ using namespace bitstep::session_test;
 
 TEST_CASE("2 and 4 peers in lockstep and in rollback end with one simulation's chain", "[session]") {
   constexpr int64_t ticks = 300;
-  struct Case {
-    int players;
-    SessionMode mode;
-    int delay;
-    Faults faults;
-    const char* name;
-  };
-  const Case cases[] = {
+  const MatchCase cases[] = {
       {2, SessionMode::lockstep, 0, {}, "2 lockstep"},
       {2, SessionMode::rollback, 0, {0, 2, 2, 0}, "2 rollback, 2 frames of latency"},
       {4, SessionMode::lockstep, 2, {10, 3, 9, 5}, "4 lockstep, 10% loss, 50-150 ms, duplicates"},
       {4, SessionMode::rollback, 1, {10, 3, 9, 5}, "4 rollback, 10% loss, 50-150 ms, duplicates"},
   };
-  for (const Case& c : cases) {
+  for (const MatchCase& c : cases) {
     INFO(c.name);
     Match match(c.players, c.mode, c.delay, c.faults);
     const int64_t frames = match.play(ticks);

@@ -136,7 +136,7 @@ def snapshots(bitstep):
 
 
 def packet(kind, player, ack, tick, body):
-    return b"bS" + bytes([2, kind, player]) + struct.pack("<qq", ack, tick) + body
+    return b"bS" + bytes([3, kind, player]) + struct.pack("<qq", ack, tick) + body
 
 
 def roster(*changes):  # (at, from, player, presence)
@@ -151,17 +151,20 @@ def packets(images):
     write("packet", "inputs_4.bin", packet(0, 3, -1, 1 << 40, body + roster()))
     write("packet", "inputs_roster.bin", packet(0, 0, 40, 41, body + roster((41, 38, 2, 0), (42, 42, 3, 1), (43, 43, 1, 2))))
     write("packet", "relay.bin", packet(3, 1, 5, 6, bytes([2]) + body))
-    write("packet", "checksum.bin", packet(1, 2, 60, 60, struct.pack("<Q", 0xfbe30ec9ec0eefda)))
+    write("packet", "checksum.bin", packet(1, 2, 60, 60, struct.pack("<QBQQ", 0xfbe30ec9ec0eefda, 2, 1, 2)))
     state = images["small_1"]
-    write("packet", "state.bin", packet(2, 1, 30, 30, struct.pack("<I", len(state)) + state))
-    write("packet", "state_empty.bin", packet(2, 0, 0, 0, struct.pack("<I", 0)))
+    game = bytes([100, 100, 3, 0])  # a game's state: two health bars, two scores
+    write("packet", "state.bin", packet(2, 1, 30, 30, struct.pack("<I", len(state)) + state +
+                                        struct.pack("<I", len(game)) + game))
+    write("packet", "state_empty.bin", packet(2, 0, 0, 0, struct.pack("<II", 0, 0)))
     write("packet", "join_state.bin", packet(4, 0, 30, 30, bytes([2]) +
-                                            struct.pack("<HHQI", 0b0011, 0b1000, 0x3c0e9c78ac0b4f0f, len(state)) + state))
+                                            struct.pack("<HHQI", 0b0011, 0b1000, 0x3c0e9c78ac0b4f0f, len(state)) + state +
+                                            struct.pack("<I", len(game)) + game))
     write("packet", "join_check.bin", packet(5, 1, 30, 30, bytes([2]) + struct.pack("<Q", 0xfbe30ec9ec0eefda)))
     hellos = {"hello_rollback": (0, 2, 1, 2, 0), "hello_lockstep": (3, 4, 0, 0, 0), "hello_join": (2, 3, 1, 0, 1),
               "hello_watch": (3, 4, 0, 1, 2)}
     for name, (player, players, mode, delay, joining) in hellos.items():
-        write("packet", name + ".bin", b"bS" + bytes([2, 16, player, players, mode, delay]) +
+        write("packet", name + ".bin", b"bS" + bytes([3, 16, player, players, mode, delay]) +
               struct.pack("<Q", 0x3c0e9c78ac0b4f0f) + bytes([joining]))
 
 
