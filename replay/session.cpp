@@ -60,6 +60,7 @@ Result<void> check_config(const SessionConfig& c) {
   if (c.leave_after != 0 && (c.leave_after < 10 || c.leave_after > 100000)) return Error{"leave after", "0 or 10..100000 frames"};
   if (c.joining && c.local_player == 0) return Error{"joining", "the host (player 0) cannot join, it starts the match"};
   if (c.watching && !c.joining) return Error{"watching", "a spectator joins a match in progress (joining)"};
+  if (c.interrupt_after < 1 || c.interrupt_after > 100000) return Error{"interrupt after", "outside 1..100000 frames"};
   return {};
 }
 
@@ -95,7 +96,9 @@ Session::Session(Simulation sim, SessionConfig config, GameHooks game)
       host_asked_at_(static_cast<size_t>(config.players), never_asked),
       wants_in_(static_cast<size_t>(config.players), Presence::absent),
       join_tick_(static_cast<size_t>(config.players), 0),
-      join_state_(static_cast<size_t>(config.players)) {
+      join_state_(static_cast<size_t>(config.players)),
+      links_(config.players),
+      interrupted_(static_cast<size_t>(config.players), 0) {
   // Ticks 1..input_delay have no input, for every player.
   for (auto& known_inputs : inputs_) {
     for (int64_t t = 1; t <= config_.input_delay; ++t) known_inputs[t] = empty_;
@@ -112,6 +115,7 @@ Session::Session(Simulation sim, SessionConfig config, GameHooks game)
   hashes_.assign(ring_.size(), 0);
   run_tick_.assign(ring_.size(), -1);
   checked_states_.resize(remembered_states);
+  events_.reserve(max_pending_events);
   if (config_.mode == SessionMode::rollback) save_state(0);
 }
 
@@ -164,8 +168,11 @@ const PlayerInput& Session::input_for(int player, int64_t tick, bool& predicted)
   return at == known_inputs.begin() ? empty_ : std::prev(at)->second;
 }
 
-void Session::add_local_input(PlayerInput input) {
-  if (!joined_ || config_.watching) return;  // a joiner plays from its state's next tick; a spectator never
+bool Session::add_local_input(PlayerInput input) {
+  if (!joined_ || config_.watching) return false;  // a joiner plays from its state's next tick; a spectator never
+  // Too far ahead, unless the host's roster changes must ride (a leaver
+  // marked absent is what lets the confirmed tick move on).
+  if (next_local_ > confirmed_ + config_.input_delay + config_.max_prediction && next_roster_.empty()) return false;
   const int64_t t = next_local_++;
   inputs_[static_cast<size_t>(config_.local_player)][t] = std::move(input);
   // The host's roster changes ride with this input: every peer applies
@@ -185,6 +192,7 @@ void Session::add_local_input(PlayerInput input) {
     apply_roster(e);
   }
   send_inputs();
+  return true;
 }
 
 void Session::heartbeat() { send_inputs(true); }
@@ -226,14 +234,17 @@ void Session::apply_roster(const RosterEvent& e) {
   }
   roster_.set(e.player, e.from, e.presence);
   if (e.presence != Presence::absent) {
+    event({SessionEvent::Kind::player_joined, e.player, e.from, 0, 0, e.presence == Presence::watching});
     wants_in_[p] = Presence::absent;
     heard_at_[p] = spoke_at_[p] = frames_;
     if (e.player != config_.local_player) {
       join_tick_[p] = e.from;
       acked_[p] = e.from - 1;
+      links_.reset(e.player);  // a new process: its messages are numbered from 0
     }
     return;
   }
+  event({SessionEvent::Kind::player_left, e.player, e.from});
   join_tick_[p] = 0;
   join_state_[p].reset();
   auto& theirs = inputs_[p];
@@ -348,6 +359,8 @@ SessionMessage& Session::next_message(SessionMessage::Kind kind) {
   m.inputs.clear();
   m.checksum = 0;
   m.earlier.clear();
+  m.frame = 0;
+  m.echoes.clear();
   m.state.clear();
   m.game_state.clear();
   m.roster.clear();
@@ -424,6 +437,7 @@ void Session::roll_back() {
   // The states after `from` on are the mispredicted run's: saved again as it is run again.
   for (int64_t t = from; t <= to; ++t) ring_tick_[static_cast<size_t>(t) % ring_.size()] = -1;
   for (int64_t t = from; t <= to; ++t) simulate(t);
+  event({SessionEvent::Kind::rolled_back, -1, from, to});
   ++stats_.rollbacks;
   stats_.resimulated_ticks += to - from + 1;
 }
@@ -432,6 +446,7 @@ bool Session::advance() {
   ++frames_;
   if (!joined_) return false;
   run_roster();
+  watch_links();
   if (config_.watching) send_inputs(true);  // a spectator's ack: it has no inputs to carry it
   const int64_t next = tick_ + 1;
   if (config_.mode == SessionMode::rollback && rollback_from_ <= tick_) roll_back();
@@ -542,6 +557,7 @@ void Session::check_checksum(int64_t tick, int player) {
   if (roster_.at(player, tick) == Presence::absent) return;
   if (theirs->second == local->second) return;
   desync_ = Desync{tick, player, local->second, theirs->second, {}};
+  event({SessionEvent::Kind::desync, player, tick});
   report_desync_at(tick, player);
 }
 
@@ -588,6 +604,7 @@ bool Session::receive(const SessionMessage& m) {
     return false;
   };
   if (m.player < 0 || m.player >= config_.players || m.player == config_.local_player) return refuse();
+  links_.received(m.player, m.sequence, frames_);
   if (!joined_) {  // the match's traffic is not ours until our state is in
     if (m.subject != config_.local_player) return true;
     if (m.kind == SessionMessage::Kind::join_check) {
@@ -599,8 +616,14 @@ bool Session::receive(const SessionMessage& m) {
     return true;
   }
   const int64_t horizon = std::max(tick_, next_local_ - 1) + window(config_);
-  if (m.ack < 0 || m.ack > horizon || m.tick < 1 || m.tick > horizon) return refuse();
+  const int64_t first =
+      m.kind == SessionMessage::Kind::quality ? 0 : 1;  // a quality message's newest input may be none
+  if (m.ack < 0 || m.ack > horizon || m.tick < first || m.tick > horizon) return refuse();
   switch (m.kind) {
+    case SessionMessage::Kind::quality:
+      if (m.echoes.size() != static_cast<size_t>(config_.players) || m.frame < 0) return refuse();
+      links_.quality(m.player, m, config_.local_player, frames_);
+      break;
     case SessionMessage::Kind::inputs:
       if (!m.roster.empty() && m.player != 0) return refuse();  // only the host changes the roster
       if (!receive_inputs(m, m.player)) return refuse();
@@ -665,12 +688,11 @@ void Session::receive_desync_state(const SessionMessage& m) {
   }
   World mine;
   if (desync_snapshot_.empty() || !restore(desync_snapshot_, mine).ok()) return;
-  if (!read.ok()) {
-    desync_->difference = "the peer's state cannot be read: " + read.error().message();
-    return;
-  }
-  desync_->difference =
-      diff_dumps(dump_state(mine), dump_state(theirs)).value().value_or(game_difference(desync_game_, m.game_state));
+  desync_->difference = read.ok() ? diff_dumps(dump_state(mine), dump_state(theirs))
+                                        .value()
+                                        .value_or(game_difference(desync_game_, m.game_state))
+                                  : "the peer's state cannot be read: " + read.error().message();
+  event({SessionEvent::Kind::desync_explained, desync_->player, desync_->tick});
 }
 
 // A player's inputs (its own, or relayed); false, with nothing changed,
@@ -795,10 +817,68 @@ void Session::try_join() {
   joined_ = true;
   candidate_.reset();
   join_checks_.clear();
+  event({SessionEvent::Kind::joined, config_.local_player, c});
 }
 
 std::span<const SessionMessage> Session::take_outgoing() {
+  for (size_t i = 0; i < outgoing_count_; ++i) outgoing_[i].sequence = next_sequence_++;
   return {outgoing_.data(), std::exchange(outgoing_count_, 0)};
+}
+
+std::span<const SessionEvent> Session::take_events() { return {events_.data(), std::exchange(event_count_, 0)}; }
+
+// Kept in place, as the outgoing messages (room for them all reserved at
+// the start); a game that does not take them loses the oldest.
+void Session::event(const SessionEvent& e) {
+  if (event_count_ == max_pending_events) {
+    std::move(events_.begin() + 1, events_.end(), events_.begin());
+    --event_count_;
+    ++stats_.dropped_events;
+  }
+  if (event_count_ == events_.size()) events_.push_back(e);
+  events_[event_count_++] = e;
+}
+
+PeerStats Session::peer_stats(int player) const { return links_.stats(player, frames_, next_local_ - 1); }
+
+int Session::recommended_wait() const {
+  int wait = 0;
+  for (int p = 0; p < config_.players; ++p) {
+    if (p != config_.local_player && roster_.plays(p, tick_ + 1)) wait = std::max(wait, peer_stats(p).frames_ahead);
+  }
+  return wait >= 2 ? wait : 0;
+}
+
+// Once a frame: our quality message every quality_every frames; a player
+// silent for interrupt_after frames, or heard again; the time sync's advice
+// (at most every 4 quality intervals, so a wait shows before the next).
+void Session::watch_links() {
+  if (config_.players < 2) return;
+  if (frames_ % quality_every == 0) {
+    SessionMessage& m = next_message(SessionMessage::Kind::quality);
+    m.player = config_.local_player;
+    m.ack = confirmed_;
+    links_.fill_quality(m, frames_, next_local_ - 1);
+    ++outgoing_count_;
+  }
+  for (int p = 0; p < config_.players; ++p) {
+    const size_t k = static_cast<size_t>(p);
+    if (p == config_.local_player || !roster_.follows(p)) continue;
+    const int64_t silent = frames_ - heard_at_[k];
+    if (interrupted_[k] == 0 && silent >= config_.interrupt_after) {
+      interrupted_[k] = 1;
+      event({SessionEvent::Kind::interrupted, p, tick_, 0, static_cast<int>(std::min<int64_t>(silent, INT32_MAX))});
+    } else if (interrupted_[k] != 0 && silent < config_.interrupt_after) {
+      interrupted_[k] = 0;
+      event({SessionEvent::Kind::resumed, p, tick_});
+    }
+  }
+  if (frames_ - last_recommendation_ >= 4 * quality_every) {
+    if (const int wait = recommended_wait(); wait > 0) {
+      last_recommendation_ = frames_;
+      event({SessionEvent::Kind::wait_recommended, -1, tick_, 0, wait});
+    }
+  }
 }
 
 std::optional<uint64_t> Session::confirmed_hash(int64_t tick) const {

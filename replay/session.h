@@ -65,6 +65,7 @@
 
 #include "replay/node_pool.h"
 #include "replay/rollback_state.h"
+#include "replay/session_link.h"
 #include "replay/session_roster.h"
 #include "replay/simulation.h"
 
@@ -84,18 +85,28 @@ struct SessionConfig {
   int leave_after = 0;         // frames of silence before the host marks a player absent, 0 (never) or 10..100000
   bool joining = false;        // joins a match in progress: waits for the host's state
   bool watching = false;       // joins as a spectator: follows the match, gives no input
+  int interrupt_after = 30;    // frames of a player's silence before an `interrupted` event, 1..100000
 };
 
 // What is wrong with a config: the field ("input delay") and the bound.
 Result<void> check_config(const SessionConfig& config);
 
 struct SessionMessage {
-  enum class Kind : uint8_t { inputs, checksum, state, relay, join_state, join_check };
+  enum class Kind : uint8_t { inputs, checksum, state, relay, join_state, join_check, quality };
+  // quality: a player's frame, and the frame of each player's last quality message it heard
+  // and the frames it held it since (replay/session_link.h: the round trip).
+  struct Echo {
+    int64_t frame = -1;  // -1: none heard
+    int64_t held = 0;
+  };
   Kind kind = Kind::inputs;
+  uint32_t sequence = 0;            // the sender's count of its messages (take_outgoing numbers them)
   int player = 0;                   // the sender
   int subject = 0;                  // relay: whose inputs; join_state, join_check: the joiner
   int64_t ack = 0;                  // the sender has every player's input up to this tick
-  int64_t tick = 0;                 // inputs: of inputs[0]; checksum, state: the tick
+  int64_t tick = 0;                 // inputs: of inputs[0]; checksum, state: the tick; quality: the newest input's
+  int64_t frame = 0;                // quality: the sender's frame
+  std::vector<Echo> echoes;         // quality: per player
   std::vector<PlayerInput> inputs;  // inputs: the sender's for ticks tick, tick + 1, ...
   uint64_t checksum = 0;            // checksum: the state hash after `tick`
   std::vector<uint64_t> earlier;    // checksum: those of the checksum ticks before `tick`, latest first (<= 3)
@@ -120,12 +131,37 @@ struct Desync {
   std::string difference;  // the first differing field, once the peer's state arrived
 };
 
+// What happened in a session, for the game to show or act on, in the order
+// it happened (take_events).
+struct SessionEvent {
+  enum class Kind : uint8_t {
+    joined,            // this peer (a joiner) took the host's state: it runs from `tick` + 1
+    player_joined,     // `player` plays (or, `watching`, watches) from `tick`
+    player_left,       // `player` is absent from `tick`: the host gave it up
+    interrupted,       // nothing heard from `player` for `frames` frames
+    resumed,           // `player` is heard again
+    rolled_back,       // ticks `tick`..`to` were run again: a prediction was wrong
+    desync,            // the checksums of `tick` differ with `player`'s (desync() has both)
+    desync_explained,  // the first field that differs is known (desync()->difference)
+    wait_recommended,  // this peer runs `frames` frames ahead of the slowest peer: skip that many frames
+  };
+  Kind kind = Kind::joined;
+  int player = -1;
+  int64_t tick = 0, to = 0;
+  int frames = 0;
+  bool watching = false;
+  friend bool operator==(const SessionEvent&, const SessionEvent&) = default;
+};
+
 struct SessionStats {
   int64_t rollbacks = 0, resimulated_ticks = 0, stalls = 0;
   int64_t predicted_inputs = 0, mispredicted_inputs = 0;
   int64_t refused_messages = 0;
   int64_t refused_states = 0;  // join states refused (another match, stale, or not the checked hash)
+  int64_t dropped_events = 0;  // events not taken before max_pending_events more came
 };
+
+inline constexpr size_t max_pending_events = 256;
 
 // Applies one player's input to the simulation, before a tick.
 using ApplyInput = std::function<void(Simulation& sim, int player, const PlayerInput& input)>;
@@ -168,8 +204,12 @@ class Session {
   Session(Simulation sim, SessionConfig config, ApplyInput apply);
 
   // The local player's next input (for the tick input_delay after the last
-  // one given). Then advance.
-  void add_local_input(PlayerInput input);
+  // one given). Then advance. False, and nothing kept, when that tick is
+  // more than max_prediction ticks past the last confirmed one (plus the
+  // delay; GGRS's prediction threshold): the game runs too far ahead of
+  // its peers and gives this frame's input again next frame. False too
+  // for a spectator and for a joiner not yet running.
+  bool add_local_input(PlayerInput input);
   // Runs the next tick if it can (rolling back first when a known input
   // differs from the one predicted); false when it must wait for inputs.
   bool advance();
@@ -206,6 +246,16 @@ class Session {
   int64_t peer_ack(int player) const { return acked_[static_cast<size_t>(player)]; }
   const std::optional<Desync>& desync() const { return desync_; }
   const SessionStats& stats() const { return stats_; }
+  // What happened since the last call (valid until the next call of any of
+  // this session's functions; no allocation). At most max_pending_events
+  // wait: past that the oldest go (counted in stats().dropped_events).
+  std::span<const SessionEvent> take_events();
+  // The link to another player (replay/session_link.h): ping, frames
+  // ahead, silence, messages received and lost.
+  PeerStats peer_stats(int player) const;
+  // Frames this peer runs ahead of the slowest player it follows, when two
+  // or more (else 0): skipping that many advances lets the others catch up.
+  int recommended_wait() const;
   const Simulation& simulation() const { return sim_; }
   Simulation& simulation() { return sim_; }
   // The state hash after a confirmed tick still remembered (the last
@@ -231,6 +281,8 @@ class Session {
   void confirm();
   void check_checksum(int64_t tick, int player);
   bool report_desync_at(int64_t tick, int player);
+  void event(const SessionEvent& e);
+  void watch_links();
   void receive_desync_state(const SessionMessage& m);
   void send_inputs(bool always = false);
   SessionMessage& next_message(SessionMessage::Kind kind);
@@ -298,6 +350,14 @@ class Session {
   std::vector<std::optional<SessionMessage>> join_state_;  // the host's: the state sent to each joiner
   std::optional<SessionMessage> candidate_;              // a joiner's: the state waiting for its checks
   std::map<int, std::pair<int64_t, uint64_t>> join_checks_;  // a joiner's: per player, (tick, hash) checked
+
+  // The links (replay/session_link.h) and the events.
+  PeerLinks links_;
+  uint32_t next_sequence_ = 0;
+  std::vector<uint8_t> interrupted_;  // per player: an `interrupted` event not yet resumed
+  int64_t last_recommendation_ = 0;   // the frame of the last wait_recommended
+  std::vector<SessionEvent> events_;  // [0, event_count_) to take
+  size_t event_count_ = 0;
 };
 
 }  // namespace bitstep

@@ -8,7 +8,7 @@ namespace {
 
 constexpr uint8_t magic[2] = {'b', 'S'};
 constexpr uint8_t version = 3;
-constexpr uint8_t last_message_type = 5;
+constexpr uint8_t last_message_type = 6;
 constexpr uint8_t hello_type = 16;
 
 void put(std::vector<uint8_t>& out, uint64_t value, int bytes) {
@@ -53,6 +53,7 @@ class Reader {
 
 std::vector<uint8_t> encode(const SessionMessage& m) {
   std::vector<uint8_t> out = header(static_cast<uint8_t>(m.kind));
+  put(out, m.sequence, 4);
   put(out, static_cast<uint64_t>(m.player), 1);
   put(out, static_cast<uint64_t>(m.ack), 8);
   put(out, static_cast<uint64_t>(m.tick), 8);
@@ -101,6 +102,14 @@ std::vector<uint8_t> encode(const SessionMessage& m) {
       put(out, static_cast<uint64_t>(m.subject), 1);
       put(out, m.checksum, 8);
       break;
+    case SessionMessage::Kind::quality:
+      put(out, static_cast<uint64_t>(m.frame), 8);
+      put(out, m.echoes.size(), 1);
+      for (const SessionMessage::Echo& echo : m.echoes) {
+        put(out, static_cast<uint64_t>(echo.frame), 8);
+        put(out, static_cast<uint64_t>(echo.held), 8);
+      }
+      break;
   }
   return out;
 }
@@ -140,6 +149,7 @@ Result<Packet> decode(std::span<const uint8_t> packet) {
   if (type > last_message_type) return Error{{}, "packet type " + std::to_string(type)};
   SessionMessage m;
   m.kind = static_cast<SessionMessage::Kind>(type);
+  m.sequence = static_cast<uint32_t>(r.take(4));
   m.player = static_cast<int>(r.take(1));
   m.ack = static_cast<int64_t>(r.take(8));
   m.tick = static_cast<int64_t>(r.take(8));
@@ -207,6 +217,16 @@ Result<Packet> decode(std::span<const uint8_t> packet) {
       m.subject = static_cast<int>(r.take(1));
       m.checksum = r.take(8);
       break;
+    case SessionMessage::Kind::quality: {
+      m.frame = static_cast<int64_t>(r.take(8));
+      const uint64_t count = r.take(1);
+      if (count > 16) return Error{"quality", "more than 16 players"};
+      for (uint64_t i = 0; i < count && r.ok(); ++i) {
+        const auto frame = static_cast<int64_t>(r.take(8));
+        m.echoes.push_back({frame, static_cast<int64_t>(r.take(8))});
+      }
+      break;
+    }
   }
   if (!r.ok()) return Error{{}, "truncated packet"};
   if (!r.done()) return Error{{}, "bytes left after the packet"};

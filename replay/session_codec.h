@@ -1,7 +1,8 @@
 // Session messages as network packets, and the hello a peer opens with.
 // Little-endian, versioned:
 //   "bS", version (u8: 3), type (u8: 0 inputs, 1 checksum, 2 state, 3 relay,
-//   4 join state, 5 join check, 16 hello), then
+//   4 join state, 5 join check, 6 quality, 16 hello), then, but for a hello,
+//   the sender's message number (sequence u32), then
 //   inputs:     player u8, ack i64, tick i64, count u8 (<= 128), each input: length u16 (<= 1024), bytes;
 //               roster count u8 (<= 16), each change: at i64, from i64, player u8, presence u8
 //               (0 absent, 1 present, 2 watching)
@@ -12,10 +13,12 @@
 //   join state: player u8, ack i64, tick i64, subject u8, present u16, watching u16, start hash u64,
 //               length u32, a snapshot image, game length u32, the game's state
 //   join check: player u8, ack i64, tick i64, subject u8, checksum u64
+//   quality:    player u8, ack i64, tick i64 (the newest input's), frame i64, count u8 (<= 16),
+//               each player's echo: frame i64 (-1: none), held i64
 //   hello:      player u8, players u8, mode u8, input delay u8, the start state's hash u64,
 //               joining u8 (0 no, 1 to play, 2 to watch)
-// Versions 1 (no roster, relay or join) and 2 (no game state, no earlier
-// checksums) are refused:
+// Versions 1 (no roster, relay or join) and 2 (no game state, earlier
+// checksums, message numbers or quality) are refused:
 // peers of one match run one build.
 // decode refuses anything else (a wrong magic, version or type, a count or
 // length over its limit, bytes missing or left over) with a reason; the

@@ -85,13 +85,7 @@ TEST_CASE("a player who rejoins starts from the host's game state and ends on th
   for (const SessionMode mode : {SessionMode::lockstep, SessionMode::rollback}) {
     INFO((mode == SessionMode::lockstep ? "lockstep" : "rollback"));
     Match match(3, mode, 1, {10, 3, 9, 5}, 1, 60, true);
-    int64_t now = 0;
-    while (match.peers[2]->tick() < 100 && now < 10000) match.frame(++now, ticks);
-    match.online[2] = false;
-    while (match.peers[0]->tick() < 300 && now < 20000) match.frame(++now, ticks);
-    match.rejoin(2);
-    REQUIRE(match.peers[0]->admit(2));
-    now = match.play(ticks, now);
+    const int64_t now = match.drop_and_rejoin(2, 100, 300, ticks);
 
     const Session& joiner = *match.peers[2];
     REQUIRE(joiner.joined());

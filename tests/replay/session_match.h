@@ -185,6 +185,11 @@ struct Match {
   std::vector<std::unique_ptr<ArenaGame>> games;  // with a game: each peer's
   std::vector<std::vector<uint64_t>> chains;  // chains[p][i]: the hash after tick first_tick + i + 1
   std::vector<bool> online;
+  // What each peer's game saw (take_events), and the frame before which it
+  // runs nothing (starts late, or waits as its session advised).
+  std::vector<std::vector<SessionEvent>> events;
+  std::vector<int64_t> idle_until;
+  bool honour_waits = false;  // a wait_recommended event idles the peer that many frames
   struct InFlight {
     int64_t due;
     int to;
@@ -208,6 +213,8 @@ struct Match {
     }
     chains.resize(static_cast<size_t>(players));
     online.assign(static_cast<size_t>(players), true);
+    events.resize(static_cast<size_t>(players));
+    idle_until.assign(static_cast<size_t>(players), 0);
   }
   SessionConfig config(int players, int p, int checksum_interval) const {
     SessionConfig c;
@@ -237,7 +244,20 @@ struct Match {
     if (!games.empty()) games[static_cast<size_t>(p)] = std::make_unique<ArenaGame>();  // a new process's
     peers[static_cast<size_t>(p)] = session(c, p);
     chains[static_cast<size_t>(p)].clear();
+    events[static_cast<size_t>(p)].clear();
     online[static_cast<size_t>(p)] = true;
+  }
+  // Player p goes offline once its tick reaches `drop`, and a new session
+  // takes its slot once the host's reaches `back` (the host admits it);
+  // then the match plays to `ticks`. The frames it took.
+  int64_t drop_and_rejoin(int p, int64_t drop, int64_t back, int64_t ticks) {
+    int64_t now = 0;
+    while (peers[static_cast<size_t>(p)]->tick() < drop && now < 10000) frame(++now, ticks);
+    online[static_cast<size_t>(p)] = false;
+    while (peers[0]->tick() < back && now < 20000) frame(++now, ticks);
+    rejoin(p);
+    REQUIRE(peers[0]->admit(p));
+    return play(ticks, now);
   }
   int percent() { return static_cast<int>(rng.next() % 100); }
 
@@ -248,10 +268,11 @@ struct Match {
       // Past `ticks` too, as a game goes on: the last ticks are confirmed
       // once the inputs after them flow.
       // (local_input_tick() starts at the delay: the k-th input is for tick k + delay.)
-      if (s.joined() && s.local_input_tick() < ticks + 30) {
+      const bool runs = now >= idle_until[p];
+      if (runs && s.joined() && s.local_input_tick() < ticks + 30) {
         s.add_local_input(script(static_cast<int>(p), s.local_input_tick() + 1 - delay));
       }
-      if (s.tick() < ticks + 30) s.advance();
+      if (runs && s.tick() < ticks + 30) s.advance();
       for (const SessionMessage& m : s.take_outgoing()) {
         // A state goes reliably, as the transport sends it.
         const bool reliable = m.kind == SessionMessage::Kind::state || m.kind == SessionMessage::Kind::join_state;
@@ -277,6 +298,12 @@ struct Match {
       }
     }
     in_flight = std::move(later);
+    for (size_t p = 0; p < peers.size(); ++p) {
+      for (const SessionEvent& e : peers[p]->take_events()) {
+        events[p].push_back(e);
+        if (honour_waits && e.kind == SessionEvent::Kind::wait_recommended) idle_until[p] = now + 1 + e.frames;
+      }
+    }
     // Each peer's newly confirmed hashes (confirmed by advancing or by a message).
     for (size_t p = 0; p < peers.size(); ++p) {
       const Session& s = *peers[p];

@@ -125,16 +125,26 @@ TEST_CASE("packets: messages and hellos round-trip, malformed ones are refused w
   inputs.ack = 41;
   inputs.tick = 40;
   inputs.inputs = {"1 1", "", std::string(max_input_bytes, 'z')};
+  inputs.sequence = 0xfedcba98u;
   SessionMessage checksum;
   checksum.kind = SessionMessage::Kind::checksum;
   checksum.player = 1;
   checksum.ack = 9;
   checksum.tick = 10;
   checksum.checksum = 0x0123456789abcdefu;
+  checksum.earlier = {7, 8, 9};
   SessionMessage state = checksum;
   state.kind = SessionMessage::Kind::state;
   state.checksum = 0;  // a state carries none
+  state.earlier.clear();
   state.state = {1, 2, 3, 4, 5};
+  state.game_state = {100, 90};
+  SessionMessage quality = state;
+  quality.kind = SessionMessage::Kind::quality;
+  quality.state.clear();
+  quality.game_state.clear();
+  quality.frame = 600;
+  quality.echoes = {{570, 3}, {-1, 0}, {585, 1}};
   // Leaving and joining: the host's roster changes, a relay, a joiner's state and check.
   SessionMessage host_inputs = inputs;
   host_inputs.player = 0;
@@ -151,18 +161,28 @@ TEST_CASE("packets: messages and hellos round-trip, malformed ones are refused w
   SessionMessage join_check = checksum;
   join_check.kind = SessionMessage::Kind::join_check;
   join_check.subject = 1;
-  for (const SessionMessage& m : {inputs, checksum, state, host_inputs, relay, join_state, join_check}) {
+  join_check.earlier.clear();  // a checksum's alone
+  for (const SessionMessage& m : {inputs, checksum, state, host_inputs, relay, join_state, join_check, quality}) {
     const auto decoded = decode(encode(m));
     REQUIRE(decoded.ok());
     REQUIRE(std::holds_alternative<SessionMessage>(decoded.value()));
     const SessionMessage& d = std::get<SessionMessage>(decoded.value());
     CHECK(d.kind == m.kind);
+    CHECK(d.sequence == m.sequence);
     CHECK(d.player == m.player);
     CHECK(d.ack == m.ack);
     CHECK(d.tick == m.tick);
     CHECK(d.inputs == m.inputs);
     CHECK(d.checksum == m.checksum);
+    CHECK(d.earlier == m.earlier);
     CHECK(d.state == m.state);
+    CHECK(d.game_state == m.game_state);
+    CHECK(d.frame == m.frame);
+    CHECK(d.echoes.size() == m.echoes.size());
+    for (size_t i = 0; i < d.echoes.size() && i < m.echoes.size(); ++i) {
+      CHECK(d.echoes[i].frame == m.echoes[i].frame);
+      CHECK(d.echoes[i].held == m.echoes[i].held);
+    }
     CHECK(d.subject == m.subject);
     CHECK(d.roster == m.roster);
     CHECK(d.present == m.present);
@@ -190,6 +210,12 @@ TEST_CASE("packets: messages and hellos round-trip, malformed ones are refused w
   bad = good;
   bad[3] = 7;
   CHECK(reason(bad) == "packet type 7");
+  bad = encode(checksum);
+  bad[33] = 4;  // the earlier checksums' count
+  CHECK(reason(bad) == "checksum: more than 3 earlier checksums");
+  bad = encode(quality);
+  bad[33] = 17;  // the echoes' count
+  CHECK(reason(bad) == "quality: more than 16 players");
   bad = good;
   bad.pop_back();
   CHECK(reason(bad) == "truncated packet");
@@ -197,7 +223,7 @@ TEST_CASE("packets: messages and hellos round-trip, malformed ones are refused w
   bad.push_back(0);
   CHECK(reason(bad) == "bytes left after the packet");
   bad = good;
-  bad[21] = 200;  // the count
+  bad[25] = 200;  // the count (after magic 2, version, type, sequence 4, player, ack 8, tick 8)
   CHECK(reason(bad) == "inputs: more than 128");
   SessionMessage long_input = inputs;
   long_input.inputs = {std::string(max_input_bytes + 1, 'z')};
@@ -207,7 +233,7 @@ TEST_CASE("packets: messages and hellos round-trip, malformed ones are refused w
   CHECK(reason(bad) == "hello: mode out of range");
   // Every truncation of every packet is refused, none crashes.
   for (const auto& packet : {encode(inputs), encode(checksum), encode(state), encode(hello), encode(host_inputs),
-                             encode(relay), encode(join_state), encode(join_check)}) {
+                             encode(relay), encode(join_state), encode(join_check), encode(quality)}) {
     for (size_t n = 0; n < packet.size(); ++n) {
       CHECK_FALSE(decode(std::span<const uint8_t>(packet.data(), n)).ok());
     }

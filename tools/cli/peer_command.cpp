@@ -259,7 +259,19 @@ void report(const Options& o, int64_t first, const std::vector<uint64_t>& chain,
                "\"mispredicted_inputs\": {}, \"refused_messages\": {}",
                s.rollbacks, s.resimulated_ticks, s.stalls, s.predicted_inputs, s.mispredicted_inputs,
                s.refused_messages);
-    fmt::print(", \"refused_states\": {}, \"roster\": \"{}\"", s.refused_states, roster_options(*session));
+    fmt::print(", \"refused_states\": {}, \"roster\": \"{}\", \"links\": [", s.refused_states,
+               roster_options(*session));
+    const char* comma = "";
+    for (int p = 0; p < o.players; ++p) {
+      if (p == o.player) continue;
+      const PeerStats l = session->peer_stats(p);
+      fmt::print(
+          "{}{{\"player\": {}, \"ping_frames\": {}, \"frames_ahead\": {}, \"messages_received\": {}, "
+          "\"messages_lost\": {}, \"duplicates\": {}}}",
+          comma, p, l.ping_frames, l.frames_ahead, l.messages_received, l.messages_lost, l.duplicates);
+      comma = ", ";
+    }
+    fmt::print("]");
     if (const auto& d = session->desync()) {
       fmt::print(", \"desync\": {{\"tick\": {}, \"player\": {}, \"local\": \"{:016x}\", \"remote\": \"{:016x}\", "
                  "\"difference\": {}}}",
@@ -436,6 +448,12 @@ int peer_command(int argc, char** argv) {
       }
       if (session.tick() < o.ticks) session.advance();
       if (session.tick() >= o.ticks) session.heartbeat();
+      // The time sync's advice: this peer runs ahead, so it idles that many frames.
+      for (const SessionEvent& e : session.take_events()) {
+        if (e.kind == SessionEvent::Kind::wait_recommended && o.hz > 0) {
+          next_frame += std::chrono::duration_cast<std::chrono::steady_clock::duration>(frame * e.frames);
+        }
+      }
     }
     for (const SessionMessage& m : session.take_outgoing()) {
       const bool reliable = m.kind == SessionMessage::Kind::state || m.kind == SessionMessage::Kind::join_state;

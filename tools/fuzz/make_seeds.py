@@ -135,8 +135,8 @@ def snapshots(bitstep):
     return images
 
 
-def packet(kind, player, ack, tick, body):
-    return b"bS" + bytes([3, kind, player]) + struct.pack("<qq", ack, tick) + body
+def packet(kind, player, ack, tick, body, sequence=7):
+    return b"bS" + bytes([3, kind]) + struct.pack("<I", sequence) + bytes([player]) + struct.pack("<qq", ack, tick) + body
 
 
 def roster(*changes):  # (at, from, player, presence)
@@ -160,6 +160,7 @@ def packets(images):
     write("packet", "join_state.bin", packet(4, 0, 30, 30, bytes([2]) +
                                             struct.pack("<HHQI", 0b0011, 0b1000, 0x3c0e9c78ac0b4f0f, len(state)) + state +
                                             struct.pack("<I", len(game)) + game))
+    write("packet", "quality.bin", packet(6, 1, 40, 44, struct.pack("<qB", 300, 2) + struct.pack("<qqqq", 270, 3, -1, 0)))
     write("packet", "join_check.bin", packet(5, 1, 30, 30, bytes([2]) + struct.pack("<Q", 0xfbe30ec9ec0eefda)))
     hellos = {"hello_rollback": (0, 2, 1, 2, 0), "hello_lockstep": (3, 4, 0, 0, 0), "hello_join": (2, 3, 1, 0, 1),
               "hello_watch": (3, 4, 0, 1, 2)}
