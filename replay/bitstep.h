@@ -135,6 +135,15 @@ bitstep_status bitstep_load(bitstep_simulation* sim, const uint8_t* image, size_
  * when the image is refused (it is read whole before it replaces anything). */
 bitstep_status bitstep_save_state(bitstep_simulation* sim, uint8_t* buffer, size_t capacity, size_t* size);
 bitstep_status bitstep_load_state(bitstep_simulation* sim, const uint8_t* image, size_t size);
+/* The checksum a saved state carries (no second pass over the state): what
+ * peers compare. It names nothing of one simulation object (no body serial,
+ * no save number), so peers in the same state have the same one however
+ * their simulations were built; a body's shapes and masses are not in it
+ * (bitstep_hash covers them). INVALID when the image is not a state of this
+ * version (not verified: bitstep_load_state does). bitstep_checksum: the
+ * same of the simulation now. */
+bitstep_status bitstep_state_checksum(const uint8_t* image, size_t size, uint64_t* checksum);
+uint64_t bitstep_checksum(const bitstep_simulation* sim);
 
 /* The first shape a ray from origin along translation meets (NOT_FOUND: none).
  * A query changes nothing, so it takes any numbers: a zero translation, an

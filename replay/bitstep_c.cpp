@@ -3,6 +3,7 @@
 // (allocation failure) and returns a status.
 #include <cstring>
 #include <new>
+#include <optional>
 #include <string>
 
 #include "fixed/decimal.h"
@@ -311,6 +312,16 @@ bitstep_status bitstep_save_state(bitstep_simulation* sim, uint8_t* buffer, size
     return BITSTEP_OK;
   });
 }
+
+bitstep_status bitstep_state_checksum(const uint8_t* image, size_t size, uint64_t* checksum) {
+  if (image == nullptr || checksum == nullptr) return BITSTEP_NULL_ARGUMENT;
+  const std::optional<uint64_t> carried = bitstep::RollbackStates::checksum({image, size});
+  if (!carried) return BITSTEP_INVALID;
+  *checksum = *carried;
+  return BITSTEP_OK;
+}
+
+uint64_t bitstep_checksum(const bitstep_simulation* sim) { return sim == nullptr ? 0 : sim->sim.checksum(); }
 
 bitstep_status bitstep_load_state(bitstep_simulation* sim, const uint8_t* image, size_t size) {
   return guarded(sim, [&] {

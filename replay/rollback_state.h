@@ -14,11 +14,22 @@
 //
 // Image: "BITSTEPR", version (u32), the world object's number (u64: a state
 // restores only into the world it was saved from), the save's number (u64),
-// payload size (u64), the payload, XXH3-64 of everything before it (u64).
+// the state's checksum (u64: XXH3-64 of the payload), the number of live
+// bodies (u32), the payload's size (u64), each live body's serial (u64, in
+// slot order), the payload, XXH3-64 of everything before the payload (u64).
+//
+// The checksum is what peers compare: the payload holds the step's state
+// and nothing of one world object (no serial, world or save number), so two
+// worlds in the same state, built by different peers or restored from a
+// snapshot, have the same checksum; a state that differs in any field that
+// steps (a pose, a velocity, a contact's impulse, a joint's) has another.
+// A body's static fields are not in it: they come from the scene and the
+// spawns (the state hash, state_hash.h, covers them).
 #pragma once
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -29,7 +40,9 @@
 
 namespace bitstep {
 
-inline constexpr uint32_t rollback_state_version = 5;  // 2: cars' tyre impulses; 3: sliders, joint motors; 4: the suspension's impulse, held islands' velocity passes (a setting); 5: dead slots' filters
+inline constexpr uint32_t rollback_state_version =
+    6;  // 2: cars' tyre impulses; 3: sliders, joint motors; 4: the suspension's impulse, held islands' velocity passes
+        // (a setting); 5: dead slots' filters; 6: the state's checksum, serials apart
 
 class RollbackStates final : private state_bytes::BodyStatics {
  public:
@@ -37,11 +50,15 @@ class RollbackStates final : private state_bytes::BodyStatics {
   // that is more than buffer.size(), the buffer holds nothing usable (grow
   // it to the size returned and save again). Allocates only to remember a
   // body it has not seen before.
-  size_t save(const World& world, std::span<uint8_t> buffer);
+  // With `checksum`, the state's checksum (what peers compare) there too.
+  size_t save(const World& world, std::span<uint8_t> buffer, uint64_t* checksum = nullptr);
   // The same into a vector the caller keeps, grown when the state needs
   // more (then saved again) and sized to it: no allocation once it is large
   // enough.
-  void save(const World& world, std::vector<uint8_t>& buffer);
+  void save(const World& world, std::vector<uint8_t>& buffer, uint64_t* checksum = nullptr);
+  // The checksum a saved image carries (not verified: restore does), or
+  // nullopt when it is not a rollback state of this version.
+  static std::optional<uint64_t> checksum(std::span<const uint8_t> image);
 
   // Reads a state this object saved from `world` back into it, or says why
   // it cannot (another world, a corrupt or truncated image) and changes
@@ -75,5 +92,10 @@ class RollbackStates final : private state_bytes::BodyStatics {
   // with the world's.
   mutable OwnedStateParts read_;
 };
+
+// The checksum of `world`'s state as a save carries it (what sessions'
+// peers compare): saved into a scratch of this thread's, so it allocates
+// while the scratch grows. A session gets it from the save it keeps anyway.
+uint64_t state_checksum(const World& world);
 
 }  // namespace bitstep

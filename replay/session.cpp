@@ -72,8 +72,8 @@ Result<void> check_hooks(const GameHooks& hooks) {
   return {};
 }
 
-uint64_t tick_checksum(uint64_t world_hash, std::span<const uint8_t> game_state) {
-  return XXH3_64bits_withSeed(game_state.data(), game_state.size(), world_hash);
+uint64_t tick_checksum(uint64_t world_checksum, std::span<const uint8_t> game_state) {
+  return XXH3_64bits_withSeed(game_state.data(), game_state.size(), world_checksum);
 }
 
 Session::Session(Simulation sim, SessionConfig config, ApplyInput apply)
@@ -111,19 +111,21 @@ Session::Session(Simulation sim, SessionConfig config, GameHooks game)
   used_.resize(ring_.size());
   game_states_.resize(ring_.size());
   game_tick_.assign(ring_.size(), -1);
-  checksum_after(0);  // the game's state before tick 1
   hashes_.assign(ring_.size(), 0);
   run_tick_.assign(ring_.size(), -1);
   checked_states_.resize(remembered_states);
   events_.reserve(max_pending_events);
-  if (config_.mode == SessionMode::rollback) save_state(0);
+  // The state before tick 1, and the game's.
+  uint64_t world = 0;
+  save_state(0, &world);
+  checksum_after(0, world);
 }
 
 // The state after `tick` (the world's now) into its place in the ring, as
 // a rollback state: no allocation once the buffers are large enough.
-void Session::save_state(int64_t tick) {
+void Session::save_state(int64_t tick, uint64_t* checksum) {
   const size_t k = static_cast<size_t>(tick) % ring_.size();
-  states_.save(sim_.world(), ring_[k]);
+  states_.save(sim_.world(), ring_[k], checksum);
   ring_tick_[k] = tick;
   // Now and then, the bodies in none of the states a rollback or a desync
   // report may still restore are forgotten. Between a state's save and its
@@ -388,10 +390,6 @@ const Session::CheckedState* Session::checked_state(int64_t tick) const {
 }
 
 void Session::simulate(int64_t tick) {
-  // The state this tick starts from, unless the ring holds it already (a
-  // checksum tick's state_after saved it; a rollback restored it).
-  const size_t start = static_cast<size_t>(tick - 1) % ring_.size();
-  if (config_.mode == SessionMode::rollback && ring_tick_[start] != tick - 1) save_state(tick - 1);
   const size_t k = static_cast<size_t>(tick) % used_.size();
   std::vector<PlayerInput>& used = used_[k];  // its strings' memory kept
   used.resize(static_cast<size_t>(config_.players));
@@ -404,14 +402,18 @@ void Session::simulate(int64_t tick) {
   sim_.step();
   if (game_.advance) game_.advance(sim_, tick);
   tick_ = tick;
-  hashes_[k] = checksum_after(tick);
+  // Each tick's state is kept (a rollback's start, a checksum tick's
+  // report), and its save gives the checksum peers compare.
+  uint64_t world = 0;
+  save_state(tick, &world);
+  hashes_[k] = checksum_after(tick, world);
   run_tick_[k] = tick;
 }
 
-// The checksum after `tick`, just run (or the state a joiner starts from):
-// the world's hash, with the game's state saved into its place first.
-uint64_t Session::checksum_after(int64_t tick) {
-  const uint64_t world = sim_.hash();
+// The checksum after `tick`, just run (or the state a joiner starts from),
+// of the world's state's checksum: with the game's state, saved into its
+// place first.
+uint64_t Session::checksum_after(int64_t tick, uint64_t world) {
   if (!game_.save) return world;
   const size_t k = static_cast<size_t>(tick) % game_states_.size();
   game_states_[k].clear();  // its memory kept
@@ -518,13 +520,10 @@ void Session::confirm() {
                                                           confirmed_ - static_cast<int64_t>(remembered_hashes), 0}));
 }
 
-// The state after a tick just confirmed (the world's now, or its rollback
-// state in the ring), as a rollback state.
-const std::vector<uint8_t>& Session::state_after(int64_t c) {
-  const size_t k = static_cast<size_t>(c) % ring_.size();
-  if (ring_tick_[k] != c) save_state(c);  // c is the tick just run
-  return ring_[k];
-}
+// The state after a tick from the confirmed one on, as a rollback state:
+// every tick's is saved as it is run (simulate), the start's and a
+// joiner's first in their place.
+const std::vector<uint8_t>& Session::state_after(int64_t c) { return ring_[static_cast<size_t>(c) % ring_.size()]; }
 
 // The host, at the tick before a joiner's first: its snapshot, for the joiner.
 void Session::keep_join_state(int64_t c) {
@@ -675,7 +674,7 @@ void Session::receive_desync_state(const SessionMessage& m) {
   World theirs;
   const Result<void> read = restore(m.state, theirs);
   if (read.ok()) {
-    const uint64_t world = state_hash(theirs);
+    const uint64_t world = state_checksum(theirs);
     const uint64_t remote = game_.save ? tick_checksum(world, m.game_state) : world;
     const auto ours = confirmed_hashes_.find(m.tick);
     if (ours == confirmed_hashes_.end() || ours->second == remote) return;
@@ -778,7 +777,8 @@ void Session::try_join() {
   }
   World candidate;
   if (!restore(m.state, candidate).ok() || candidate.step_count() != static_cast<uint64_t>(m.tick)) return refuse();
-  const uint64_t hash = game_.save ? tick_checksum(state_hash(candidate), m.game_state) : state_hash(candidate);
+  const uint64_t world = state_checksum(candidate);
+  const uint64_t hash = game_.save ? tick_checksum(world, m.game_state) : world;
   for (const auto& [q, check] : join_checks_) {
     if (((m.present | m.watching) & (1u << q)) != 0 && check.second != hash) return refuse();  // not what they confirmed
   }
@@ -813,7 +813,7 @@ void Session::try_join() {
   rollback_from_ = INT64_MAX;
   states_ = RollbackStates{};  // a new world: no state of the old one restores into it
   ring_tick_.assign(ring_.size(), -1);
-  if (config_.mode == SessionMode::rollback) save_state(c);
+  save_state(c);
   joined_ = true;
   candidate_.reset();
   join_checks_.clear();

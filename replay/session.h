@@ -12,11 +12,10 @@
 // A local input applies `input_delay` ticks later (ticks 1..delay have no
 // input): a little delay hides the network's and saves rollbacks.
 //
-// Peers compare a checksum (the state hash, with the game's state: see
-// GameHooks) of every `checksum_interval`-th confirmed tick, each message
-// repeating the last three (a lost one costs no comparison); on a mismatch
-// each sends the other its state at that tick and both name the first
-// field that differs (the dump's diff). From a desync on, the states kept
+// Peers compare a checksum (the rollback state's, RollbackStates::save: it
+// names nothing of one world object; with the game's state: see GameHooks) of every `checksum_interval`-th confirmed
+// tick, each message repeating the last three (a lost one costs no comparison); on a mismatch each sends the other its
+// state at that tick and both name the first field that differs (the dump's diff). From a desync on, the states kept
 // for it are no longer replaced: a peer told of a desync at another of
 // the kept ticks answers with its own state there.
 //
@@ -108,7 +107,7 @@ struct SessionMessage {
   int64_t frame = 0;                // quality: the sender's frame
   std::vector<Echo> echoes;         // quality: per player
   std::vector<PlayerInput> inputs;  // inputs: the sender's for ticks tick, tick + 1, ...
-  uint64_t checksum = 0;            // checksum: the state hash after `tick`
+  uint64_t checksum = 0;            // checksum, join_check: the tick's checksum (tick_checksum)
   std::vector<uint64_t> earlier;    // checksum: those of the checksum ticks before `tick`, latest first (<= 3)
   std::vector<uint8_t> state;       // state: the snapshot after `tick` (after a mismatch); join_state: the joiner's start
   std::vector<uint8_t> game_state;  // state, join_state: the game's state after `tick` (GameHooks::save)
@@ -175,7 +174,7 @@ using ApplyInput = std::function<void(Simulation& sim, int player, const PlayerI
 // both (tick_checksum). The game's state is everything of the game its
 // future depends on: what save leaves out a rollback does not take back,
 // and the peers desync. Without save and load the session rolls back the
-// world alone and the checksum is the world's state hash.
+// world alone and the checksum is the world's (Simulation::checksum).
 struct GameHooks {
   ApplyInput apply;
   std::function<void(Simulation& sim, int64_t tick)> advance;
@@ -190,10 +189,10 @@ struct GameHooks {
 // What is wrong with the hooks: apply is required, save and load come together.
 Result<void> check_hooks(const GameHooks& hooks);
 
-// The checksum of a tick that peers compare: the world's state hash alone
-// when the game keeps no state, else XXH3-64 of the game's saved state
-// seeded with it.
-uint64_t tick_checksum(uint64_t world_hash, std::span<const uint8_t> game_state);
+// The checksum of a tick that peers compare: the world's
+// (Simulation::checksum, the rollback state's) alone when the game keeps no
+// state, else XXH3-64 of the game's saved state seeded with it.
+uint64_t tick_checksum(uint64_t world_checksum, std::span<const uint8_t> game_state);
 
 class Session {
  public:
@@ -258,8 +257,8 @@ class Session {
   int recommended_wait() const;
   const Simulation& simulation() const { return sim_; }
   Simulation& simulation() { return sim_; }
-  // The state hash after a confirmed tick still remembered (the last
-  // max_prediction + 1 or so), or nullopt.
+  // The checksum after a confirmed tick still remembered (the last 1,024),
+  // or nullopt.
   std::optional<uint64_t> confirmed_hash(int64_t tick) const;
 
  private:
@@ -272,9 +271,9 @@ class Session {
   bool known(int player, int64_t tick) const;
   bool awaits_host(int64_t tick) const;
   const PlayerInput& input_for(int player, int64_t tick, bool& predicted) const;
-  void save_state(int64_t tick);
+  void save_state(int64_t tick, uint64_t* checksum = nullptr);
   std::vector<uint8_t> snapshot_of(const std::vector<uint8_t>& state);
-  uint64_t checksum_after(int64_t tick);
+  uint64_t checksum_after(int64_t tick, uint64_t world_checksum);
   const std::vector<uint8_t>& game_after(int64_t tick) const;
   void simulate(int64_t tick);
   void roll_back();

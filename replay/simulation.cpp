@@ -172,6 +172,8 @@ Result<void> Simulation::load(std::span<const uint8_t> image) {
 
 uint64_t Simulation::hash() const { return state_hash(world_); }
 
+uint64_t Simulation::checksum() const { return state_checksum(world_); }
+
 size_t Simulation::save_state(std::span<uint8_t> buffer) { return states_.save(world_, buffer); }
 
 Result<void> Simulation::load_state(std::span<const uint8_t> image) {

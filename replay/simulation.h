@@ -89,6 +89,10 @@ class Simulation {
   std::vector<uint8_t> save() const;
   Result<void> load(std::span<const uint8_t> image);
   uint64_t hash() const;
+  // The checksum of the step's state that sessions' peers compare
+  // (rollback_state.h): no serial, no static field, the same for peers
+  // whose worlds were built apart.
+  uint64_t checksum() const;
 
   // A rollback game's save and load (replay/rollback_state.h): the step's
   // state alone into the caller's buffer (the size it needs returned; when

@@ -4,8 +4,8 @@
 // rollback_state.cpp for the state of a step alone: with a `BodyStatics`
 // given, the fields a body keeps while it lives (described inside
 // `statics`: its type, mass properties, material, damping, shapes, filter)
-// are not written or read; each body's serial is (`identity`), and the
-// statics keep them by serial.
+// are not written or read; each body's serial is (`identity`, apart from
+// the other bytes), and the statics keep them by serial.
 #pragma once
 
 #include <array>
@@ -43,7 +43,7 @@ struct ByteWriter {
   Put put;
   BodyStatics* statics_kept = nullptr;  // set: a step's state alone
 
-  void bytes(uint64_t v, int count) { put(v, count); }
+  [[gnu::always_inline]] void bytes(uint64_t v, int count) { put(v, count); }
   template <class T>
   void integer(const char*, const T& value, int count, uint64_t, uint64_t) {
     bytes(static_cast<uint64_t>(value), count);
@@ -102,9 +102,15 @@ struct ByteWriter {
   void statics(F&& describe) {
     if (statics_kept == nullptr) describe();
   }
+  // A Put with serial() keeps the serials apart from the state's bytes
+  // (rollback_state.cpp: the bytes peers compare name no serial).
   void identity(const Body& body) {
     if (statics_kept == nullptr) return;
-    bytes(body.serial, 8);
+    if constexpr (requires { put.serial(uint64_t{}); }) {
+      put.serial(body.serial);
+    } else {
+      bytes(body.serial, 8);
+    }
     statics_kept->remember(body);
   }
 };
@@ -118,10 +124,12 @@ struct ByteWriter {
 class ByteReader {
  public:
   static constexpr bool reading = true;
-  // `marks`: a scratch kept by the caller between reads (else the reader's own).
+  // `marks`: a scratch kept by the caller between reads (else the reader's
+  // own). `serials`: the live bodies' serials, in slot order, kept apart
+  // from `bytes` (a rollback state's).
   explicit ByteReader(std::span<const uint8_t> bytes, const BodyStatics* statics = nullptr,
-                      std::vector<uint8_t>* marks = nullptr)
-      : bytes_(bytes), statics_(statics), marks_(marks != nullptr ? marks : &own_marks_) {}
+                      std::vector<uint8_t>* marks = nullptr, std::span<const uint8_t> serials = {})
+      : bytes_(bytes), serials_(serials), statics_(statics), marks_(marks != nullptr ? marks : &own_marks_) {}
 
   std::vector<uint8_t>& marks(size_t n) {
     marks_->assign(n, 0);
@@ -201,7 +209,7 @@ class ByteReader {
   }
   template <class F>
   void trailing(bool, bool, F&& describe) {
-    if (!done()) describe();
+    if (at_ != bytes_.size()) describe();
   }
   template <class F>
   void statics(F&& describe) {
@@ -209,13 +217,16 @@ class ByteReader {
   }
   void identity(Body& body) {
     if (statics_ == nullptr) return;
-    const uint64_t serial = take(8);
+    if (serials_.size() - serial_at_ < 8) fail("more live bodies than serials");
+    uint64_t serial = 0;
+    for (size_t i = 0; i < 8; ++i) serial |= static_cast<uint64_t>(serials_[serial_at_ + i]) << (8 * i);
+    serial_at_ += 8;
     if (serial != 0 && body.serial == serial) return;  // the same body: its static fields stand
     if (serial == 0 || !statics_->recall(serial, body)) fail("a body this world never had (serial " + std::to_string(serial) + ")");
     body.serial = serial;
   }
 
-  bool done() const { return at_ == bytes_.size(); }
+  bool done() const { return at_ == bytes_.size() && serial_at_ == serials_.size(); }
   [[noreturn]] void fail(const std::string& reason) const {
     throw Error{{}, reason + " (payload byte " + std::to_string(at_) + ")"};
   }
@@ -233,7 +244,8 @@ class ByteReader {
     return v;
   }
 
-  std::span<const uint8_t> bytes_;
+  std::span<const uint8_t> bytes_, serials_;
+  size_t serial_at_ = 0;
   const BodyStatics* statics_;
   std::vector<uint8_t> own_marks_;
   std::vector<uint8_t>* marks_;

@@ -50,6 +50,18 @@ for players in 2 4; do
   # shellcheck disable=SC2046
   "$bitstep" peer --reference --scene "$scene" --players "$players" $(scripts "$players") --json >"$out/reference.json"
   expected=$(chain_of "$out/reference.json")
+  # The figures scenes/README.md and docs/sessions.md give for this match are this build's.
+  final=$(sed -n 's/.*"final_hash": "\([0-9a-f]*\)".*/\1/p' "$out/reference.json")
+  for figure in "$expected" "$final"; do
+    if ! grep -q "\`$figure\`" scenes/README.md; then
+      echo "peer_test.sh: scenes/README.md does not give $figure, the $players-peer match's chain or checksum" >&2
+      status=1
+    fi
+    if [ "$players" -eq 2 ] && ! grep -q "$figure" docs/sessions.md; then
+      echo "peer_test.sh: docs/sessions.md does not give $figure, the 2-peer match's chain or checksum" >&2
+      status=1
+    fi
+  done
   for mode in lockstep rollback; do
     for faults in "" "--loss 10 --jitter 50-150 --duplicate 5"; do
       offset=$((offset + 10))
@@ -245,7 +257,7 @@ rejoin "rejoin under a datagram flood" --join 1
 rejoin "a spectator in a dropped player's slot" --watch 0
 
 # A joiner refuses a state that is not the one its peers confirmed: the
-# host's world has one bit flipped before tick 150 (--corrupt; no checksum
+# host's world has one bit flipped as tick 150 runs (--corrupt; no checksum
 # in the match, so nobody notices), so its state for the joiner hashes to
 # what the host confirmed, not to what player 1 did. The joiner refuses it
 # each time it comes, never runs, and times out; the host, which never hears

@@ -1,6 +1,6 @@
 // A game's loop around bitstep: a scene, a fixed 60 Hz tick, an input that
 // every peer applies before the same tick, the poses to draw between ticks,
-// and the hash peers compare. Run on scenes/pyramid20.json it ends with the
+// and the state hash of the replays. Run on scenes/pyramid20.json it ends with the
 // hash of scenes/pyramid20.short.replay.json (tools/test.sh checks).
 #include <cinttypes>
 #include <cstdio>

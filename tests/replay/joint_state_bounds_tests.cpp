@@ -4,10 +4,9 @@
 // bounds, is refused by both readers and by the C API's loads, with a
 // message naming the field, and nothing changes (issue 48, finding 2: such
 // an image loaded, then saturated the step and aborted the checked build).
-#include <catch2/catch.hpp>
-
 #include <xxhash.h>
 
+#include <catch2/catch.hpp>
 #include <cstring>
 #include <string>
 #include <utility>
@@ -18,6 +17,7 @@
 #include "replay/state_bytes.h"
 #include "replay/state_description.h"
 #include "replay/state_hash.h"
+#include "tests/replay/image_seal.h"
 
 using namespace bitstep;
 
@@ -47,6 +47,7 @@ const char* const joints_scene = R"({"format": "bitstep-scene", "version": 1, "b
 struct Count {
   size_t* at;
   void operator()(uint64_t, int count) const { *at += static_cast<size_t>(count); }
+  void serial(uint64_t) const {}  // a rollback state's serials are not in its payload
 };
 struct NoStatics final : state_bytes::BodyStatics {
   void remember(const Body&) override {}
@@ -84,12 +85,6 @@ std::vector<std::pair<std::string, size_t>> locate(const World& world, bool step
                                               world.joints(), world.free_joint_slots(), world.sensor_overlaps(),
                                               world.cars()});
   return found;
-}
-
-void reseal(std::vector<uint8_t>& image) {
-  const size_t end = image.size() - 8;
-  const uint64_t sum = XXH3_64bits(image.data(), end);
-  for (int i = 0; i < 8; ++i) image[end + static_cast<size_t>(i)] = static_cast<uint8_t>(sum >> (8 * i));
 }
 
 void put_raw(std::vector<uint8_t>& image, size_t at, int64_t raw) {
@@ -168,7 +163,8 @@ TEST_CASE("a snapshot or rollback state with a joint field out of bounds is refu
     bool step_alone;
   };
   std::vector<uint8_t> capi_snap = snap;
-  Image images[] = {{"snapshot", &capi_snap, 8 + 4 + 8, false}, {"rollback state", &fresh, 8 + 4 + 8 + 8 + 8, true}};
+  Image images[] = {{"snapshot", &capi_snap, 8 + 4 + 8, false},
+                    {"rollback state", &fresh, test::rollback_payload_at(fresh), true}};
   size_t forged = 0;
   for (const Image& image : images) {
     const auto fields = locate(sim.world(), image.step_alone);
@@ -185,7 +181,7 @@ TEST_CASE("a snapshot or rollback state with a joint field out of bounds is refu
                           << ") " << field << " raw " << raw);
           std::vector<uint8_t> bad = *image.bytes;
           put_raw(bad, image.header + at, raw);
-          reseal(bad);
+          image.step_alone ? test::reseal_rollback_state(bad) : test::reseal_snapshot(bad);
           ++forged;
           const Result<void> loaded = image.step_alone ? sim.load_state(bad) : sim.load(bad);
           REQUIRE_FALSE(loaded.ok());
@@ -199,7 +195,7 @@ TEST_CASE("a snapshot or rollback state with a joint field out of bounds is refu
           if (image.step_alone) {
             std::vector<uint8_t> capi_bad = capi_state;
             put_raw(capi_bad, image.header + at, raw);
-            reseal(capi_bad);
+            test::reseal_rollback_state(capi_bad);
             CHECK(bitstep_load_state(capi, capi_bad.data(), capi_bad.size()) == BITSTEP_INVALID);
           } else {
             CHECK(bitstep_load(capi, bad.data(), bad.size()) == BITSTEP_INVALID);

@@ -3,7 +3,7 @@
 // and a slot reused by another; it is refused by another world and when
 // damaged, changing nothing; and it is smaller than a snapshot.
 #include <catch2/catch.hpp>
-
+#include <set>
 #include <string>
 #include <vector>
 
@@ -186,4 +186,51 @@ TEST_CASE("a rollback state restores after a sensor fills a freed slot, or a wor
     CHECK(loaded.ok());
     CHECK(sim->hash() == saved);
   }
+}
+
+TEST_CASE("a rollback state's checksum is the same for worlds in the same state, whoever built them",
+          "[rollback_state]") {
+  for (const char* name : {"stack20.json", "playground.json", "ragdolls.json", "sensors.json"}) {
+    INFO(name);
+    World world = test::world_of(name);
+    for (int i = 0; i < 30; ++i) world.step();
+    // A body removed and another spawned: serials differ from a copy's.
+    REQUIRE(world.remove_body(BodyId{1, world.bodies()[1].generation}));
+    world.step();
+    World copy;
+    REQUIRE(restore(snapshot(world), copy).ok());  // another world object: its bodies have other serials
+    RollbackStates mine, theirs;
+    std::vector<uint8_t> a, b;
+    std::set<uint64_t> seen;
+    for (int i = 0; i < 20; ++i) {
+      uint64_t sum_a = 0, sum_b = 0;
+      mine.save(world, a, &sum_a);
+      theirs.save(copy, b, &sum_b);
+      REQUIRE(sum_a == sum_b);
+      CHECK(RollbackStates::checksum(a) == sum_a);
+      CHECK(a != b);  // the images differ (world, serials), the state does not
+      seen.insert(sum_a);
+      world.step();
+      copy.step();
+    }
+    CHECK(seen.size() == 20);  // every step's state has its own
+    // One bit of one velocity: another checksum.
+    Simulation sim = std::move(Simulation::from_file(test::scenes_dir + "/" + name)).value();
+    for (int i = 0; i < 5; ++i) sim.step();
+    std::vector<uint8_t> before, after;
+    uint64_t sum_before = 0, sum_after = 0;
+    RollbackStates states;
+    states.save(sim.world(), before, &sum_before);
+    const BodyId moved{static_cast<uint32_t>(sim.world().bodies().size() - 1), sim.world().bodies().back().generation};
+    const Body& body = sim.world().body(moved);
+    Vec3 v = body.linear_velocity;
+    v.y = Fixed::from_raw(v.y.raw() ^ 1);
+    REQUIRE(sim.set_velocity(moved, v, body.angular_velocity));
+    states.save(sim.world(), after, &sum_after);
+    CHECK(sum_before != sum_after);
+    // A changed payload byte, not resealed, is refused.
+    after[after.size() - 20] ^= 1;
+    CHECK(states.restore(after, sim.world()).error().message() == "checksum mismatch: the image is corrupt");
+  }
+  CHECK_FALSE(RollbackStates::checksum(std::vector<uint8_t>(10)).has_value());
 }

@@ -132,8 +132,9 @@ inline PlayerInput script(int player, int64_t k) {
 // k-th input a player gives applies at tick k + delay. With the roster
 // changes a match made (its host's log): an absent player's input is
 // empty, and so is a joiner's for the `delay` ticks from its first.
-// With `game`, the arena's game plays too: the chain is of tick_checksum
-// (the world's hash and the game's state), and `game` ends as it does.
+// The chain holds each tick's checksum (Simulation::checksum: what peers
+// compare). With `game`, the arena's game plays too: the chain is of
+// tick_checksum (the world's and the game's state), and `game` ends as it does.
 inline std::vector<uint64_t> reference_chain(int players, int delay, int64_t ticks,
                                              const std::vector<RosterEvent>& log = {}, ArenaGame* game = nullptr) {
   Simulation sim = arena_simulation();
@@ -153,11 +154,11 @@ inline std::vector<uint64_t> reference_chain(int players, int delay, int64_t tic
     }
     sim.step();
     if (game == nullptr) {
-      chain.push_back(sim.hash());
+      chain.push_back(sim.checksum());
       continue;
     }
     game->advance(sim, t);
-    chain.push_back(tick_checksum(sim.hash(), game->state()));
+    chain.push_back(tick_checksum(sim.checksum(), game->state()));
   }
   return chain;
 }

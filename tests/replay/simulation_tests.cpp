@@ -223,6 +223,16 @@ TEST_CASE("the C API: create, errors in caller buffers, step, poses, save into a
   for (int i = 0; i < 5; ++i) bitstep_step(sim);
   REQUIRE(bitstep_load_state(sim, state.data(), state.size()) == BITSTEP_OK);
   CHECK(bitstep_hash(sim) == state_hash_then);
+  // The checksum the state carries is the simulation's then, and what a
+  // second simulation of the scene in the same state has.
+  uint64_t carried = 0;
+  REQUIRE(bitstep_state_checksum(state.data(), state.size(), &carried) == BITSTEP_OK);
+  CHECK(carried == bitstep_checksum(sim));
+  CHECK(bitstep_state_checksum(state.data(), 10, &carried) == BITSTEP_INVALID);
+  CHECK(bitstep_state_checksum(nullptr, 0, &carried) == BITSTEP_NULL_ARGUMENT);
+  bitstep_step(sim);
+  CHECK(bitstep_checksum(sim) != carried);
+  REQUIRE(bitstep_load_state(sim, state.data(), state.size()) == BITSTEP_OK);
   state[state.size() / 2] ^= 1;
   CHECK(bitstep_load_state(sim, state.data(), state.size()) == BITSTEP_INVALID);
   CHECK(std::string(bitstep_last_error(sim)) == "load_state: checksum mismatch: the image is corrupt");

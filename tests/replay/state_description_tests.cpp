@@ -1,16 +1,16 @@
 // The state is described once (replay/state_description.h): whatever the
 // hash and the snapshot hold, the dump shows, so `diff` names every desync.
-#include <catch2/catch.hpp>
-
 #include <xxhash.h>
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <set>
 #include <string>
 
 #include "replay/snapshot.h"
 #include "replay/state_dump.h"
 #include "replay/state_hash.h"
+#include "tests/replay/image_seal.h"
 #include "tests/replay/test_scenes.h"
 
 using namespace bitstep;
@@ -18,13 +18,6 @@ using namespace bitstep;
 namespace {
 
 constexpr size_t header_bytes = 8 + 4 + 8;
-
-// The image with its trailing checksum made right again.
-void reseal(std::vector<uint8_t>& image) {
-  const size_t body_end = image.size() - 8;
-  const uint64_t sum = XXH3_64bits(image.data(), body_end);
-  for (int i = 0; i < 8; ++i) image[body_end + static_cast<size_t>(i)] = static_cast<uint8_t>(sum >> (8 * i));
-}
 
 // "$.bodies[7].linear_velocity[1]: 1 vs 2" -> "$.bodies[].linear_velocity[]".
 std::string field_of(const std::string& difference) {
@@ -100,7 +93,7 @@ TEST_CASE("every byte of the state is in the dump: flipped, it is restored and d
       {
         std::vector<uint8_t> flipped = image;
         flipped[at] ^= 1;
-        reseal(flipped);
+        test::reseal_snapshot(flipped);
         World restored;
         if (!restore(flipped, restored).ok()) {
           ++refused;

@@ -4,10 +4,10 @@
 // and a rollback state or snapshot refused at any byte (truncated, a byte
 // flipped, or flipped with the checksum made good again so that the reader
 // itself must refuse it) leaves the world's hash as it was.
-#include <catch2/catch.hpp>
 #include <xxhash.h>
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <span>
 #include <vector>
 
@@ -15,6 +15,7 @@
 #include "replay/rollback_state.h"
 #include "replay/snapshot.h"
 #include "replay/state_hash.h"
+#include "tests/replay/image_seal.h"
 
 using namespace bitstep;
 
@@ -96,11 +97,6 @@ void saves_loads_and_steps(World& world) {
     copy.step();
   }
   CHECK(state_hash(world) == state_hash(copy));
-}
-
-void reseal(std::vector<uint8_t>& image) {
-  const uint64_t sum = XXH3_64bits(image.data(), image.size() - 8);
-  for (int i = 0; i < 8; ++i) image[image.size() - 8 + static_cast<size_t>(i)] = static_cast<uint8_t>(sum >> (8 * i));
 }
 
 }  // namespace
@@ -205,7 +201,7 @@ TEST_CASE("a rollback state refused at any byte changes nothing", "[bounds][roll
     refused += !states.restore(flipped, world).ok();
     REQUIRE(state_hash(world) == hash);
     if (at >= image.size() - 8) continue;
-    reseal(flipped);  // the reader itself must refuse it, or read it whole
+    test::reseal_rollback_state(flipped);  // the reader itself must refuse it, or read it whole
     if (!states.restore(flipped, world).ok()) {
       ++resealed_refused;
       REQUIRE(state_hash(world) == hash);
@@ -243,7 +239,7 @@ TEST_CASE("a rollback state refused at any byte changes nothing", "[bounds][roll
   // Every flip (resealed) and truncation of `saved_image` through `load`:
   // refused with the hash as it was, or read whole (then `current` brings
   // it back).
-  const auto refuse_each = [&](auto load, const std::vector<uint8_t>& saved_image,
+  const auto refuse_each = [&](auto load, auto reseal, const std::vector<uint8_t>& saved_image,
                                const std::vector<uint8_t>& current) {
     for (size_t at = 0; at < saved_image.size(); ++at) {
       std::vector<uint8_t> flipped = saved_image;
@@ -257,8 +253,8 @@ TEST_CASE("a rollback state refused at any byte changes nothing", "[bounds][roll
       REQUIRE(bitstep_hash(sim) == c_hash);
     }
   };
-  refuse_each(bitstep_load_state, c_state, c_state_now);
-  refuse_each(bitstep_load, c_snapshot, saved(true));  // last: a snapshot load makes a new world
+  refuse_each(bitstep_load_state, test::reseal_rollback_state, c_state, c_state_now);
+  refuse_each(bitstep_load, test::reseal_snapshot, c_snapshot, saved(true));  // last: a snapshot load makes a new world
   bitstep_destroy(sim);
 }
 
@@ -281,7 +277,7 @@ TEST_CASE("a snapshot refused at any byte changes nothing", "[bounds][snapshot]"
     refused += !restore(flipped, world).ok();
     REQUIRE(state_hash(world) == hash);
     if (at >= image.size() - 8) continue;
-    reseal(flipped);
+    test::reseal_snapshot(flipped);
     if (!restore(flipped, world).ok()) {
       ++resealed_refused;
       REQUIRE(state_hash(world) == hash);

@@ -144,7 +144,7 @@ std::optional<int> parse_options(int argc, char** argv, Options& o) {
         o.corrupt_tick = tick;
         return true;
       },
-      "nudge a body's velocity before a tick (a desync to be found)")
+      "nudge a body's velocity as a tick runs, each time it runs (a desync to be found)")
       ->type_name("BODY@TICK");
   app.add_flag("--join", o.session.joining, "play the match in progress in --player's slot");
   app.add_flag_callback(
@@ -201,6 +201,22 @@ ApplyInput scripted_game(const Scene& scene) {
     if (!parsed.ok()) return;  // a peer's garbage: nothing happens, on every peer
     InputRun run(sim.world());
     apply_inputs(sim.world(), parsed.value(), static_cast<int64_t>(sim.tick()) + 1, run);
+  };
+}
+
+// The game, and with --corrupt the cheat: one bit of the body's velocity
+// flipped as the tick runs, each time it runs (a rollback runs it again):
+// a world that computes differently from its peers'.
+ApplyInput corrupted(ApplyInput game, const Options& o) {
+  if (o.corrupt_body.empty()) return game;
+  return [game = std::move(game), &o](Simulation& sim, int player, const PlayerInput& input) {
+    game(sim, player, input);
+    if (player != o.player || static_cast<int64_t>(sim.tick()) + 1 != o.corrupt_tick) return;
+    if (const auto body = sim.find_body(o.corrupt_body)) {
+      Vec3 v = sim.world().body(*body).linear_velocity;
+      v.x = Fixed::from_raw(v.x.raw() ^ 1);
+      sim.set_velocity(*body, v, sim.world().body(*body).angular_velocity);
+    }
   };
 }
 
@@ -316,7 +332,7 @@ int run_reference(const Options& o, const Scene& scene, Simulation sim) {
       if (found != scripts[p].end()) apply(sim, static_cast<int>(p), found->second);
     }
     sim.step();
-    if (t > o.chain_from) chain.push_back(sim.hash());
+    if (t > o.chain_from) chain.push_back(sim.checksum());
   }
   report(o, o.chain_from, chain, nullptr, nullptr,
          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
@@ -347,7 +363,7 @@ int peer_command(int argc, char** argv) {
   }
   const Hello hello{o.player,      o.players, o.session.mode, o.session.input_delay, sim->hash(), o.session.joining,
                     o.session.watching};
-  Session session(std::move(*sim), o.session, scripted_game(scene));
+  Session session(std::move(*sim), o.session, corrupted(scripted_game(scene), o));
 
   std::unique_ptr<EnetTransport> net;
   std::map<uint32_t, int> player_of;  // identified ENet peers
@@ -436,15 +452,6 @@ int peer_command(int argc, char** argv) {
         const int64_t t = session.local_input_tick() + 1;
         const auto found = script.find(t);
         session.add_local_input(found == script.end() ? PlayerInput{} : found->second);
-      }
-      if (!o.corrupt_body.empty() && session.tick() + 1 == o.corrupt_tick) {
-        Simulation& s = session.simulation();
-        if (const auto body = s.find_body(o.corrupt_body)) {
-          Vec3 v = s.world().body(*body).linear_velocity;
-          v.x = Fixed::from_raw(v.x.raw() ^ 1);
-          s.set_velocity(*body, v, s.world().body(*body).angular_velocity);
-        }
-        o.corrupt_body.clear();
       }
       if (session.tick() < o.ticks) session.advance();
       if (session.tick() >= o.ticks) session.heartbeat();

@@ -137,13 +137,33 @@ bool same_world() {
 // Rewrites an image's payload-size field (at `size_at`, the payload after
 // `header` bytes) and its trailing XXH3-64 to fit its bytes, so that flips
 // reach the payload's reader instead of stopping at the checksum.
-void make_right(std::vector<uint8_t>& bytes, size_t header, size_t size_at) {
+void put_le(std::vector<uint8_t>& bytes, size_t at, uint64_t value) {
+  for (size_t i = 0; i < 8; ++i) bytes[at + i] = static_cast<uint8_t>(value >> (8 * i));
+}
+
+// A snapshot (replay/snapshot.h): magic, version, payload size at 12, the
+// payload, XXH3-64 of everything before the trailer.
+void make_snapshot_right(std::vector<uint8_t>& bytes) {
+  constexpr size_t header = 8 + 4 + 8;
   if (bytes.size() < header + 8) return;
-  const uint64_t payload = bytes.size() - header - 8;
-  for (size_t i = 0; i < 8; ++i) bytes[size_at + i] = static_cast<uint8_t>(payload >> (8 * i));
-  const size_t end = bytes.size() - 8;
-  const uint64_t checksum = XXH3_64bits(bytes.data(), end);
-  for (size_t i = 0; i < 8; ++i) bytes[end + i] = static_cast<uint8_t>(checksum >> (8 * i));
+  put_le(bytes, 12, bytes.size() - header - 8);
+  put_le(bytes, bytes.size() - 8, XXH3_64bits(bytes.data(), bytes.size() - 8));
+}
+
+// A rollback state (replay/rollback_state.h): the payload's size (at 40)
+// after the header and the serials (their count at 36), its hash (at 28),
+// and the trailer over the header and the serials.
+void make_state_right(std::vector<uint8_t>& bytes) {
+  constexpr size_t header = 48;
+  if (bytes.size() < header + 8) return;
+  uint64_t serials = 0;
+  for (size_t i = 0; i < 4; ++i) serials |= uint64_t{bytes[36 + i]} << (8 * i);
+  if (serials > (bytes.size() - header - 8) / 8) return;
+  const size_t payload_at = header + 8 * static_cast<size_t>(serials);
+  const size_t payload = bytes.size() - 8 - payload_at;
+  put_le(bytes, 40, payload);
+  put_le(bytes, 28, XXH3_64bits(bytes.data() + payload_at, payload));
+  put_le(bytes, bytes.size() - 8, XXH3_64bits(bytes.data(), payload_at));
 }
 
 class Session {
@@ -244,7 +264,7 @@ class Session {
 
   // A load of a saved image, as saved or flipped, cut and made right.
   template <typename Load>
-  void load(std::vector<Saved>& saved, size_t header, size_t size_at, bool rollback, Load&& load_image) {
+  void load(std::vector<Saved>& saved, void (*make_right)(std::vector<uint8_t>&), bool rollback, Load&& load_image) {
     if (saved.empty()) return;
     const Saved& chosen = saved[in_.byte() % saved.size()];
     std::vector<uint8_t> bytes = chosen.bytes;
@@ -252,7 +272,7 @@ class Session {
     for (uint8_t i = 0; i < flips && !bytes.empty(); ++i) bytes[in_.u16() % bytes.size()] ^= in_.byte();
     const uint16_t cut = in_.u16();
     if (cut != 0 && cut < bytes.size()) bytes.resize(bytes.size() - cut);
-    if (in_.byte() & 1) make_right(bytes, header, size_at);
+    if (in_.byte() & 1) make_right(bytes);
     const bool as_saved = bytes == chosen.bytes;
     const uint64_t before = mark();
     // The world as it is, to come back to after a changed image: the
@@ -351,12 +371,12 @@ class Session {
       }
       case Call::save: save(snapshots_, false); break;
       case Call::load:
-        load(snapshots_, 8 + 4 + 8, 12, false,
+        load(snapshots_, make_snapshot_right, false,
              [&](const std::vector<uint8_t>& b) { return bitstep_load(sim_, b.data(), b.size()); });
         break;
       case Call::save_state: save(states_, true); break;
       case Call::load_state:
-        load(states_, 8 + 4 + 8 + 8 + 8, 28, true,
+        load(states_, make_state_right, true,
              [&](const std::vector<uint8_t>& b) { return bitstep_load_state(sim_, b.data(), b.size()); });
         break;
       case Call::get: get(); break;
