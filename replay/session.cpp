@@ -37,18 +37,6 @@ void erase_before(Map& map, int64_t tick) {
   map.erase(map.begin(), map.lower_bound(tick));
 }
 
-// Where two game states first differ, when the worlds do not.
-std::string game_difference(const std::vector<uint8_t>& mine, const std::vector<uint8_t>& theirs) {
-  if (mine == theirs) return "no field differs";
-  size_t at = 0;
-  while (at < mine.size() && at < theirs.size() && mine[at] == theirs[at]) ++at;
-  if (at == mine.size() || at == theirs.size()) {
-    return "the game's state: " + std::to_string(mine.size()) + " bytes vs " + std::to_string(theirs.size());
-  }
-  return "the game's state: byte " + std::to_string(at) + ": " + std::to_string(mine[at]) + " vs " +
-         std::to_string(theirs[at]);
-}
-
 }  // namespace
 
 Result<void> check_config(const SessionConfig& c) {
@@ -70,6 +58,17 @@ Result<void> check_hooks(const GameHooks& hooks) {
     return Error{"game hooks", "save and load come together (one is set, the other not)"};
   }
   return {};
+}
+
+std::string game_state_difference(std::span<const uint8_t> mine, std::span<const uint8_t> theirs) {
+  if (std::equal(mine.begin(), mine.end(), theirs.begin(), theirs.end())) return "no field differs";
+  size_t at = 0;
+  while (at < mine.size() && at < theirs.size() && mine[at] == theirs[at]) ++at;
+  if (at == mine.size() || at == theirs.size()) {
+    return "the game's state: " + std::to_string(mine.size()) + " bytes vs " + std::to_string(theirs.size());
+  }
+  return "the game's state: byte " + std::to_string(at) + ": " + std::to_string(mine[at]) + " vs " +
+         std::to_string(theirs[at]);
 }
 
 uint64_t tick_checksum(uint64_t world_checksum, std::span<const uint8_t> game_state) {
@@ -689,7 +688,7 @@ void Session::receive_desync_state(const SessionMessage& m) {
   if (desync_snapshot_.empty() || !restore(desync_snapshot_, mine).ok()) return;
   desync_->difference = read.ok() ? diff_dumps(dump_state(mine), dump_state(theirs))
                                         .value()
-                                        .value_or(game_difference(desync_game_, m.game_state))
+                                        .value_or(game_state_difference(desync_game_, m.game_state))
                                   : "the peer's state cannot be read: " + read.error().message();
   event({SessionEvent::Kind::desync_explained, desync_->player, desync_->tick});
 }

@@ -193,6 +193,9 @@ Result<void> check_hooks(const GameHooks& hooks);
 // (Simulation::checksum, the rollback state's) alone when the game keeps no
 // state, else XXH3-64 of the game's saved state seeded with it.
 uint64_t tick_checksum(uint64_t world_checksum, std::span<const uint8_t> game_state);
+// Where two game states first differ: "the game's state: byte N: a vs b"
+// (or their sizes), "no field differs" when they do not.
+std::string game_state_difference(std::span<const uint8_t> mine, std::span<const uint8_t> theirs);
 
 class Session {
  public:

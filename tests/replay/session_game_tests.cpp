@@ -9,6 +9,7 @@
 
 #include "replay/session.h"
 #include "replay/session_codec.h"
+#include "replay/session_sync_test.h"
 #include "tests/replay/session_match.h"
 
 using namespace bitstep;
@@ -137,4 +138,54 @@ TEST_CASE("game hooks: apply is required, save and load come together; a state p
   std::vector<uint8_t> cut = encode(m);
   cut.pop_back();
   CHECK(decode(cut).error().message() == "truncated packet");
+}
+
+TEST_CASE("the game's sync test: its own input code rolled back 8 ticks after each, every checksum the same",
+          "[session][game][sync_test]") {
+  const auto inputs = [](int player, int64_t tick) { return script(player, tick); };
+  {
+    ArenaGame game;
+    Simulation sim = arena_simulation();
+    sim.world().set_events(true);
+    const GameSyncTestResult r = game_sync_test(sim, game.hooks(), 4, inputs, 200, 8);
+    INFO(r.difference);
+    CHECK(r.ok());
+    CHECK(r.resimulated_ticks == 8 * (200 - 8 + 1));
+    CHECK(total_damage(game) > 0);  // the game was played
+    // Its chain is the one a session's peers confirm (the reference, no delay).
+    ArenaGame reference;
+    CHECK(r.checksums == reference_chain(4, 0, 200, {}, &reference));
+  }
+  {
+    // The heal timer counted outside the game's state: found at the first
+    // heal that differs once a ball is hurt, in the game's bytes (the
+    // worlds agree).
+    ArenaGame game;
+    game.leak = true;
+    Simulation sim = arena_simulation();
+    sim.world().set_events(true);
+    const GameSyncTestResult r = game_sync_test(sim, game.hooks(), 4, inputs, 200, 8);
+    REQUIRE_FALSE(r.ok());
+    CHECK(r.mismatch_tick > 8);  // not before the first rollback
+    CHECK(r.difference.rfind("the game's state: byte ", 0) == 0);
+  }
+  {
+    // A game that pushes a ball by a count of its own (not saved): the
+    // world differs, named by its field.
+    ArenaGame game;
+    int64_t pushes = 0;
+    GameHooks hooks = game.hooks();
+    hooks.advance = [&](Simulation& s, int64_t tick) {
+      game.advance(s, tick);
+      if (++pushes % 50 == 0)
+        s.apply_impulse(*s.find_body("ball.2"), {Fixed::from_int(100), Fixed{}, Fixed{}},
+                        s.pose(*s.find_body("ball.2"))->position);
+    };
+    Simulation sim = arena_simulation();
+    sim.world().set_events(true);
+    const GameSyncTestResult r = game_sync_test(sim, hooks, 4, inputs, 200, 8);
+    REQUIRE_FALSE(r.ok());
+    INFO(r.difference);
+    CHECK(r.difference.rfind("$.bodies[3].", 0) == 0);  // ball.2's slot
+  }
 }
