@@ -10,6 +10,8 @@ constexpr uint8_t magic[2] = {'b', 'S'};
 constexpr uint8_t version = 3;
 constexpr uint8_t last_message_type = 6;
 constexpr uint8_t hello_type = 16;
+constexpr uint8_t refused_type = 17;
+constexpr uint8_t first_refusal_version = 3;  // the refusal's layout, read from any version since
 
 void put(std::vector<uint8_t>& out, uint64_t value, int bytes) {
   for (int i = 0; i < bytes; ++i) out.push_back(static_cast<uint8_t>(value >> (8 * i)));
@@ -114,37 +116,130 @@ std::vector<uint8_t> encode(const SessionMessage& m) {
   return out;
 }
 
-std::vector<uint8_t> encode(const Hello& h) {
-  std::vector<uint8_t> out = header(hello_type);
+namespace {
+
+void put_hello(std::vector<uint8_t>& out, const Hello& h) {
   put(out, static_cast<uint64_t>(h.player), 1);
   put(out, static_cast<uint64_t>(h.players), 1);
   put(out, static_cast<uint64_t>(h.mode), 1);
   put(out, static_cast<uint64_t>(h.input_delay), 1);
   put(out, h.start_hash, 8);
   put(out, h.watching ? 2 : h.joining ? 1 : 0, 1);
+}
+
+Result<Hello> take_hello(Reader& r, const char* part) {
+  Hello h;
+  h.player = static_cast<int>(r.take(1));
+  h.players = static_cast<int>(r.take(1));
+  const uint64_t mode = r.take(1);
+  h.input_delay = static_cast<int>(r.take(1));
+  h.start_hash = r.take(8);
+  const uint64_t joining = r.take(1);
+  if (mode > 1) return Error{part, "mode out of range"};
+  if (joining > 2) return Error{part, "joining is not 0, 1 or 2"};
+  h.joining = joining >= 1;
+  h.watching = joining == 2;
+  h.mode = static_cast<SessionMode>(mode);
+  if (!r.ok() || !r.done()) return Error{part, "wrong length"};
+  return h;
+}
+
+}  // namespace
+
+std::vector<uint8_t> encode(const Hello& h) {
+  std::vector<uint8_t> out = header(hello_type);
+  put_hello(out, h);
   return out;
+}
+
+std::vector<uint8_t> encode(const Refusal& refusal) {
+  std::vector<uint8_t> out = header(refused_type);
+  put(out, static_cast<uint64_t>(refusal.reason), 1);
+  put_hello(out, refusal.refuser);
+  return out;
+}
+
+int packet_version() { return version; }
+
+int packet_version(std::span<const uint8_t> packet) {
+  if (packet.size() < 3 || packet[0] != magic[0] || packet[1] != magic[1]) return -1;
+  return packet[2];
+}
+
+bool looks_like_hello(std::span<const uint8_t> packet) {
+  return packet_version(packet) >= 0 && packet.size() >= 4 && packet[3] == hello_type;
+}
+
+std::optional<HelloRefused> refusal_of(const Hello& ours, const Hello& theirs, bool said_hello) {
+  if (theirs.start_hash != ours.start_hash) return HelloRefused::another_scene;
+  if (theirs.players != ours.players) return HelloRefused::player_count;
+  if (theirs.mode != ours.mode) return HelloRefused::mode;
+  if (theirs.input_delay != ours.input_delay) return HelloRefused::input_delay;
+  if (theirs.player < 0 || theirs.player >= ours.players) return HelloRefused::no_such_player;
+  if (theirs.player == ours.player) return HelloRefused::our_player;
+  if (theirs.joining) {
+    if (theirs.player == 0 || ours.joining) return HelloRefused::not_joinable;
+  } else if (said_hello) {
+    return HelloRefused::player_taken;
+  }
+  return std::nullopt;
+}
+
+std::string describe(HelloRefused why, const Hello& match, int match_version, const Hello& hello, int hello_version) {
+  const auto hex = [](uint64_t v) {
+    std::string out(16, '0');
+    for (int i = 15; i >= 0; --i, v >>= 4) out[static_cast<size_t>(i)] = "0123456789abcdef"[v & 15];
+    return out;
+  };
+  const auto mode = [](SessionMode m) { return std::string(m == SessionMode::lockstep ? "lockstep" : "rollback"); };
+  const auto both = [](const std::string& in_match, const std::string& in_hello) {
+    return in_match + " in the match, " + in_hello + " in the hello";
+  };
+  using std::to_string;
+  switch (why) {
+    case HelloRefused::another_scene:
+      return "another scene or settings: start state hash " + both(hex(match.start_hash), hex(hello.start_hash));
+    case HelloRefused::player_count:
+      return "another player count: " + both(to_string(match.players), to_string(hello.players));
+    case HelloRefused::mode: return "another mode: " + both(mode(match.mode), mode(hello.mode));
+    case HelloRefused::input_delay:
+      return "another input delay: " + both(to_string(match.input_delay), to_string(hello.input_delay));
+    case HelloRefused::no_such_player:
+      return "no player " + to_string(hello.player) + " in a match of " + to_string(match.players);
+    case HelloRefused::our_player: return "player " + to_string(hello.player) + " plays on the peer that refused";
+    case HelloRefused::player_taken: return "player " + to_string(hello.player) + " said hello already";
+    case HelloRefused::not_joinable:
+      return hello.player == 0 ? "the host's slot (player 0) cannot be joined"
+                               : "the peer that refused is joining itself: join through the host";
+    case HelloRefused::version:
+      return "another build: packet version " + both(to_string(match_version), to_string(hello_version));
+  }
+  return "refused";
 }
 
 Result<Packet> decode(std::span<const uint8_t> packet) {
   Reader r(packet);
   if (r.take(1) != magic[0] || r.take(1) != magic[1]) return Error{{}, "not a bitstep packet (bad magic)"};
-  if (const uint64_t v = r.take(1); v != version) return Error{{}, "packet version " + std::to_string(v)};
+  const uint64_t v = r.take(1);
+  if (v >= first_refusal_version && packet.size() > 3 && packet[3] == refused_type) {
+    r.take(1);
+    Refusal refusal;
+    refusal.version = static_cast<int>(v);
+    const uint64_t reason = r.take(1);
+    if (reason < 1 || reason > static_cast<uint64_t>(HelloRefused::version))
+      return Error{"refused", "reason out of range"};
+    refusal.reason = static_cast<HelloRefused>(reason);
+    Result<Hello> h = take_hello(r, "refused");
+    if (!h.ok()) return h.error();
+    refusal.refuser = h.value();
+    return Packet{refusal};
+  }
+  if (v != version) return Error{{}, "packet version " + std::to_string(v)};
   const uint64_t type = r.take(1);
   if (type == hello_type) {
-    Hello h;
-    h.player = static_cast<int>(r.take(1));
-    h.players = static_cast<int>(r.take(1));
-    const uint64_t mode = r.take(1);
-    h.input_delay = static_cast<int>(r.take(1));
-    h.start_hash = r.take(8);
-    const uint64_t joining = r.take(1);
-    if (mode > 1) return Error{"hello", "mode out of range"};
-    if (joining > 2) return Error{"hello", "joining is not 0, 1 or 2"};
-    h.joining = joining >= 1;
-    h.watching = joining == 2;
-    h.mode = static_cast<SessionMode>(mode);
-    if (!r.ok() || !r.done()) return Error{"hello", "wrong length"};
-    return Packet{h};
+    Result<Hello> h = take_hello(r, "hello");
+    if (!h.ok()) return h.error();
+    return Packet{h.value()};
   }
   if (type > last_message_type) return Error{{}, "packet type " + std::to_string(type)};
   SessionMessage m;

@@ -6,7 +6,7 @@
 # one process computes from every script (--reference). Then a peer that
 # flips one bit of a body's velocity before tick 200 must be reported by
 # both at tick 200 with the body and field; an intruder that does not fit
-# the match is refused while the match plays on; a peer killed mid-match is
+# the match is refused, both saying why, while the match plays on; a peer killed mid-match is
 # marked absent and a new process rejoins (or watches in) its slot, all on
 # the reference chain of that roster, under a flood of random datagrams; a
 # joiner refuses the state of a host whose world was corrupted (not what the
@@ -123,13 +123,17 @@ timeout 60 "$bitstep" peer --scene "$scene" --players 2 --player 1 --port $((bas
   --connect "127.0.0.1:$((base + offset))" --inputs "$match/player1.inputs.json" --mode lockstep --hz 0 --ticks 300 \
   --json >"$out/i1.json" 2>"$out/i1.err" || status=1
 wait "$host" || status=1
-if [ "$intruder_status" -eq 0 ] || ! grep -q "packets refused" "$out/i0.err" ||
+# Both sides say why, in the same words; the intruder stops with status 6.
+why="another player count: 2 in the match, 3 in the hello"
+if [ "$intruder_status" -ne 6 ] || ! grep -q "refused a hello from player 2: $why" "$out/i0.err" ||
+    ! grep -q "player 0 refused our hello: $why" "$out/intruder.err" ||
     [ "$(chain_of "$out/i0.json")" != "$(chain_of "$out/i1.json")" ]; then
-  echo "peer_test.sh: the intruder was not refused, or the match did not finish alike" >&2
+  echo "peer_test.sh: the intruder was not refused with its reason on both sides (status $intruder_status)," \
+    "or the match did not finish alike" >&2
   cat "$out/i0.err" "$out/intruder.err" >&2
   status=1
 else
-  echo "intruder refused ($(cat "$out/i0.err")); the match finished alike"
+  echo "intruder refused, status 6, both saying: $why; the match finished alike"
 fi
 
 # Late join over ENet with 10% loss and 50-150 ms of jitter, at 100 frames a

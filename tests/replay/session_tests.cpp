@@ -239,3 +239,72 @@ TEST_CASE("packets: messages and hellos round-trip, malformed ones are refused w
     }
   }
 }
+
+TEST_CASE("a hello that does not fit is refused with its reason, which both sides word alike", "[session][codec]") {
+  const Hello match{0, 2, SessionMode::rollback, 1, 0x3c0e9c78ac0b4f0fu};
+  Hello hello{1, 2, SessionMode::rollback, 1, 0x3c0e9c78ac0b4f0fu};
+  CHECK_FALSE(refusal_of(match, hello, false).has_value());  // it fits
+  const auto why = [&](Hello h, bool said_hello = false) { return refusal_of(match, h, said_hello); };
+  Hello h = hello;
+  h.start_hash = 1;
+  CHECK(why(h) == HelloRefused::another_scene);
+  h = hello;
+  h.players = 3;
+  CHECK(why(h) == HelloRefused::player_count);
+  h = hello;
+  h.mode = SessionMode::lockstep;
+  CHECK(why(h) == HelloRefused::mode);
+  h = hello;
+  h.input_delay = 0;
+  CHECK(why(h) == HelloRefused::input_delay);
+  h = hello;
+  h.player = 2;
+  CHECK(why(h) == HelloRefused::no_such_player);
+  h.player = 0;
+  CHECK(why(h) == HelloRefused::our_player);
+  CHECK(why(hello, true) == HelloRefused::player_taken);
+  h = hello;
+  h.joining = true;
+  CHECK_FALSE(why(h, true).has_value());  // a joiner takes a slot that was played
+  h.player = 0;
+  CHECK(why(h) == HelloRefused::our_player);  // the host is player 0
+  Hello player_1 = match;
+  player_1.player = 1;
+  CHECK(refusal_of(player_1, h, true) == HelloRefused::not_joinable);  // the host's slot, at another peer
+  Hello joining_match = match;
+  joining_match.players = h.players = 3;
+  joining_match.player = 1;
+  joining_match.joining = true;
+  h.player = 2;
+  CHECK(refusal_of(joining_match, h, false) == HelloRefused::not_joinable);  // a joiner is no door
+
+  // The words, from the match's hello and the refused one.
+  h = hello;
+  h.players = 3;
+  CHECK(describe(HelloRefused::player_count, match, 3, h, 3) == "another player count: 2 in the match, 3 in the hello");
+  h = hello;
+  h.start_hash = 0x10d880ea6600fc89u;
+  CHECK(describe(HelloRefused::another_scene, match, 3, h, 3) ==
+        "another scene or settings: start state hash 3c0e9c78ac0b4f0f in the match, 10d880ea6600fc89 in the hello");
+  CHECK(describe(HelloRefused::version, match, 3, hello, 2) ==
+        "another build: packet version 3 in the match, 2 in the hello");
+  CHECK(describe(HelloRefused::player_taken, match, 3, hello, 3) == "player 1 said hello already");
+
+  // A refusal round-trips; one of a later version (same layout) still reads.
+  const Refusal refusal{HelloRefused::input_delay, match, packet_version()};
+  std::vector<uint8_t> bytes = encode(refusal);
+  const Result<Packet> back = decode(bytes);
+  REQUIRE(back.ok());
+  CHECK(std::get<Refusal>(back.value()) == refusal);
+  bytes[2] = 9;
+  REQUIRE(decode(bytes).ok());
+  CHECK(std::get<Refusal>(decode(bytes).value()).version == 9);
+  bytes[4] = 0;  // no such reason
+  CHECK(decode(bytes).error().message() == "refused: reason out of range");
+  // A hello of another build is known as one, to be answered.
+  std::vector<uint8_t> old_hello = encode(hello);
+  old_hello[2] = 2;
+  CHECK_FALSE(decode(old_hello).ok());
+  CHECK(looks_like_hello(old_hello));
+  CHECK(packet_version(old_hello) == 2);
+}

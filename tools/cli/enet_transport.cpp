@@ -2,6 +2,7 @@
 
 #include <enet/enet.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <map>
@@ -108,12 +109,20 @@ bool EnetTransport::connect(const std::string& host_port, std::string& error) {
   ENetAddress address{};
   enet_address_set_host_ip(&address, "127.0.0.1");
   address.port = static_cast<uint16_t>(port);
-  if (enet_host_connect(host_, &address, 2, 0) == nullptr) {
+  ENetPeer* peer = enet_host_connect(host_, &address, 2, 0);
+  if (peer == nullptr) {
     error = "--connect " + host_port + ": no free peer slot";
     return false;
   }
+  dialled_.push_back(static_cast<uint32_t>(peer - host_->peers));
   return true;
 }
+
+bool EnetTransport::dialled(uint32_t peer) const {
+  return std::find(dialled_.begin(), dialled_.end(), peer) != dialled_.end();
+}
+
+void EnetTransport::flush() { enet_host_flush(host_); }
 
 void EnetTransport::send_now(ENetPeer* peer, const std::vector<uint8_t>& packet, bool reliable) {
   ENetPacket* p = enet_packet_create(packet.data(), packet.size(),
@@ -161,6 +170,10 @@ void EnetTransport::send_to(uint32_t peer, const std::vector<uint8_t>& packet) {
 
 void EnetTransport::disconnect(uint32_t peer) {
   if (peer < host_->peerCount) enet_peer_disconnect_now(&host_->peers[peer], 0);
+}
+
+void EnetTransport::disconnect_later(uint32_t peer) {
+  if (peer < host_->peerCount) enet_peer_disconnect_later(&host_->peers[peer], 0);
 }
 
 // Sends the delayed packets that are due, in due order (a later packet

@@ -53,6 +53,12 @@ class EnetTransport {
   // One packet to one peer, reliably (a hello).
   void send_to(uint32_t peer, const std::vector<uint8_t>& packet);
   void disconnect(uint32_t peer);
+  // Hangs up once the packets queued for the peer are sent (a refusal).
+  void disconnect_later(uint32_t peer);
+  // Whether we connected to the peer (--connect) rather than it to us.
+  bool dialled(uint32_t peer) const;
+  // Sends what is queued now (before a peer that stops closes its host).
+  void flush();
 
   // Services the host for up to wait_ms: sends what the delay queue holds
   // now, then hands each event over: on_connect(peer), on_packet(peer,
@@ -79,6 +85,7 @@ class EnetTransport {
   SplitMix64 rng_{1};
   std::deque<Delayed> delayed_;
   NetStats stats_;
+  std::vector<uint32_t> dialled_;  // the peers we connected to
 };
 
 }  // namespace bitstep

@@ -21,5 +21,9 @@ inline constexpr int desync = 3;
 inline constexpr int bad_input = 4;
 // An output file could not be written (nothing is left under its name).
 inline constexpr int output_failed = 5;
+// bitstep peer: another peer refused our hello (another scene or settings,
+// player count, mode, input delay, a player number taken or out of range,
+// another build), named on both sides.
+inline constexpr int refused = 6;
 
 }  // namespace bitstep::exit_code

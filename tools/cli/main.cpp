@@ -91,7 +91,9 @@ constexpr const char* usage =
     "  3  peer: a desync (the peers' states differ)\n"
     "  4  an input file refused: missing, unreadable, over a limit (replay/limits.h), malformed, or not\n"
     "     fitting (a snapshot of another scene, a scene body the world refuses)\n"
-    "  5  an output file could not be written (nothing is left under its name)\n";
+    "  5  an output file could not be written (nothing is left under its name)\n"
+    "  6  peer: another peer refused our hello (another scene or settings, player count, mode, input\n"
+    "     delay, a player number taken or out of range, another build), named on both sides\n";
 
 int selftest(int argc, char** argv) {
   uint64_t samples = 1000000;

@@ -373,6 +373,7 @@ int peer_command(int argc, char** argv) {
   std::vector<bool> wants_to_watch(static_cast<size_t>(o.players), false);  // ... and whether to watch
   bool started = o.session.joining;  // a match starts once every player said hello; a joiner's runs already
   uint64_t refused_packets = 0;
+  bool refused_by = false;  // a peer refused our hello: this match is not ours to play
   if (o.players > 1) {
     std::string error;
     net = EnetTransport::open(static_cast<uint16_t>(o.port), o.faults, error);
@@ -390,22 +391,42 @@ int peer_command(int argc, char** argv) {
   EnetTransport::Handlers handlers;
   handlers.on_connect = [&](uint32_t peer) { net->send_to(peer, encode(hello)); };
   handlers.on_disconnect = [&](uint32_t peer) { player_of.erase(peer); };
+  // A hello that does not fit: the peer is told why and we say it too. A
+  // peer that knocked on our match is hung up on, and we play on; a match
+  // we knocked on (--connect) is not ours to play: we stop (exit 6).
+  const auto refuse = [&](uint32_t peer, HelloRefused why, const Hello& theirs, int their_version) {
+    ++refused_packets;
+    fmt::print(stderr, "bitstep peer: player {}: refused a hello from player {}: {}\n", o.player, theirs.player,
+               describe(why, hello, packet_version(), theirs, their_version));
+    net->send_to(peer, encode(Refusal{why, hello, packet_version()}));
+    if (net->dialled(peer)) {
+      refused_by = true;
+    } else {
+      net->disconnect_later(peer);
+    }
+  };
   handlers.on_packet = [&](uint32_t peer, std::span<const uint8_t> bytes) {
     const Result<Packet> decoded = decode(bytes);
     if (!decoded.ok()) {
-      ++refused_packets;  // malformed
+      ++refused_packets;  // malformed, or another build's
+      if (looks_like_hello(bytes) && packet_version(bytes) != packet_version()) {
+        refuse(peer, HelloRefused::version, Hello{}, packet_version(bytes));
+      }
       return;
     }
     const Packet& packet = decoded.value();
+    if (const auto* refusal = std::get_if<Refusal>(&packet)) {
+      fmt::print(stderr, "bitstep peer: player {}: player {} refused our hello: {}\n", o.player,
+                 refusal->refuser.player,
+                 describe(refusal->reason, refusal->refuser, refusal->version, hello, packet_version()));
+      if (net->dialled(peer)) refused_by = true;  // its match, not ours (one that knocked on ours hears why and stops)
+      return;
+    }
     if (const auto* theirs = std::get_if<Hello>(&packet)) {
-      const bool fits = theirs->players == o.players && theirs->mode == o.session.mode &&
-                        theirs->input_delay == o.session.input_delay && theirs->start_hash == hello.start_hash &&
-                        theirs->player >= 0 && theirs->player < o.players && theirs->player != o.player &&
-                        (theirs->joining ? theirs->player != 0 && !o.session.joining
-                                         : !present[static_cast<size_t>(theirs->player)]);
-      if (!fits) {  // an unknown peer, or another match: refused
-        ++refused_packets;
-        net->disconnect(peer);
+      const bool said_hello =
+          theirs->player >= 0 && theirs->player < o.players && present[static_cast<size_t>(theirs->player)];
+      if (const std::optional<HelloRefused> why = refusal_of(hello, *theirs, said_hello)) {
+        refuse(peer, *why, *theirs, packet_version());
         return;
       }
       player_of[peer] = theirs->player;
@@ -437,6 +458,10 @@ int peer_command(int argc, char** argv) {
       return 1;
     }
     if (net) net->poll(1, handlers);
+    if (refused_by) {
+      net->flush();  // our refusal, if we sent one, on its way
+      return exit_code::refused;
+    }
     started = started || std::all_of(present.begin(), present.end(), [](bool p) { return p; });
     for (int p = 0; p < o.players; ++p) {  // the host lets a joiner in once its slot is free
       const size_t k = static_cast<size_t>(p);

@@ -155,6 +155,7 @@ TEST_CASE("bitstep: usage errors exit 2, and help lists the exit codes", "[tools
   CHECK(r.status == 0);
   CHECK(r.out.find("  4  an input file refused") != std::string::npos);
   CHECK(r.out.find("  5  an output file could not be written") != std::string::npos);
+  CHECK(r.out.find("  6  peer: another peer refused our hello") != std::string::npos);
 }
 
 TEST_CASE("bitstep: every command's usage error is one line and exit 2, its --help exit 0", "[tools][cli]") {
