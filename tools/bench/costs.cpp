@@ -1,7 +1,8 @@
 // Rollback: the world is built from the scene file as `bitstep run` builds
 // it, stepped to `from_step`, and its snapshot (replay/snapshot.h) restored
 // into the same world before each round, then the same with a rollback
-// state (replay/rollback_state.h) restored in place; times by
+// state (replay/rollback_state.h) restored in place, untouched and with a
+// body pushed at the first re-simulated step; times by
 // std::chrono::steady_clock.
 #include "tools/bench/costs.h"
 
@@ -59,10 +60,25 @@ RollbackRow measure_rollback(const std::string& scenes_dir, const std::string& s
   row.snapshot_bytes = image.size();
   row.state_save_ms = mean_ms(saving_state);
   row.snapshot_save_ms = mean_ms(saving_snapshot);
-  // Rolling back, each way: restore, then rollback_frames steps.
-  uint64_t first_hash = 0;
-  bool first = true;
-  const auto time_rollbacks = [&](auto&& restore_now, double& restore_ms, double& rollback_ms) {
+  // The body a remote input pushes (the last dynamic one: a pyramid's top
+  // cube, a pile's last), 2 m/s sideways at its centre of mass.
+  uint32_t pushed = UINT32_MAX;
+  for (uint32_t slot = 0; slot < world.bodies().size(); ++slot) {
+    const Body& b = world.bodies()[slot];
+    if (b.alive && b.type == BodyType::dynamic) pushed = slot;
+  }
+  const auto push = [&] {
+    if (pushed == UINT32_MAX) return;
+    const Body& b = world.bodies()[pushed];
+    world.apply_impulse(BodyId{pushed, b.generation}, Vec3{Fixed::from_int(2) / b.inverse_mass, Fixed{}, Fixed{}},
+                        b.pose.position);
+  };
+  // Rolling back, each way: restore, then rollback_frames steps; untouched
+  // (the inputs as predicted) or with the push at the first (a remote input
+  // that moves a body: what wakes a resting pile and costs a rollback game).
+  uint64_t first_hash[2] = {0, 0};
+  bool first[2] = {true, true};
+  const auto time_rollbacks = [&](auto&& restore_now, bool pushing, double& restore_ms, double& rollback_ms) {
     Clock::duration restoring{}, rolling_back{};
     for (int round = 0; round < rounds; ++round) {
       const auto start = Clock::now();
@@ -70,26 +86,29 @@ RollbackRow measure_rollback(const std::string& scenes_dir, const std::string& s
         throw std::runtime_error(restored.error().within(path + ": restore").message());
       }
       const auto restored = Clock::now();
+      if (pushing) push();
       for (int frame = 0; frame < rollback_frames; ++frame) world.step();
       const auto done = Clock::now();
       restoring += restored - start;
       rolling_back += done - start;
       const uint64_t hash = state_hash(world);
-      if (first) first_hash = hash;
-      first = false;
-      row.same_bits = row.same_bits && hash == first_hash;
+      if (first[pushing]) first_hash[pushing] = hash;
+      first[pushing] = false;
+      row.same_bits = row.same_bits && hash == first_hash[pushing];
     }
     restore_ms = mean_ms(restoring);
     rollback_ms = mean_ms(rolling_back);
   };
-  time_rollbacks([&] { return restore(image, world); }, row.restore_ms, row.rollback_ms);
+  time_rollbacks([&] { return restore(image, world); }, false, row.restore_ms, row.rollback_ms);
   // The snapshot made a new world object: the rollback state is saved again from it.
   states = RollbackStates{};
   if (const Result<void> restored = restore(image, world); !restored.ok()) {
     throw std::runtime_error(restored.error().within(path + ": restore").message());
   }
   states.save(world, state);
-  time_rollbacks([&] { return states.restore(state, world); }, row.state_restore_ms, row.state_rollback_ms);
+  time_rollbacks([&] { return states.restore(state, world); }, false, row.state_restore_ms, row.state_rollback_ms);
+  double restore_again = 0;
+  time_rollbacks([&] { return states.restore(state, world); }, true, restore_again, row.pushed_rollback_ms);
   return row;
 }
 

@@ -26,7 +26,10 @@ struct RollbackRow {
   size_t state_bytes = 0;
   double state_save_ms = 0, snapshot_save_ms = 0;  // mean, saving one
   double state_restore_ms = 0, state_rollback_ms = 0;
-  bool same_bits = true;      // every round of both ended at the first round's state hash
+  // The rollback state's rollback when the input that caused it pushes a
+  // body (the last dynamic one, 2 m/s sideways) at its first step.
+  double pushed_rollback_ms = 0;
+  bool same_bits = true;  // every round of each kind ended at its first round's state hash
 };
 
 // Loads the scene, steps it `from_step` times, snapshots it, then times

@@ -40,12 +40,13 @@ bool measure_rollbacks(Context& context, std::vector<RollbackRow>& rollback) {
   }
   std::string csv =
       "scene,from_step,bodies,snapshot_bytes,state_bytes,rounds,snapshot_save_ms,state_save_ms,restore_ms,"
-      "rollback_ms,state_restore_ms,state_rollback_ms,frame_share,same_bits\n";
+      "rollback_ms,state_restore_ms,state_rollback_ms,frame_share,pushed_rollback_ms,pushed_frame_share,same_bits\n";
   for (const RollbackRow& r : rollback) {
-    csv += fmt::format("{},{},{},{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4g},{}\n", r.scene, r.from_step,
-                       r.bodies, r.snapshot_bytes, r.state_bytes, r.rounds, r.snapshot_save_ms, r.state_save_ms,
-                       r.restore_ms, r.rollback_ms, r.state_restore_ms, r.state_rollback_ms,
-                       r.state_rollback_ms / frame_ms, r.same_bits ? 1 : 0);
+    csv += fmt::format("{},{},{},{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4g},{:.6g},{:.4g},{}\n", r.scene,
+                       r.from_step, r.bodies, r.snapshot_bytes, r.state_bytes, r.rounds, r.snapshot_save_ms,
+                       r.state_save_ms, r.restore_ms, r.rollback_ms, r.state_restore_ms, r.state_rollback_ms,
+                       r.state_rollback_ms / frame_ms, r.pushed_rollback_ms, r.pushed_rollback_ms / frame_ms,
+                       r.same_bits ? 1 : 0);
   }
   return context.write("rollback.csv", csv);
 }
@@ -78,19 +79,25 @@ std::string rollback_markdown(const std::vector<RollbackRow>& rollback) {
       "## Costs a game pays\n\nAn {}-frame rollback: restore the state saved at step 60, then {} steps, "
       "against the {:.1f} ms of a 60 Hz frame (mean of {} rounds; every round, either way, must end on the same "
       "state hash). `state`: a rollback state (the step's state alone, saved into a kept buffer, restored in "
-      "place); `snapshot`: the whole world's image, restored into a new world.\n\n"
+      "place); `snapshot`: the whole world's image, restored into a new world. `pushed`: the same rollback "
+      "state's, when the input that caused the rollback pushes a body (the scene's last dynamic one, 2 m/s "
+      "sideways) at its first step: a resting pile wakes, and this is what a game must budget.\n\n"
       "| scene | bodies | state (bytes/body) | snapshot (bytes/body) | save state (us) | save snapshot (us) | "
       "restore state (us) | restore snapshot (us) | state + {} steps (ms) | snapshot + {} steps (ms) | "
-      "share of the frame | same bits |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n",
+      "share of the frame | pushed: state + {} steps (ms) | pushed: share of the frame | same bits |\n"
+      "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n",
       rollback_frames, rollback_frames, frame_ms, rollback.empty() ? 0 : rollback.front().rounds, rollback_frames,
-      rollback_frames);
+      rollback_frames, rollback_frames);
   for (const RollbackRow& r : rollback) {
     const double n = static_cast<double>(std::max<size_t>(r.bodies, 1));
-    md += fmt::format("| {} | {} | {:.0f} | {:.0f} | {:.0f} | {:.0f} | {:.0f} | {:.0f} | {:.3g} | {:.3g} | {:.0f}% | {} |\n",
-                      r.scene, r.bodies, static_cast<double>(r.state_bytes) / n,
-                      static_cast<double>(r.snapshot_bytes) / n, 1000 * r.state_save_ms, 1000 * r.snapshot_save_ms,
-                      1000 * r.state_restore_ms, 1000 * r.restore_ms, r.state_rollback_ms, r.rollback_ms,
-                      100 * r.state_rollback_ms / frame_ms, r.same_bits ? "yes" : "**no**");
+    md += fmt::format(
+        "| {} | {} | {:.0f} | {:.0f} | {:.0f} | {:.0f} | {:.0f} | {:.0f} | {:.3g} | {:.3g} | {:.0f}% | {:.3g} | "
+        "{:.0f}% | "
+        "{} |\n",
+        r.scene, r.bodies, static_cast<double>(r.state_bytes) / n, static_cast<double>(r.snapshot_bytes) / n,
+        1000 * r.state_save_ms, 1000 * r.snapshot_save_ms, 1000 * r.state_restore_ms, 1000 * r.restore_ms,
+        r.state_rollback_ms, r.rollback_ms, 100 * r.state_rollback_ms / frame_ms, r.pushed_rollback_ms,
+        100 * r.pushed_rollback_ms / frame_ms, r.same_bits ? "yes" : "**no**");
   }
   return md;
 }

@@ -4,9 +4,9 @@
 // of unit cubes with 10 to 140 along the base: 55 to 9,870 bodies), stepped
 // 60 times (every contact found), then timed over T ticks three ways with
 // std::chrono::steady_clock, best of the samples: the world's step alone; a
-// one-player lockstep session (a checksum, the state hash, every tick); a
-// one-player rollback session (the same, and the tick's rollback state
-// saved into its ring). The session's overhead is the difference per tick.
+// one-player lockstep session and a one-player rollback session (each tick's
+// rollback state saved, its checksum from that save). The session's
+// overhead is the difference per tick.
 // A lockstep game sustains a world whose tick fits in the frame (16.7 ms at
 // 60 Hz, 50 ms at 20 Hz); a rollback game must also afford the worst case
 // of a rollback every frame: restoring a state and simulating its 8
@@ -15,7 +15,9 @@
 // 50 kg ball fired at 15 m/s into the middle of the second row, and every
 // tick of the second after it counted (the mean, with the restore taken
 // where the ball strikes), since a rollback game must afford the collapse
-// as well as the stand.
+// as well as the stand; and pushed: the top cube pushed 1 m/s sideways by
+// the player's input every second, the mean of two seconds' ticks (a push
+// wakes the pile: what a game whose players touch its piles pays).
 #include "tools/bench/session.h"
 
 #include <fmt/core.h>
@@ -111,6 +113,54 @@ Costs measure_knocked(const std::string& scene_json, const std::string& name, in
   return c;
 }
 
+// A game whose input pushes the last dynamic body (a pyramid's top cube)
+// 1 m/s sideways when it is "push", as a player's move does now and then.
+void push_top(Simulation& sim, int, const PlayerInput& input) {
+  if (input != "push") return;
+  const std::vector<Body>& bodies = sim.world().bodies();
+  for (uint32_t slot = static_cast<uint32_t>(bodies.size()); slot-- > 0;) {
+    const Body& b = bodies[slot];
+    if (!b.alive || b.type != BodyType::dynamic) continue;
+    (void)sim.apply_impulse(BodyId{slot, b.generation}, Vec3{Fixed::from_int(1) / b.inverse_mass, Fixed{}, Fixed{}},
+                            b.pose.position);
+    return;
+  }
+}
+
+// The same as measure() with a push every second (every 60th tick, from
+// the first): the mean of `ticks` ticks, the pile woken as a game wakes it.
+Costs measure_pushed(const std::string& scene_json, const std::string& name, int ticks) {
+  Costs c;
+  const auto input_at = [](int t) { return t % 60 == 0 ? PlayerInput("push") : PlayerInput(); };
+  {
+    Simulation sim = settled(scene_json, name);
+    c.bodies = sim.world().bodies().size();
+    RollbackStates states;
+    std::vector<uint8_t> state;
+    states.save(sim.world(), state);
+    c.restore_ms = best_ms_per_tick(1, 10, [&] { (void)states.restore(state, sim.world()); });
+    int t = 0;
+    c.step_ms = mean_ms_per_tick(ticks, [&] {
+      push_top(sim, 0, input_at(t++));
+      sim.step();
+    });
+  }
+  for (const SessionMode mode : {SessionMode::lockstep, SessionMode::rollback}) {
+    SessionConfig config;
+    config.players = 1;
+    config.mode = mode;
+    Session session(settled(scene_json, name), config, push_top);
+    int t = 0;
+    const double ms = mean_ms_per_tick(ticks, [&] {
+      session.add_local_input(input_at(t++));
+      session.advance();
+      (void)session.take_outgoing();
+    });
+    (mode == SessionMode::lockstep ? c.lockstep_ms : c.rollback_ms) = ms;
+  }
+  return c;
+}
+
 Costs measure(const std::string& scene_json, const std::string& name, int samples, int ticks) {
   Costs c;
   {
@@ -168,7 +218,7 @@ int run_bench_session(int argc, char** argv) {
     }
     // Pyramids of growing size, standing and knocked over: the largest
     // each mode sustains.
-    std::vector<Costs> standing, knocked;
+    std::vector<Costs> standing, pushed, knocked;
     fmt::print("\n| pyramid base | bodies | case | step (ms) | lockstep tick (ms) | rollback tick (ms) | "
                "worst rollback frame (ms) |\n|---:|---:|---|---:|---:|---:|---:|\n");
     const auto row = [](int base, const char* what, const Costs& c) {
@@ -180,13 +230,19 @@ int run_bench_session(int argc, char** argv) {
     for (const int base : bases) {
       standing.push_back(measure(pyramid_scene(base), "pyramid", samples, ticks));
       row(base, "standing", standing.back());
+      if (base <= 40) {  // two seconds of a pushed 821-body pyramid take 20 s a round
+        pushed.push_back(measure_pushed(pyramid_scene(base), "pyramid", quick ? 60 : 120));
+        row(base, "pushed every second", pushed.back());
+      }
       // The collapse of the largest pyramids takes minutes a round: up to 80.
       if (base > 80) continue;
       knocked.push_back(measure_knocked(pyramid_scene(base), "pyramid", quick ? 30 : 60));
       row(base, "knocked over", knocked.back());
     }
-    fmt::print("\n| mode | standing, 60 Hz (16.7 ms) | knocked over, 60 Hz | standing, 20 Hz (50 ms) | "
-               "knocked over, 20 Hz |\n|---|---:|---:|---:|---:|\n");
+    fmt::print(
+        "\n| mode | standing, 60 Hz (16.7 ms) | pushed every second, 60 Hz | knocked over, 60 Hz | "
+        "standing, 20 Hz (50 ms) | pushed every second, 20 Hz | knocked over, 20 Hz |\n"
+        "|---|---:|---:|---:|---:|---:|---:|\n");
     const auto largest = [](const std::vector<Costs>& ladder, auto&& frame_ms, double budget) {
       size_t best = 0;
       for (const Costs& c : ladder) {
@@ -199,8 +255,9 @@ int run_bench_session(int argc, char** argv) {
     for (const auto& [mode, frame] : {std::pair<const char*, double (*)(const Costs&)>{"lockstep (a tick per frame)",
                                                                                        lockstep},
                                       {"rollback (restore + 9 ticks per frame, worst case)", rollback}}) {
-      fmt::print("| {} | {} | {} | {} | {} |\n", mode, largest(standing, frame, 1000.0 / 60),
-                 largest(knocked, frame, 1000.0 / 60), largest(standing, frame, 50.0), largest(knocked, frame, 50.0));
+      fmt::print("| {} | {} | {} | {} | {} | {} | {} |\n", mode, largest(standing, frame, 1000.0 / 60),
+                 largest(pushed, frame, 1000.0 / 60), largest(knocked, frame, 1000.0 / 60),
+                 largest(standing, frame, 50.0), largest(pushed, frame, 50.0), largest(knocked, frame, 50.0));
     }
   } catch (const std::exception& e) {
     fmt::print(stderr, "bitstep bench session: {}\n", e.what());
