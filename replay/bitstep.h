@@ -4,11 +4,16 @@
  * 2^32 in an int64_t) wherever they reach the simulation, so every peer of a
  * lockstep game computes the same bits; floats only for drawing.
  *
- * Every call that can fail returns a bitstep_status; after a failure
+ * Every call that can fail returns a bitstep_status; after every failure
+ * of a call on a handle, NULL_ARGUMENT included ("get_pose: out is NULL"),
  * bitstep_last_error(sim) holds the one-line message ("scene.json:
- * $.bodies[2].shapes[0].radius: outside 0.01..50 m"). Buffers are the
- * caller's: bitstep_save writes into one and says how large it must be.
- * A handle is used by one thread at a time. */
+ * $.bodies[2].shapes[0].radius: outside 0.01..50 m"). Its pointer is valid
+ * until the next call on the same handle, or its destroy: copy the text to
+ * keep it. Calls without a handle (a NULL handle, bitstep_fixed_parse,
+ * bitstep_state_checksum) report by their status alone; bitstep_create_*
+ * write their message into the caller's buffer and set *out to NULL on any
+ * failure. Buffers are the caller's: bitstep_save writes into one and says
+ * how large it must be. A handle is used by one thread at a time. */
 #ifndef BITSTEP_REPLAY_BITSTEP_H
 #define BITSTEP_REPLAY_BITSTEP_H
 
@@ -81,6 +86,10 @@ bitstep_status bitstep_add_body(bitstep_simulation* sim, const char* body_json, 
 bitstep_status bitstep_remove_body(bitstep_simulation* sim, bitstep_body body);
 bitstep_status bitstep_add_joint(bitstep_simulation* sim, const char* joint_json, bitstep_joint* out);
 bitstep_status bitstep_remove_joint(bitstep_simulation* sim, bitstep_joint joint);
+/* A body's type: what inputs it takes (impulses and forces a dynamic
+ * body, a velocity a dynamic or kinematic one; bitstep_apply_impulse). */
+typedef enum { BITSTEP_STATIC = 0, BITSTEP_KINEMATIC = 1, BITSTEP_DYNAMIC = 2 } bitstep_body_type;
+bitstep_status bitstep_get_body_type(bitstep_simulation* sim, bitstep_body body, bitstep_body_type* out);
 /* Every body slot in use: slots 0 .. bitstep_slot_count() - 1, NOT_FOUND for an empty one. */
 uint32_t bitstep_slot_count(const bitstep_simulation* sim);
 bitstep_status bitstep_body_in_slot(bitstep_simulation* sim, uint32_t slot, bitstep_body* out);
@@ -96,7 +105,9 @@ bitstep_status bitstep_body_in_slot(bitstep_simulation* sim, uint32_t slot, bits
  * A value past its bound returns BITSTEP_INVALID and changes nothing (the
  * hash stays); the message names the call, the argument and the bound
  * ("set_velocity: linear.y: outside +-500 m/s", "set_velocity: angular:
- * faster than 100 rad/s"). A handle no body has (removed, stale, never
+ * faster than 100 rad/s"). So does an input the body cannot take: an
+ * impulse or a force on a static or kinematic body, a velocity on a static
+ * one ("apply_impulse: the body is static: impulses move dynamic bodies"). A handle no body has (removed, stale, never
  * made) returns BITSTEP_NOT_FOUND, checked before the values. Numbers are
  * Q32.32 integers: a binding converting from floating point must refuse
  * NaN and infinities itself (C leaves their conversion to an integer

@@ -2,9 +2,11 @@
 // No exception crosses into C: each call catches what the facade may throw
 // (allocation failure) and returns a status.
 #include <cstring>
+#include <initializer_list>
 #include <new>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "fixed/decimal.h"
 #include "replay/bitstep.h"
@@ -48,6 +50,19 @@ bitstep_status status_of(const bitstep::Error& error, std::string& message) {
 }
 
 bitstep_status fail(bitstep_simulation* sim, const bitstep::Error& error) { return status_of(error, sim->last_error); }
+
+// A NULL where the call needs a pointer: "get_pose: out is NULL".
+bitstep_status null_argument(bitstep_simulation* sim, const char* call, const char* argument) {
+  return fail(sim, BITSTEP_NULL_ARGUMENT, std::string(call) + ": " + argument + " is NULL");
+}
+
+// The first NULL of a call's pointer arguments, or nullptr.
+const char* first_null(std::initializer_list<std::pair<const void*, const char*>> arguments) {
+  for (const auto& [pointer, name] : arguments) {
+    if (pointer == nullptr) return name;
+  }
+  return nullptr;
+}
 
 // Runs `call` (returning a status) with sim checked and exceptions caught.
 template <typename Call>
@@ -109,8 +124,11 @@ double bitstep_fixed_to_double(bitstep_fixed value) { return static_cast<double>
 
 bitstep_status bitstep_create_from_file(const char* path, bitstep_simulation** out, char* error,
                                         size_t error_capacity) {
-  if (path == nullptr || out == nullptr) return BITSTEP_NULL_ARGUMENT;
-  *out = nullptr;
+  if (out != nullptr) *out = nullptr;
+  if (const char* null = first_null({{path, "path"}, {out, "out"}})) {
+    copy_message(std::string("create_from_file: ") + null + " is NULL", error, error_capacity);
+    return BITSTEP_NULL_ARGUMENT;
+  }
   try {
     return created(bitstep::Simulation::from_file(path), out, error, error_capacity);
   } catch (const std::bad_alloc&) {
@@ -121,8 +139,11 @@ bitstep_status bitstep_create_from_file(const char* path, bitstep_simulation** o
 
 bitstep_status bitstep_create_from_text(const char* json, size_t length, const char* name, bitstep_simulation** out,
                                         char* error, size_t error_capacity) {
-  if (json == nullptr || name == nullptr || out == nullptr) return BITSTEP_NULL_ARGUMENT;
-  *out = nullptr;
+  if (out != nullptr) *out = nullptr;
+  if (const char* null = first_null({{json, "json"}, {name, "name"}, {out, "out"}})) {
+    copy_message(std::string("create_from_text: ") + null + " is NULL", error, error_capacity);
+    return BITSTEP_NULL_ARGUMENT;
+  }
   try {
     return created(bitstep::Simulation::from_text(std::string_view(json, length), name), out, error, error_capacity);
   } catch (const std::bad_alloc&) {
@@ -137,7 +158,7 @@ const char* bitstep_last_error(const bitstep_simulation* sim) { return sim == nu
 
 bitstep_status bitstep_find_body(bitstep_simulation* sim, const char* name, bitstep_body* out) {
   return guarded(sim, [&] {
-    if (name == nullptr || out == nullptr) return BITSTEP_NULL_ARGUMENT;
+    if (const char* null = first_null({{name, "name"}, {out, "out"}})) return null_argument(sim, "find_body", null);
     const auto id = sim->sim.find_body(name);
     if (!id) return fail(sim, BITSTEP_NOT_FOUND, std::string("no body named \"") + name + "\"");
     *out = body_to_c(*id);
@@ -147,7 +168,9 @@ bitstep_status bitstep_find_body(bitstep_simulation* sim, const char* name, bits
 
 bitstep_status bitstep_add_body(bitstep_simulation* sim, const char* body_json, bitstep_body* out) {
   return guarded(sim, [&] {
-    if (body_json == nullptr || out == nullptr) return BITSTEP_NULL_ARGUMENT;
+    if (const char* null = first_null({{body_json, "body_json"}, {out, "out"}})) {
+      return null_argument(sim, "add_body", null);
+    }
     const bitstep::Result<bitstep::BodyId> id = sim->sim.add_body(body_json);
     if (!id.ok()) return fail(sim, id.error());
     *out = body_to_c(id.value());
@@ -161,7 +184,9 @@ bitstep_status bitstep_remove_body(bitstep_simulation* sim, bitstep_body body) {
 
 bitstep_status bitstep_add_joint(bitstep_simulation* sim, const char* joint_json, bitstep_joint* out) {
   return guarded(sim, [&] {
-    if (joint_json == nullptr || out == nullptr) return BITSTEP_NULL_ARGUMENT;
+    if (const char* null = first_null({{joint_json, "joint_json"}, {out, "out"}})) {
+      return null_argument(sim, "add_joint", null);
+    }
     const bitstep::Result<bitstep::JointId> id = sim->sim.add_joint(joint_json);
     if (!id.ok()) return fail(sim, id.error());
     *out = {id->index, id->generation};
@@ -177,13 +202,26 @@ bitstep_status bitstep_remove_joint(bitstep_simulation* sim, bitstep_joint joint
   });
 }
 
+bitstep_status bitstep_get_body_type(bitstep_simulation* sim, bitstep_body body, bitstep_body_type* out) {
+  return guarded(sim, [&] {
+    if (out == nullptr) return null_argument(sim, "get_body_type", "out");
+    if (!sim->sim.world().is_alive(body_of(body))) return no_body(sim, body);
+    switch (sim->sim.world().body(body_of(body)).type) {
+      case bitstep::BodyType::static_body: *out = BITSTEP_STATIC; break;
+      case bitstep::BodyType::kinematic: *out = BITSTEP_KINEMATIC; break;
+      case bitstep::BodyType::dynamic: *out = BITSTEP_DYNAMIC; break;
+    }
+    return BITSTEP_OK;
+  });
+}
+
 uint32_t bitstep_slot_count(const bitstep_simulation* sim) {
   return sim == nullptr ? 0 : static_cast<uint32_t>(sim->sim.world().bodies().size());
 }
 
 bitstep_status bitstep_body_in_slot(bitstep_simulation* sim, uint32_t slot, bitstep_body* out) {
   return guarded(sim, [&] {
-    if (out == nullptr) return BITSTEP_NULL_ARGUMENT;
+    if (out == nullptr) return null_argument(sim, "body_in_slot", "out");
     const auto& bodies = sim->sim.world().bodies();
     if (slot >= bodies.size() || !bodies[slot].alive) {
       return fail(sim, BITSTEP_NOT_FOUND, "slot " + std::to_string(slot) + " is empty");
@@ -224,7 +262,7 @@ bitstep_status bitstep_wake(bitstep_simulation* sim, bitstep_body body) {
 bitstep_status bitstep_drive(bitstep_simulation* sim, const char* car, bitstep_fixed throttle, bitstep_fixed brake,
                              bitstep_fixed steer) {
   return guarded(sim, [&] {
-    if (car == nullptr) return BITSTEP_NULL_ARGUMENT;
+    if (car == nullptr) return null_argument(sim, "drive", "car");
     return input_status(sim, sim->sim.drive(car, {fixed_of(throttle), fixed_of(brake), fixed_of(steer)}),
                         std::string("no car named \"") + car + "\"");
   });
@@ -243,7 +281,7 @@ uint64_t bitstep_hash(const bitstep_simulation* sim) { return sim == nullptr ? 0
 
 bitstep_status bitstep_get_pose(bitstep_simulation* sim, bitstep_body body, bitstep_pose* out) {
   return guarded(sim, [&] {
-    if (out == nullptr) return BITSTEP_NULL_ARGUMENT;
+    if (out == nullptr) return null_argument(sim, "get_pose", "out");
     const auto pose = sim->sim.pose(body_of(body));
     if (!pose) return no_body(sim, body);
     const bitstep::Quat& q = pose->orientation;
@@ -254,7 +292,7 @@ bitstep_status bitstep_get_pose(bitstep_simulation* sim, bitstep_body body, bits
 
 bitstep_status bitstep_get_render_pose(bitstep_simulation* sim, bitstep_body body, bitstep_render_pose* out) {
   return guarded(sim, [&] {
-    if (out == nullptr) return BITSTEP_NULL_ARGUMENT;
+    if (out == nullptr) return null_argument(sim, "get_render_pose", "out");
     const auto pose = sim->sim.pose(body_of(body));
     if (!pose) return no_body(sim, body);
     const bitstep::RenderPose r = bitstep::render_pose(*pose);
@@ -279,7 +317,8 @@ void bitstep_interpolate(const bitstep_render_pose* from, const bitstep_render_p
 
 bitstep_status bitstep_save(bitstep_simulation* sim, uint8_t* buffer, size_t capacity, size_t* size) {
   return guarded(sim, [&] {
-    if (size == nullptr || (buffer == nullptr && capacity > 0)) return BITSTEP_NULL_ARGUMENT;
+    if (size == nullptr) return null_argument(sim, "save", "size");
+    if (buffer == nullptr && capacity > 0) return null_argument(sim, "save", "buffer (of capacity > 0)");
     const std::vector<uint8_t> image = sim->sim.save();
     *size = image.size();
     if (image.size() > capacity) {
@@ -293,7 +332,7 @@ bitstep_status bitstep_save(bitstep_simulation* sim, uint8_t* buffer, size_t cap
 
 bitstep_status bitstep_load(bitstep_simulation* sim, const uint8_t* image, size_t size) {
   return guarded(sim, [&] {
-    if (image == nullptr) return BITSTEP_NULL_ARGUMENT;
+    if (image == nullptr) return null_argument(sim, "load", "image");
     if (const bitstep::Result<void> loaded = sim->sim.load({image, size}); !loaded.ok()) {
       return fail(sim, loaded.error().within("load"));
     }
@@ -303,7 +342,8 @@ bitstep_status bitstep_load(bitstep_simulation* sim, const uint8_t* image, size_
 
 bitstep_status bitstep_save_state(bitstep_simulation* sim, uint8_t* buffer, size_t capacity, size_t* size) {
   return guarded(sim, [&] {
-    if (size == nullptr || (buffer == nullptr && capacity > 0)) return BITSTEP_NULL_ARGUMENT;
+    if (size == nullptr) return null_argument(sim, "save_state", "size");
+    if (buffer == nullptr && capacity > 0) return null_argument(sim, "save_state", "buffer (of capacity > 0)");
     *size = sim->sim.save_state({buffer, capacity});
     if (*size > capacity) {
       return fail(sim, BITSTEP_BUFFER_TOO_SMALL,
@@ -325,7 +365,7 @@ uint64_t bitstep_checksum(const bitstep_simulation* sim) { return sim == nullptr
 
 bitstep_status bitstep_load_state(bitstep_simulation* sim, const uint8_t* image, size_t size) {
   return guarded(sim, [&] {
-    if (image == nullptr) return BITSTEP_NULL_ARGUMENT;
+    if (image == nullptr) return null_argument(sim, "load_state", "image");
     if (const bitstep::Result<void> loaded = sim->sim.load_state({image, size}); !loaded.ok()) {
       return fail(sim, loaded.error().within("load_state"));
     }
@@ -336,7 +376,7 @@ bitstep_status bitstep_load_state(bitstep_simulation* sim, const uint8_t* image,
 bitstep_status bitstep_cast_ray(bitstep_simulation* sim, bitstep_vec3 origin, bitstep_vec3 translation,
                                 bitstep_ray_hit* out) {
   return guarded(sim, [&] {
-    if (out == nullptr) return BITSTEP_NULL_ARGUMENT;
+    if (out == nullptr) return null_argument(sim, "cast_ray", "out");
     const auto hit = sim->sim.query().cast_ray(vec3_of(origin), vec3_of(translation));
     if (!hit) return fail(sim, BITSTEP_NOT_FOUND, "the ray meets nothing");
     *out = {body_to_c(hit->body), hit->shape, hit->fraction.raw(), vec3_to_c(hit->point), vec3_to_c(hit->normal)};

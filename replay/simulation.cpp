@@ -102,10 +102,21 @@ InputResult applied_unless(std::initializer_list<Result<void>> checks, const cha
   return {};
 }
 
+// An input the body's type ignores, refused rather than silently dropped:
+// impulses and forces move dynamic bodies alone, a velocity is set on a
+// dynamic or kinematic body, never a static one.
+InputResult unmoved(const Body& body, const char* call, const char* moves) {
+  const char* type = body.type == BodyType::static_body ? "static" : "kinematic";
+  return {InputResult::Status::refused, Error{std::string(call), std::string("the body is ") + type + ": " + moves}};
+}
+
 }  // namespace
 
 InputResult Simulation::apply_impulse(BodyId id, Vec3 impulse, Vec3 world_point) {
   if (!valid(id)) return not_found();
+  if (world_.body(id).type != BodyType::dynamic) {
+    return unmoved(world_.body(id), "apply_impulse", "impulses move dynamic bodies");
+  }
   using namespace input_bounds;
   return applied_unless(
       {check_vec3(impulse, max_impulse, "impulse", "N s"), check_vec3(world_point, max_point, "world_point", "m")},
@@ -114,6 +125,9 @@ InputResult Simulation::apply_impulse(BodyId id, Vec3 impulse, Vec3 world_point)
 
 InputResult Simulation::apply_force(BodyId id, Vec3 force, Vec3 world_point) {
   if (!valid(id)) return not_found();
+  if (world_.body(id).type != BodyType::dynamic) {
+    return unmoved(world_.body(id), "apply_force", "forces move dynamic bodies");
+  }
   using namespace input_bounds;
   return applied_unless(
       {check_vec3(force, max_force, "force", "N"), check_vec3(world_point, max_point, "world_point", "m")},
@@ -122,6 +136,9 @@ InputResult Simulation::apply_force(BodyId id, Vec3 force, Vec3 world_point) {
 
 InputResult Simulation::set_velocity(BodyId id, Vec3 linear, Vec3 angular) {
   if (!valid(id)) return not_found();
+  if (world_.body(id).type == BodyType::static_body) {
+    return unmoved(world_.body(id), "set_velocity", "a static body never moves");
+  }
   using namespace input_bounds;
   return applied_unless({check_speed(linear, max_linear_speed, "linear", "m/s"),
                          check_speed(angular, max_angular_speed, "angular", "rad/s")},

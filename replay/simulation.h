@@ -27,8 +27,11 @@
 namespace bitstep {
 
 // What an input call did: applied; nothing, for a body or car that is not
-// there; or nothing, for a value past its bound, `refusal` saying which
-// (place "set_velocity: linear", reason "faster than 500 m/s"). True when
+// there; or nothing, for a value past its bound or a body the input cannot
+// move (an impulse or force on a static or kinematic body, a velocity on a
+// static one), `refusal` saying which (place "set_velocity: linear", reason
+// "faster than 500 m/s"; "apply_impulse", "the body is static: impulses
+// move dynamic bodies"). True when
 // applied. A status, not a Result: a missing body is no error in a game
 // (it may have left the world) and the C API tells the two apart.
 struct InputResult {

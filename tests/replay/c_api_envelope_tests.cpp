@@ -39,9 +39,14 @@ void call_every_body(bitstep_simulation* sim, bool push) {
         sim, {far, far, far}, {pose.position.x - far, pose.position.y - far, pose.position.z - far}, &hit);
     CHECK((ray == BITSTEP_OK || ray == BITSTEP_NOT_FOUND));
     if (!push) continue;
-    CHECK(bitstep_apply_impulse(sim, body, {big, -big, big}, {far, -far, far}) == BITSTEP_OK);
-    CHECK(bitstep_apply_force(sim, body, {-big, big, big}, {-far, far, -far}) == BITSTEP_OK);
-    CHECK(bitstep_set_velocity(sim, body, {units(500), 0, 0}, {0, 0, units(100)}) == BITSTEP_OK);
+    // What the body's type takes is applied; the rest is refused (c_api_errors_tests.cpp).
+    bitstep_body_type type = BITSTEP_STATIC;
+    REQUIRE(bitstep_get_body_type(sim, body, &type) == BITSTEP_OK);
+    const bitstep_status pushed = type == BITSTEP_DYNAMIC ? BITSTEP_OK : BITSTEP_INVALID;
+    const bitstep_status moved = type == BITSTEP_STATIC ? BITSTEP_INVALID : BITSTEP_OK;
+    CHECK(bitstep_apply_impulse(sim, body, {big, -big, big}, {far, -far, far}) == pushed);
+    CHECK(bitstep_apply_force(sim, body, {-big, big, big}, {-far, far, -far}) == pushed);
+    CHECK(bitstep_set_velocity(sim, body, {units(500), 0, 0}, {0, 0, units(100)}) == moved);
     CHECK(bitstep_wake(sim, body) == BITSTEP_OK);
   }
 }

@@ -194,7 +194,7 @@ class Session {
       return;
     }
     require(bitstep_hash(sim_) == before, "a refused call leaves the hash as it was");
-    if (status != BITSTEP_NULL_ARGUMENT) require_one_line_error(bitstep_last_error(sim_), "");
+    require_one_line_error(bitstep_last_error(sim_), "");  // every failure on a handle names itself
   }
 
   // A getter's, a ray's and a save's property: it changed nothing.
