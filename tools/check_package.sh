@@ -3,8 +3,9 @@
 # (default build/release) into build/install, builds tests/consumer (a C and
 # a C++ program, find_package(bitstep)) against it, runs both on
 # scenes/pyramid20.json with the ball of scenes/pyramid20.short.replay.json
-# thrown in, and checks they print that golden's last hash; then checks that
-# docs/embedding.md's example is tests/consumer/cpp_consumer.cpp, byte for byte.
+# thrown in, and checks they print that golden's last hash; checks that the
+# installed command line verifies that golden; then that docs/embedding.md's
+# example is tests/consumer/cpp_consumer.cpp, byte for byte.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tree=${1:-build/release}
@@ -25,6 +26,14 @@ for consumer in c_consumer cpp_consumer; do
     status=1
   fi
 done
+
+# The command line is installed too: it verifies a golden replay.
+if build/install/bin/bitstep verify scenes/pyramid20.short.replay.json >/dev/null; then
+  echo "the installed bitstep verifies scenes/pyramid20.short.replay.json"
+else
+  echo "check_package.sh: the installed bitstep did not verify scenes/pyramid20.short.replay.json" >&2
+  status=1
+fi
 
 # docs/embedding.md's example: the lines between its two markers.
 if ! sed -n '/^<!-- example: tests\/consumer\/cpp_consumer.cpp -->$/,/^<!-- end of example -->$/p' docs/embedding.md |
