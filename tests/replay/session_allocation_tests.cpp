@@ -27,6 +27,7 @@ namespace {
 // frames later; the allocations counted inside the sessions' calls.
 struct CountedMatch {
   std::vector<std::unique_ptr<Session>> peers;
+  std::vector<std::unique_ptr<ArenaGame>> games;  // with_game: each peer's (GameHooks)
   struct InFlight {
     int64_t due;
     int to;
@@ -38,14 +39,26 @@ struct CountedMatch {
   long counted = 0;
   int64_t left_out = 0;  // calls that rolled back
 
-  CountedMatch(int players, SessionMode mode, int frames_late) : latency(frames_late) {
+  CountedMatch(int players, SessionMode mode, int frames_late, bool with_game = false) : latency(frames_late) {
     for (int p = 0; p < players; ++p) {
       SessionConfig c;
       c.players = players;
       c.local_player = p;
       c.mode = mode;
       c.input_delay = 1;
-      peers.push_back(std::make_unique<Session>(arena_simulation(), c, push));
+      if (!with_game) {
+        peers.push_back(std::make_unique<Session>(arena_simulation(), c, push));
+        continue;
+      }
+      // The game's state saved, kept and restored with every tick, its
+      // inputs the gentle pushes: the arena game's charges change the
+      // contacts every tick, and the world's scratch, made anew by each
+      // restore, then grows again in later steps (the world's allocations,
+      // not the session's).
+      games.push_back(std::make_unique<ArenaGame>());
+      GameHooks hooks = games.back()->hooks();
+      hooks.apply = push;
+      peers.push_back(std::make_unique<Session>(arena_simulation(), c, std::move(hooks)));
     }
   }
   template <class Call>
@@ -85,21 +98,24 @@ struct CountedMatch {
 
 }  // namespace
 
-TEST_CASE("a warm session allocates nothing per tick", "[session][allocation]") {
+TEST_CASE("a warm session allocates nothing per tick, with a game's own state too", "[session][allocation]") {
   for (const SessionMode mode : {SessionMode::lockstep, SessionMode::rollback}) {
     for (const int players : {2, 4}) {
-      INFO((mode == SessionMode::lockstep ? "lockstep, " : "rollback, ") << players << " players");
-      CountedMatch match(players, mode, 3);
-      for (int k = 0; k < 1300; ++k) match.frame();  // warm: past the 1024 confirmed hashes remembered
-      match.counted = 0;
-      match.left_out = 0;
-      const int64_t ticks = match.peers[0]->confirmed_tick();
-      const int64_t rollbacks = match.peers[0]->stats().rollbacks;
-      for (int k = 0; k < 600; ++k) match.frame();
-      CHECK(match.peers[0]->confirmed_tick() - ticks > 500);
-      if (mode == SessionMode::rollback) CHECK(match.peers[0]->stats().rollbacks > rollbacks);
-      if (mode == SessionMode::lockstep) CHECK(match.left_out == 0);
-      CHECK(match.counted == 0);
+      for (const bool game : {false, true}) {
+        INFO((mode == SessionMode::lockstep ? "lockstep, " : "rollback, ")
+             << players << " players" << (game ? ", GameHooks" : ""));
+        CountedMatch match(players, mode, 3, game);
+        for (int k = 0; k < 1300; ++k) match.frame();  // warm: past the 1024 confirmed hashes remembered
+        match.counted = 0;
+        match.left_out = 0;
+        const int64_t ticks = match.peers[0]->confirmed_tick();
+        const int64_t rollbacks = match.peers[0]->stats().rollbacks;
+        for (int k = 0; k < 600; ++k) match.frame();
+        CHECK(match.peers[0]->confirmed_tick() - ticks > 500);
+        if (mode == SessionMode::rollback) CHECK(match.peers[0]->stats().rollbacks > rollbacks);
+        if (mode == SessionMode::lockstep) CHECK(match.left_out == 0);
+        CHECK(match.counted == 0);
+      }
     }
   }
   // The counter counts: a cold session allocates.

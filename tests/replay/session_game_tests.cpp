@@ -111,7 +111,7 @@ TEST_CASE("a player who rejoins starts from the host's game state and ends on th
   }
 }
 
-TEST_CASE("game hooks: apply is required, save and load come together; a state packet carries the game's state",
+TEST_CASE("game hooks: apply is required, save and load come together, a state packet carries the game's state",
           "[session][game][codec]") {
   ArenaGame game;
   GameHooks hooks = game.hooks();
