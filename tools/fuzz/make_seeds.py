@@ -162,6 +162,8 @@ def packets(images):
                                             struct.pack("<I", len(game)) + game))
     write("packet", "quality.bin", packet(6, 1, 40, 44, struct.pack("<qB", 300, 2) + struct.pack("<qqqq", 270, 3, -1, 0)))
     write("packet", "join_check.bin", packet(5, 1, 30, 30, bytes([2]) + struct.pack("<Q", 0xfbe30ec9ec0eefda)))
+    write("packet", "refused.bin", b"bS" + bytes([3, 17, 2, 0, 2, 1, 2]) + struct.pack("<Q", 0x3c0e9c78ac0b4f0f) +
+          bytes([0]))  # player 0 of a 2-player rollback match: another player count
     hellos = {"hello_rollback": (0, 2, 1, 2, 0), "hello_lockstep": (3, 4, 0, 0, 0), "hello_join": (2, 3, 1, 0, 1),
               "hello_watch": (3, 4, 0, 1, 2)}
     for name, (player, players, mode, delay, joining) in hellos.items():

@@ -1,6 +1,6 @@
 // Fuzzes the session packet decoder: the bytes to decode
 // (replay/session_codec.h). Must hold: no crash, no undefined behaviour, no
-// leak; either a message or a hello, or an Error with a one-line
+// leak; either a message, a hello or a refusal, or an Error with a one-line
 // message; a decoded packet encodes to exactly the same bytes (the format
 // has one encoding of each message).
 #include <algorithm>
@@ -18,8 +18,18 @@ Outcome packet_decoder(std::span<const uint8_t> data) {
     return {false, decoded.error().message()};
   }
   const Packet& packet = decoded.value();
-  const std::vector<uint8_t> encoded = std::holds_alternative<Hello>(packet) ? encode(std::get<Hello>(packet))
-                                                                             : encode(std::get<SessionMessage>(packet));
+  std::vector<uint8_t> encoded;
+  if (const auto* hello = std::get_if<Hello>(&packet)) {
+    encoded = encode(*hello);
+  } else if (const auto* refusal = std::get_if<Refusal>(&packet)) {
+    // A refusal reads from any version from 3 on (its layout stays): it
+    // encodes alike but for that version byte, which it keeps.
+    encoded = encode(*refusal);
+    require(refusal->version == data[2], "a refusal keeps its version");
+    encoded[2] = data[2];
+  } else {
+    encoded = encode(std::get<SessionMessage>(packet));
+  }
   require(encoded.size() == data.size() && std::equal(encoded.begin(), encoded.end(), data.begin()),
           "a decoded packet encodes to the same bytes");
   return {true, {}};
