@@ -210,13 +210,6 @@ auto parse_file(const std::string& path, Read read) -> Result<decltype(read(std:
   return read_json(text.value(), path, read);
 }
 
-std::string hex(uint64_t value) {
-  static constexpr char digits[] = "0123456789abcdef";
-  std::string out(16, '0');
-  for (int i = 15; i >= 0; --i, value >>= 4) out[static_cast<size_t>(i)] = digits[value & 15];
-  return out;
-}
-
 // A replay's scene (`node`, its "scene"): inline, or a file relative to
 // the replay's folder. An error inside an inline scene names the replay and
 // "$.scene..."; one inside a scene file names that file; a scene file that
@@ -449,7 +442,7 @@ std::string replay_json(const Replay& replay, const std::string& engine_version)
                                      : replay.inline_scene;
   out += ",\n";
   if (!replay.settings_override.empty()) out += "  \"settings\": " + replay.settings_override + ",\n";
-  out += "  \"scene_hash\": \"" + hex(replay.scene_hash) + "\",\n";
+  out += "  \"scene_hash\": \"" + hex16(replay.scene_hash) + "\",\n";
   out += "  \"steps\": " + std::to_string(replay.steps) + ",\n";
   out += "  \"inputs\": [";
   for (size_t i = 0; i < replay.inputs.size(); ++i) {
@@ -459,7 +452,7 @@ std::string replay_json(const Replay& replay, const std::string& engine_version)
   out += "  \"hashes\": [";
   for (size_t i = 0; i < replay.hashes.size(); ++i) {
     out += i == 0 ? "\n    " : (i % 6 == 0 ? ",\n    " : ", ");
-    out += "\"" + hex(replay.hashes[i]) + "\"";
+    out += "\"" + hex16(replay.hashes[i]) + "\"";
   }
   out += replay.hashes.empty() ? "]\n}\n" : "\n  ]\n}\n";
   return out;
@@ -471,6 +464,13 @@ int64_t first_divergent_step(const std::vector<uint64_t>& recorded, const std::v
     if (recorded[i] != replayed[i]) return static_cast<int64_t>(i) + 1;
   }
   return recorded.size() == replayed.size() ? 0 : static_cast<int64_t>(common) + 1;
+}
+
+std::string hex16(uint64_t value) {
+  static constexpr char digits[] = "0123456789abcdef";
+  std::string out(16, '0');
+  for (int i = 15; i >= 0; --i, value >>= 4) out[static_cast<size_t>(i)] = digits[value & 15];
+  return out;
 }
 
 }  // namespace bitstep

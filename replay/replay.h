@@ -52,6 +52,9 @@ struct Replay {
   std::vector<uint64_t> hashes; // state hash after each step; empty before recording
 };
 
+// A hash as replays write it: 16 lowercase hex digits.
+std::string hex16(uint64_t value);
+
 // Reads a replay file and the scene it names. With `require_hashes` the hash
 // chain must be there, one per step (for verify); a recording's input file
 // has none. An error's place is "<file>: <JSON path>": the replay's, or the

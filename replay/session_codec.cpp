@@ -2,6 +2,8 @@
 
 #include <optional>
 
+#include "replay/replay.h"
+
 namespace bitstep {
 
 namespace {
@@ -186,11 +188,6 @@ std::optional<HelloRefused> refusal_of(const Hello& ours, const Hello& theirs, b
 }
 
 std::string describe(HelloRefused why, const Hello& match, int match_version, const Hello& hello, int hello_version) {
-  const auto hex = [](uint64_t v) {
-    std::string out(16, '0');
-    for (int i = 15; i >= 0; --i, v >>= 4) out[static_cast<size_t>(i)] = "0123456789abcdef"[v & 15];
-    return out;
-  };
   const auto mode = [](SessionMode m) { return std::string(m == SessionMode::lockstep ? "lockstep" : "rollback"); };
   const auto both = [](const std::string& in_match, const std::string& in_hello) {
     return in_match + " in the match, " + in_hello + " in the hello";
@@ -198,7 +195,7 @@ std::string describe(HelloRefused why, const Hello& match, int match_version, co
   using std::to_string;
   switch (why) {
     case HelloRefused::another_scene:
-      return "another scene or settings: start state hash " + both(hex(match.start_hash), hex(hello.start_hash));
+      return "another scene or settings: start state hash " + both(hex16(match.start_hash), hex16(hello.start_hash));
     case HelloRefused::player_count:
       return "another player count: " + both(to_string(match.players), to_string(hello.players));
     case HelloRefused::mode: return "another mode: " + both(mode(match.mode), mode(hello.mode));

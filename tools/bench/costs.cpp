@@ -62,16 +62,11 @@ RollbackRow measure_rollback(const std::string& scenes_dir, const std::string& s
   row.snapshot_save_ms = mean_ms(saving_snapshot);
   // The body a remote input pushes (the last dynamic one: a pyramid's top
   // cube, a pile's last), 2 m/s sideways at its centre of mass.
-  uint32_t pushed = UINT32_MAX;
-  for (uint32_t slot = 0; slot < world.bodies().size(); ++slot) {
-    const Body& b = world.bodies()[slot];
-    if (b.alive && b.type == BodyType::dynamic) pushed = slot;
-  }
+  const std::optional<BodyId> pushed = last_dynamic_body(world);
   const auto push = [&] {
-    if (pushed == UINT32_MAX) return;
-    const Body& b = world.bodies()[pushed];
-    world.apply_impulse(BodyId{pushed, b.generation}, Vec3{Fixed::from_int(2) / b.inverse_mass, Fixed{}, Fixed{}},
-                        b.pose.position);
+    if (!pushed) return;
+    const Body& b = world.body(*pushed);
+    world.apply_impulse(*pushed, sideways_impulse(b, Fixed::from_int(2)), b.pose.position);
   };
   // Rolling back, each way: restore, then rollback_frames steps; untouched
   // (the inputs as predicted) or with the push at the first (a remote input
@@ -111,6 +106,16 @@ RollbackRow measure_rollback(const std::string& scenes_dir, const std::string& s
   time_rollbacks([&] { return states.restore(state, world); }, true, restore_again, row.pushed_rollback_ms);
   return row;
 }
+
+std::optional<BodyId> last_dynamic_body(const World& world) {
+  const std::vector<Body>& bodies = world.bodies();
+  for (uint32_t slot = static_cast<uint32_t>(bodies.size()); slot-- > 0;) {
+    if (bodies[slot].alive && bodies[slot].type == BodyType::dynamic) return BodyId{slot, bodies[slot].generation};
+  }
+  return std::nullopt;
+}
+
+Vec3 sideways_impulse(const Body& body, Fixed speed) { return {speed / body.inverse_mass, Fixed{}, Fixed{}}; }
 
 long peak_resident_kib() {
   rusage usage{};

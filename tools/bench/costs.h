@@ -6,7 +6,10 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
+
+#include "core/world.h"
 
 namespace bitstep::bench {
 
@@ -37,6 +40,12 @@ struct RollbackRow {
 // on the same state hash. Throws std::runtime_error on a scene that does
 // not load.
 RollbackRow measure_rollback(const std::string& scenes_dir, const std::string& scene, int from_step, int rounds);
+
+// The body a rollback case pushes: the last dynamic one in slot order (a
+// pyramid's top cube, a pile's last), or nullopt.
+std::optional<BodyId> last_dynamic_body(const World& world);
+// An impulse that gives `body` `speed` (m/s) sideways along +x.
+Vec3 sideways_impulse(const Body& body, Fixed speed);
 
 // The peak resident set of a process, KiB (getrusage's ru_maxrss).
 long peak_resident_kib();

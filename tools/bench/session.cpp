@@ -24,15 +24,16 @@
 
 #include <algorithm>
 #include <chrono>
-#include <stdexcept>
 #include <cstring>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "replay/rollback_state.h"
 #include "replay/session.h"
-#include "tools/cli/options.h"
+#include "tools/bench/costs.h"
 #include "tools/cli/exit_codes.h"
+#include "tools/cli/options.h"
 
 namespace bitstep {
 
@@ -117,14 +118,10 @@ Costs measure_knocked(const std::string& scene_json, const std::string& name, in
 // 1 m/s sideways when it is "push", as a player's move does now and then.
 void push_top(Simulation& sim, int, const PlayerInput& input) {
   if (input != "push") return;
-  const std::vector<Body>& bodies = sim.world().bodies();
-  for (uint32_t slot = static_cast<uint32_t>(bodies.size()); slot-- > 0;) {
-    const Body& b = bodies[slot];
-    if (!b.alive || b.type != BodyType::dynamic) continue;
-    (void)sim.apply_impulse(BodyId{slot, b.generation}, Vec3{Fixed::from_int(1) / b.inverse_mass, Fixed{}, Fixed{}},
-                            b.pose.position);
-    return;
-  }
+  const std::optional<BodyId> top = bench::last_dynamic_body(sim.world());
+  if (!top) return;
+  const Body& b = sim.world().body(*top);
+  (void)sim.apply_impulse(*top, bench::sideways_impulse(b, Fixed::from_int(1)), b.pose.position);
 }
 
 // The same as measure() with a push every second (every 60th tick, from
