@@ -24,15 +24,17 @@ struct SensorOverlap {
 enum class EventKind : uint8_t {
   contact_begin,  // two shapes began touching (a contact point within the touch tolerance)
   contact_end,
-  sensor_begin,   // a shape began overlapping a sensor's shape
+  sensor_begin,  // a shape began overlapping a sensor's shape
   sensor_end,
-  left_world,     // a body crossed the world's bound and was removed (key: its slot twice, shapes 0)
+  left_world,    // a body crossed the world's bound and was removed (key: its slot twice, shapes 0)
+  joint_broken,  // a joint's impulse passed its break_impulse and it was removed (key: its bodies' slots, shapes 0)
 };
 
 // One event of a step: what began or ended between the two shapes of `key`.
 struct WorldEvent {
   EventKind kind;
   ContactKey key;
+  uint32_t joint = 0;  // joint_broken: the joint's slot (its dead slot keeps the generation its handle had)
   friend auto operator<=>(const WorldEvent&, const WorldEvent&) = default;
 };
 

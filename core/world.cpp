@@ -554,6 +554,7 @@ void World::wake_islands_of(const std::vector<uint32_t>& slots) {
 // One step of dt: the physics in substeps of dt / n, then what counts
 // steps of dt (sleep, joint breaking, the step counter, the events).
 void World::step() {
+  events_.clear();
   if (events_on_) touching_before_step();
   if (settings_.substeps == 1) {
     substep(settings_);
@@ -629,7 +630,8 @@ void World::run_substeps() {
 // Joints whose impulse this step went past their break_impulse (an impulse
 // per step of dt: over substeps, the sum of theirs, so a steady load or a
 // blow breaks a joint whatever the substeps): gone before the next step
-// (their bodies wake, as any removal's).
+// (their bodies wake, as any removal's), each with a joint_broken event
+// (listed whether or not events are on: a game must learn its handle died).
 void World::break_joints() {
   for (uint32_t j = 0; j < joints_.size(); ++j) {
     if (!joints_[j].alive || joints_[j].break_impulse == Fixed{}) continue;
@@ -638,7 +640,9 @@ void World::break_joints() {
       over_step.point_impulse = scratch_->substeps.joint_impulses[j].point;
       over_step.distance_impulse = scratch_->substeps.joint_impulses[j].distance;
     }
-    if (over_break_impulse(over_step)) remove_joint({j, joints_[j].generation});
+    if (!over_break_impulse(over_step)) continue;
+    events_.push_back({EventKind::joint_broken, {joints_[j].body_a, joints_[j].body_b, 0, 0}, j});
+    remove_joint({j, joints_[j].generation});
   }
 }
 
@@ -651,7 +655,6 @@ void World::touching_before_step() {
 }
 
 void World::report_events() {
-  events_.clear();
   if (!events_on_) return;
   touching_keys(contacts_, scratch_->keys_after);
   append_changes(scratch_->keys_before, scratch_->keys_after, EventKind::contact_begin, EventKind::contact_end, events_);

@@ -133,11 +133,12 @@ class World {
   const std::vector<Joint>& joints() const { return joints_; }
   const std::vector<uint32_t>& free_joint_slots() const { return free_joint_slots_; }
   StepStats stats() const;
-  // What overlaps the sensors' shapes (state), and, once set_events(true),
-  // what began and ended in each step: contacts first, then sensors, each
-  // in key order. A removed body's contacts and overlaps end without an
-  // event. Events are off by default (not state: they cost two passes over
-  // the contacts a step, 65% of a sleeping wall128's step).
+  // What overlaps the sensors' shapes (state), and the last step's events:
+  // joints that broke (in slot order, always listed), then, once
+  // set_events(true), what began and ended touching (contacts, then
+  // sensors, each in key order), then bodies that left the world (always
+  // listed). A removed body's contacts and overlaps end without an event. Events are off by default (not state: they
+  // cost two passes over the contacts a step, 65% of a sleeping wall128's step).
   const std::vector<SensorOverlap>& sensor_overlaps() const { return sensor_overlaps_; }
   void set_events(bool on) { events_on_ = on; }
   bool events_on() const { return events_on_; }

@@ -60,13 +60,24 @@ typedef enum {
   BITSTEP_NOT_FOUND = 2,        /* no such body, joint or car; a ray that meets nothing */
   BITSTEP_BUFFER_TOO_SMALL = 3, /* *size says how many bytes are needed */
   BITSTEP_NULL_ARGUMENT = 4,
-  BITSTEP_OUT_OF_MEMORY = 5
+  BITSTEP_OUT_OF_MEMORY = 5,
+  BITSTEP_NOT_READY = 6 /* a session cannot take it now: give it again next frame (replay/bitstep_session.h) */
 } bitstep_status;
 
 /* Numbers: exact decimal text ("0.5", "1/60", "-2.5e-3") to Q32.32, rounded
  * once to nearest; and Q32.32 to double, for display only. */
 bitstep_status bitstep_fixed_parse(const char* text, bitstep_fixed* out);
 double bitstep_fixed_to_double(bitstep_fixed value);
+/* Integers to Q32.32 and back, exact or rounded once, to nearest with ties
+ * to even (the rule of every rounding in bitstep): from_int is exact;
+ * from_ratio is numerator / denominator (INVALID for a zero denominator or
+ * a quotient of 2^31 - 1 or more in magnitude); round is the nearest
+ * integer. So a binding holding a float x feeds the same bits on every
+ * peer by sending an integer (x in millimetres, say) and converting with
+ * from_ratio(mm, 1000), never by converting the float. */
+bitstep_fixed bitstep_fixed_from_int(int32_t value);
+bitstep_status bitstep_fixed_from_ratio(int64_t numerator, int64_t denominator, bitstep_fixed* out);
+int64_t bitstep_fixed_round(bitstep_fixed value);
 
 /* A simulation from a scene file or scene JSON text (`name` stands for the
  * file in messages). On failure *out is NULL and the message is written to
@@ -86,13 +97,93 @@ bitstep_status bitstep_add_body(bitstep_simulation* sim, const char* body_json, 
 bitstep_status bitstep_remove_body(bitstep_simulation* sim, bitstep_body body);
 bitstep_status bitstep_add_joint(bitstep_simulation* sim, const char* joint_json, bitstep_joint* out);
 bitstep_status bitstep_remove_joint(bitstep_simulation* sim, bitstep_joint joint);
+
+/* The same from plain structs (no JSON parsed: a spawn in a rollback's
+ * re-simulation costs what the world's creation costs). Start from
+ * bitstep_default_*_def (the scene format's defaults) and set what
+ * differs. Enumerations are int32_t fields, so a binding's struct is
+ * blittable. The world checks a definition as it checks a scene's body
+ * (INVALID naming the field: "add_body: shapes[0].radius: outside
+ * 0.01..50 m"); orientations are normalised (INVALID when zero). */
+typedef enum { BITSTEP_STATIC = 0, BITSTEP_KINEMATIC = 1, BITSTEP_DYNAMIC = 2 } bitstep_body_type;
+typedef enum {
+  BITSTEP_SHAPE_PLANE = 0, /* static bodies only: local +y is the outward normal, the surface through the origin */
+  BITSTEP_SHAPE_BOX = 1,
+  BITSTEP_SHAPE_CAPSULE = 2, /* a segment from -half_height to +half_height along local y, swept by radius */
+  BITSTEP_SHAPE_SPHERE = 3
+} bitstep_shape_type;
+typedef struct {
+  int32_t type;              /* bitstep_shape_type */
+  bitstep_vec3 half_extents; /* box, m */
+  bitstep_fixed radius;      /* sphere, capsule, m */
+  bitstep_fixed half_height; /* capsule, m */
+  bitstep_pose local;        /* in the body's frame */
+} bitstep_shape;
+typedef struct {
+  bitstep_fixed static_friction, dynamic_friction; /* >= 0 */
+  bitstep_fixed restitution, rolling_resistance;   /* 0..1 */
+} bitstep_material;
+typedef struct {
+  const char* name; /* NULL or "": none; else no other body's */
+  int32_t type;     /* bitstep_body_type */
+  bitstep_pose pose;
+  bitstep_vec3 linear_velocity;  /* m/s */
+  bitstep_vec3 angular_velocity; /* rad/s, world frame */
+  bitstep_fixed density;         /* kg/m^3, unless mass > 0 (kg): then scaled to give it */
+  bitstep_fixed mass;
+  bitstep_material material;
+  bitstep_fixed linear_damping, angular_damping; /* 1/s, >= 0 */
+  uint32_t layers, collides_with;                /* collision filter bits */
+  int32_t asleep;                                /* start asleep (dynamic, at rest) */
+  int32_t sensor;                                /* reports overlaps, pushes nothing */
+  const bitstep_shape* shapes;
+  uint32_t shape_count; /* 1..256 */
+} bitstep_body_def;
+typedef enum {
+  BITSTEP_JOINT_POINT = 0,
+  BITSTEP_JOINT_MAX_DISTANCE = 1, /* a rope */
+  BITSTEP_JOINT_HINGE = 2,
+  BITSTEP_JOINT_CONE = 3, /* a ragdoll's shoulder or hip */
+  BITSTEP_JOINT_SLIDER = 4
+} bitstep_joint_type;
+/* In the world frame at creation (the fields as the scene format's). */
+typedef struct {
+  int32_t type; /* bitstep_joint_type */
+  bitstep_body body_a, body_b;
+  bitstep_vec3 anchor_a; /* the joined point (a rope's end on a) */
+  bitstep_vec3 anchor_b; /* a rope's end on b */
+  bitstep_fixed length;  /* a rope's; 0: the anchors' distance now */
+  bitstep_vec3 axis;     /* hinge axis, cone twist axis, slider axis */
+  int32_t limited;
+  bitstep_fixed lower_angle, upper_angle, swing_angle; /* rad */
+  bitstep_fixed lower_translation, upper_translation;  /* m */
+  bitstep_fixed motor_speed, motor_max;
+  bitstep_fixed break_impulse;                       /* N s; 0: never breaks */
+  bitstep_fixed friction_torque;                     /* N m (a slider's N) */
+  uint16_t velocity_iterations, position_iterations; /* 0: the world's */
+} bitstep_joint_def;
+bitstep_body_def bitstep_default_body_def(void);
+bitstep_joint_def bitstep_default_joint_def(void);
+bitstep_status bitstep_create_body(bitstep_simulation* sim, const bitstep_body_def* def, bitstep_body* out);
+bitstep_status bitstep_create_joint(bitstep_simulation* sim, const bitstep_joint_def* def, bitstep_joint* out);
 /* A body's type: what inputs it takes (impulses and forces a dynamic
  * body, a velocity a dynamic or kinematic one; bitstep_apply_impulse). */
-typedef enum { BITSTEP_STATIC = 0, BITSTEP_KINEMATIC = 1, BITSTEP_DYNAMIC = 2 } bitstep_body_type;
 bitstep_status bitstep_get_body_type(bitstep_simulation* sim, bitstep_body body, bitstep_body_type* out);
 /* Every body slot in use: slots 0 .. bitstep_slot_count() - 1, NOT_FOUND for an empty one. */
 uint32_t bitstep_slot_count(const bitstep_simulation* sim);
 bitstep_status bitstep_body_in_slot(bitstep_simulation* sim, uint32_t slot, bitstep_body* out);
+/* A body's velocities, of its centre of mass (as Box2D and Jolt report
+ * them; what set_velocity sets); whether it sleeps (0 or 1; 0 for static
+ * and kinematic bodies); its name (as bitstep_save: *size the bytes needed
+ * with the NUL, BUFFER_TOO_SMALL when capacity is less; "" for none); its
+ * shapes, their local poses in the body's frame as it was defined. */
+bitstep_status bitstep_get_velocity(bitstep_simulation* sim, bitstep_body body, bitstep_vec3* linear,
+                                    bitstep_vec3* angular);
+bitstep_status bitstep_is_asleep(bitstep_simulation* sim, bitstep_body body, int32_t* out);
+bitstep_status bitstep_get_body_name(bitstep_simulation* sim, bitstep_body body, char* buffer, size_t capacity,
+                                     size_t* size);
+bitstep_status bitstep_get_shape_count(bitstep_simulation* sim, bitstep_body body, uint32_t* out);
+bitstep_status bitstep_get_shape(bitstep_simulation* sim, bitstep_body body, uint32_t index, bitstep_shape* out);
 
 /* Inputs for the next step, bounded as a replay's inputs are (so a match
  * played through this API can be recorded and replayed):
@@ -133,6 +224,44 @@ bitstep_status bitstep_get_pose(bitstep_simulation* sim, bitstep_body body, bits
 bitstep_status bitstep_get_render_pose(bitstep_simulation* sim, bitstep_body body, bitstep_render_pose* out);
 void bitstep_interpolate(const bitstep_render_pose* from, const bitstep_render_pose* to, float alpha,
                          bitstep_render_pose* out);
+/* Every live body's pose at once, in slot order (a frame's drawing in one
+ * call): *count the live bodies; BUFFER_TOO_SMALL, nothing written, when
+ * capacity is less (a NULL buffer of capacity 0 asks). */
+typedef struct {
+  bitstep_body body;
+  bitstep_pose pose;
+} bitstep_body_pose;
+typedef struct {
+  bitstep_body body;
+  bitstep_render_pose pose;
+} bitstep_body_render_pose;
+bitstep_status bitstep_get_poses(bitstep_simulation* sim, bitstep_body_pose* out, size_t capacity, size_t* count);
+bitstep_status bitstep_get_render_poses(bitstep_simulation* sim, bitstep_body_render_pose* out, size_t capacity,
+                                        size_t* count);
+
+/* The last step's events, in this order: joints that broke (always
+ * listed: their handles died), then, once bitstep_set_events(sim, 1), the
+ * shapes that began or ended touching, contacts then sensors, then bodies
+ * that left the world past +-524288 m (always listed). Sizes as
+ * bitstep_get_poses. A body's handle in an event is the one the game
+ * holds, also for a body that has just gone. Events are off by default:
+ * they cost two passes over the step's contacts. */
+typedef enum {
+  BITSTEP_CONTACT_BEGIN = 0, /* body_a's shape_a began touching body_b's shape_b */
+  BITSTEP_CONTACT_END = 1,
+  BITSTEP_SENSOR_BEGIN = 2, /* a shape began overlapping a sensor's shape */
+  BITSTEP_SENSOR_END = 3,
+  BITSTEP_LEFT_WORLD = 4,  /* body_a (= body_b) was removed */
+  BITSTEP_JOINT_BROKEN = 5 /* `joint`, between body_a and body_b, passed its break_impulse and was removed */
+} bitstep_event_type;
+typedef struct {
+  int32_t type; /* bitstep_event_type */
+  bitstep_body body_a, body_b;
+  uint32_t shape_a, shape_b;
+  bitstep_joint joint;
+} bitstep_event;
+bitstep_status bitstep_set_events(bitstep_simulation* sim, int32_t on);
+bitstep_status bitstep_get_events(bitstep_simulation* sim, bitstep_event* out, size_t capacity, size_t* count);
 
 /* The state as a snapshot image into the caller's buffer (BUFFER_TOO_SMALL
  * with *size the bytes needed; a NULL buffer of capacity 0 asks), and a

@@ -39,7 +39,7 @@ Simulation::Simulation(Scene scene, World world) : scene_(std::move(scene)), wor
 void Simulation::remember(BodyId id, const BodyDef& def, const std::string& name) {
   const Body& body = world_.body(id);
   const Vec3 centre = def.shapes.empty() ? Vec3{} : def.shapes[0].local.position - body.shapes[0].local.position;
-  frame_offsets_[{id.index, id.generation}] = centre;
+  defined_[{id.index, id.generation}] = {centre, name};
   if (!name.empty()) names_[name] = id;
 }
 
@@ -64,6 +64,14 @@ Result<BodyId> Simulation::add_body(std::string_view body_json) {
   return created.value();
 }
 
+Result<BodyId> Simulation::create_body(const BodyDef& def, const std::string& name) {
+  if (!name.empty() && find_body(name)) return Error{"create_body: name", json::quote(name) + " is already taken"};
+  const Result<BodyId> created = world_.create_body(def);
+  if (!created.ok()) return created.error().within("create_body");
+  remember(created.value(), def, name);
+  return created.value();
+}
+
 bool Simulation::remove_body(BodyId id) { return valid(id) && world_.remove_body(id); }
 
 Result<JointId> Simulation::add_joint(std::string_view joint_json) {
@@ -82,6 +90,12 @@ Result<JointId> Simulation::add_joint(std::string_view joint_json) {
   def.body_b = b;
   const Result<JointId> created = world_.create_joint(def);
   if (!created.ok()) return created.error().within("add_joint");
+  return created.value();
+}
+
+Result<JointId> Simulation::create_joint(const JointDef& def) {
+  const Result<JointId> created = world_.create_joint(def);
+  if (!created.ok()) return created.error().within("create_joint");
   return created.value();
 }
 
@@ -171,9 +185,18 @@ void Simulation::step() { world_.step(); }
 std::optional<Pose> Simulation::pose(BodyId id) const {
   if (!valid(id)) return std::nullopt;
   const Body& body = world_.body(id);
-  const auto offset = frame_offsets_.find({id.index, id.generation});
-  const Vec3 centre = offset == frame_offsets_.end() ? Vec3{} : offset->second;
+  const Vec3 centre = frame_offset(id);
   return Pose{body.pose.position - rotate(body.pose.orientation, centre), body.pose.orientation};
+}
+
+std::string_view Simulation::name(BodyId id) const {
+  const auto found = defined_.find({id.index, id.generation});
+  return found == defined_.end() || !valid(id) ? std::string_view{} : std::string_view{found->second.name};
+}
+
+Vec3 Simulation::frame_offset(BodyId id) const {
+  const auto found = defined_.find({id.index, id.generation});
+  return found == defined_.end() ? Vec3{} : found->second.frame_offset;
 }
 
 std::vector<uint8_t> Simulation::save() const { return snapshot(world_); }

@@ -57,9 +57,15 @@ class Simulation {
   std::optional<BodyId> find_body(std::string_view name) const;
   // An error's place starts with the call: "add_body: $.shapes[0].radius".
   Result<BodyId> add_body(std::string_view body_json);
+  // The same from a definition (the C API's plain structs): the world's
+  // checks (core/envelope.h; place "create_body: shapes[0].radius"), and
+  // a name no body has yet ("" for none).
+  Result<BodyId> create_body(const BodyDef& def, const std::string& name);
   bool remove_body(BodyId id);
   // Joints: one joint object of the scene format, its bodies by name.
   Result<JointId> add_joint(std::string_view joint_json);
+  // The same from a definition in the world frame (World::create_joint's checks).
+  Result<JointId> create_joint(const JointDef& def);
   bool remove_joint(JointId id);
 
   // Inputs, for the next step. Each is bounded as the replay reader bounds
@@ -83,6 +89,11 @@ class Simulation {
   // defined it, not its centre of mass (a table defined at y 0.4 reads
   // 0.4). nullopt for a handle no body has.
   std::optional<Pose> pose(BodyId id) const;
+  // A live body's name ("" for none), and where its defined frame's origin
+  // is seen from its centre of mass, in the body frame (a shape's local
+  // pose in the defined frame is the world's Shape::local moved by it).
+  std::string_view name(BodyId id) const;
+  Vec3 frame_offset(BodyId id) const;
 
   // The whole state as a snapshot image (replay/snapshot.h); load restores
   // one into this simulation (a rollback, or a late joiner's start) or
@@ -124,9 +135,13 @@ class Simulation {
   std::map<std::string, BodyId, std::less<>> names_;     // bodies by name
   std::map<std::string, uint32_t, std::less<>> cars_;    // cars by name
   // Per body ever created here (slot, generation): its frame's origin as
-  // seen from its centre of mass, in the body frame. Kept for removed
-  // bodies too, so a rolled-back world still finds them.
-  std::map<std::pair<uint32_t, uint32_t>, Vec3> frame_offsets_;
+  // seen from its centre of mass, in the body frame, and its name. Kept
+  // for removed bodies too, so a rolled-back world still finds them.
+  struct Defined {
+    Vec3 frame_offset;
+    std::string name;
+  };
+  std::map<std::pair<uint32_t, uint32_t>, Defined> defined_;
 };
 
 }  // namespace bitstep

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "replay/bitstep.h"
+#include "tests/replay/c_api_support.h"
 
 namespace {
 
@@ -17,21 +18,7 @@ const char* const kinds_scene = R"({"format": "bitstep-scene", "version": 1, "bo
   {"name": "platform", "type": "kinematic", "position": [5, 2, 0], "shapes": [{"type": "box", "half_extents": [1, 0.1, 1]}]},
   {"name": "ball", "position": [0, 3, 0], "shapes": [{"type": "sphere", "radius": 0.5}]}]})";
 
-constexpr bitstep_fixed units(int64_t value) { return value * (int64_t{1} << 32); }
-
-bitstep_simulation* made() {
-  bitstep_simulation* sim = nullptr;
-  char error[256] = "";
-  REQUIRE(bitstep_create_from_text(kinds_scene, std::strlen(kinds_scene), "kinds.json", &sim, error, sizeof error) ==
-          BITSTEP_OK);
-  return sim;
-}
-
-bitstep_body body(bitstep_simulation* sim, const char* name) {
-  bitstep_body b{};
-  REQUIRE(bitstep_find_body(sim, name, &b) == BITSTEP_OK);
-  return b;
-}
+bitstep_simulation* made() { return simulation_of(kinds_scene, "kinds.json"); }
 
 }  // namespace
 

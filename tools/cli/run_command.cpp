@@ -44,7 +44,8 @@ struct RunOptions {
   bool events = false;          // --events: each step's contact and sensor events
 };
 
-constexpr const char* event_names[] = {"contact begin", "contact end", "sensor begin", "sensor end", "left world"};
+constexpr const char* event_names[] = {"contact begin", "contact end", "sensor begin",
+                                       "sensor end",    "left world",  "joint broken"};
 
 // "step 42: contact begin "box.3" (shape 0) - "ground" (shape 0)",
 // "step 9000: left world "ball"" (core/world.h: removed past the bound)
@@ -54,6 +55,10 @@ std::string event_line(uint64_t step, const WorldEvent& e, const Scene& scene) {
                                                                           : "body " + std::to_string(slot);
   };
   if (e.kind == EventKind::left_world) return fmt::format("step {}: left world {}", step, name(e.key.body_a));
+  if (e.kind == EventKind::joint_broken) {
+    return fmt::format("step {}: joint broken: joint {} between {} and {}", step, e.joint, name(e.key.body_a),
+                       name(e.key.body_b));
+  }
   return fmt::format("step {}: {} {} (shape {}) - {} (shape {})", step, event_names[static_cast<int>(e.kind)],
                      name(e.key.body_a), e.key.shape_a, name(e.key.body_b), e.key.shape_b);
 }
