@@ -113,6 +113,11 @@ int32_t bitstep_session_joined(const bitstep_session* session);         /* 0 whi
 /* The checksum (world and game state) after a confirmed tick of the last
  * 1,024: what every peer computed, and what a replay of the match gives. */
 bitstep_status bitstep_session_confirmed_checksum(bitstep_session* session, int64_t tick, uint64_t* out);
+/* The checksum of a tick as sessions compare it, from the world's
+ * (bitstep_checksum) and the game's saved state (save's bytes; NULL for a
+ * game without save and load: the world's checksum alone): so a game checks a match's record or its
+ * own reference run against what the peers confirmed. */
+uint64_t bitstep_session_tick_checksum(uint64_t world_checksum, const uint8_t* game_state, size_t size);
 /* Frames this peer runs ahead of the slowest player it follows: skipping
  * that many frames lets the others catch up (GGPO's time sync). */
 int32_t bitstep_session_recommended_wait(const bitstep_session* session);

@@ -262,6 +262,11 @@ bitstep_status bitstep_session_confirmed_checksum(bitstep_session* session, int6
   });
 }
 
+uint64_t bitstep_session_tick_checksum(uint64_t world_checksum, const uint8_t* game_state, size_t size) {
+  if (game_state == nullptr) return world_checksum;  // a game without save and load
+  return bitstep::tick_checksum(world_checksum, {game_state, size});
+}
+
 int32_t bitstep_session_recommended_wait(const bitstep_session* session) {
   return session == nullptr ? 0 : session->session->recommended_wait();
 }

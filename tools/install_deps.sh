@@ -7,7 +7,7 @@
 #   tools/install_deps.sh viewer  wasm + Chromium (the viewer's browser test)
 #   tools/install_deps.sh npm     npm, where node came without it (tools/viewer/install.sh)
 #   tools/install_deps.sh test    bench + viewer + clang, clang-16, libFuzzer and the cross toolchains with
-#                                 qemu-user, mingw-w64 with wine
+#                                 qemu-user, mingw-w64 with wine, mono (the C# binding)
 set -euo pipefail
 
 build_packages=(cmake make gcc g++ catch2 libcli11-dev libfmt-dev nlohmann-json3-dev libxxhash-dev libenet-dev pkg-config)
@@ -17,7 +17,8 @@ bench_packages=(gnuplot-nox libbullet-dev valgrind)
 wasm_packages=(cmake make nlohmann-json3-dev libxxhash-dev emscripten node-acorn nodejs)
 viewer_packages=("${wasm_packages[@]}" chromium)
 test_packages=(clang libfuzzer-14-dev g++-i686-linux-gnu g++-aarch64-linux-gnu g++-s390x-linux-gnu g++-arm-linux-gnueabihf
-  g++-riscv64-linux-gnu g++-powerpc64le-linux-gnu qemu-user clang-16 g++-mingw-w64-x86-64-posix wine64)
+  g++-riscv64-linux-gnu g++-powerpc64le-linux-gnu qemu-user clang-16 g++-mingw-w64-x86-64-posix wine64
+  mono-mcs mono-runtime)  # mono: the C# binding of tests/consumer/csharp (tools/check_package.sh)
 
 case "${1:-build}" in
   build) wanted=("${build_packages[@]}") ;;

@@ -3,7 +3,9 @@
 #   1. a Debug build (-O1) with BITSTEP_CHECKED, AddressSanitizer and UBSan:
 #      every test;
 #   2. a Release build: every test again, optimised, unchecked;
-#   3. the installed package: a C and a C++ consumer built against it
+#   3. the installed package: a C and a C++ consumer built against it, the
+#      C one against its shared library alone, and a rollback match over
+#      ENet between C peers and between a C and a C# peer (mono)
 #      (tools/check_package.sh);
 #   4. the fuzz targets (libFuzzer, ASan, UBSan): each reader of untrusted
 #      input, and the C API's call sequences, for a fixed number of runs from
@@ -62,7 +64,7 @@ cmake --build build/release -j"$jobs"
 step "Release tests"
 ctest --test-dir build/release --no-tests=error --output-on-failure -j"$jobs"
 
-step "the installed package: a C and a C++ consumer print the golden hash"
+step "the installed package: C and C++ consumers, the shared library, a C and C# rollback match"
 tools/check_package.sh build/release
 
 step "fuzz targets: scene, replay, settings, snapshot and packet readers, the C API (libFuzzer, ASan, UBSan)"
