@@ -133,7 +133,8 @@ typedef enum {
   BITSTEP_SESSION_ROLLED_BACK = 5,      /* ticks tick..to were run again: a prediction was wrong */
   BITSTEP_SESSION_DESYNC = 6,           /* the checksums of tick differ with player's */
   BITSTEP_SESSION_DESYNC_EXPLAINED = 7, /* the first differing field is known (bitstep_session_get_desync) */
-  BITSTEP_SESSION_WAIT_RECOMMENDED = 8  /* this peer runs frames frames ahead: skip that many */
+  BITSTEP_SESSION_WAIT_RECOMMENDED = 8, /* this peer runs frames frames ahead: skip that many */
+  BITSTEP_SESSION_RUNNING = 9           /* every other player has been heard from: the match is under way (once) */
 } bitstep_session_event_type;
 typedef struct {
   int32_t type; /* bitstep_session_event_type */

@@ -319,4 +319,5 @@ bitstep_status bitstep_session_get_peer_stats(bitstep_session* session, int32_t 
 }  // extern "C"
 
 static_assert(BITSTEP_SESSION_WAIT_RECOMMENDED == static_cast<int>(bitstep::SessionEvent::Kind::wait_recommended));
+static_assert(BITSTEP_SESSION_RUNNING == static_cast<int>(bitstep::SessionEvent::Kind::running));
 static_assert(BITSTEP_SESSION_ROLLED_BACK == static_cast<int>(bitstep::SessionEvent::Kind::rolled_back));

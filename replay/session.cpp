@@ -860,6 +860,17 @@ void Session::watch_links() {
     links_.fill_quality(m, frames_, next_local_ - 1);
     ++outgoing_count_;
   }
+  if (!running_ && joined_) {
+    bool heard_all = true;
+    for (int p = 0; p < config_.players && heard_all; ++p) {
+      if (p == config_.local_player || !roster_.follows(p)) continue;
+      heard_all = links_.stats(p, frames_, next_local_ - 1).messages_received > 0;
+    }
+    if (heard_all) {
+      running_ = true;
+      event({SessionEvent::Kind::running, -1, tick_});
+    }
+  }
   for (int p = 0; p < config_.players; ++p) {
     const size_t k = static_cast<size_t>(p);
     if (p == config_.local_player || !roster_.follows(p)) continue;

@@ -143,6 +143,7 @@ struct SessionEvent {
     desync,            // the checksums of `tick` differ with `player`'s (desync() has both)
     desync_explained,  // the first field that differs is known (desync()->difference)
     wait_recommended,  // this peer runs `frames` frames ahead of the slowest peer: skip that many frames
+    running,           // every other player it follows has been heard from: the match is under way (once)
   };
   Kind kind = Kind::joined;
   int player = -1;
@@ -342,6 +343,7 @@ class Session {
   bool joined_ = true;
   int64_t first_tick_ = 0;
   int64_t frames_ = 0;                                   // advance calls
+  bool running_ = false;                                 // the running event was given
   std::vector<int64_t> heard_at_;                        // per player: the frame it was last heard (or relayed)
   std::vector<int64_t> spoke_at_;                        // per player: the frame its own message last came
   std::vector<int64_t> host_asked_at_;                   // per player: the frame the host last relayed (asked for) it

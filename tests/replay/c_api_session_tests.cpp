@@ -225,13 +225,15 @@ TEST_CASE("C API sessions: two peers under loss roll back the game with the phys
     bitstep_session_stats stats{};
     REQUIRE(bitstep_session_get_stats(peers[p], &stats) == BITSTEP_OK);
     CHECK(stats.rollbacks > 0);  // predictions were wrong, and taken back
-    int rolled_back = 0;
+    int rolled_back = 0, running = 0;
     bitstep_session_event e{};
     while (bitstep_session_next_event(peers[p], &e) == BITSTEP_OK) {
       CHECK(e.type != BITSTEP_SESSION_DESYNC);
       rolled_back += e.type == BITSTEP_SESSION_ROLLED_BACK ? 1 : 0;
+      running += e.type == BITSTEP_SESSION_RUNNING ? 1 : 0;
     }
     CHECK(rolled_back == stats.rollbacks);
+    CHECK(running == 1);
     bitstep_peer_stats link{};
     REQUIRE(bitstep_session_get_peer_stats(peers[p], 1 - p, &link) == BITSTEP_OK);
     CHECK(link.packets_lost > 0);

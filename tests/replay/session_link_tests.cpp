@@ -111,6 +111,14 @@ TEST_CASE("events: rollbacks as counted, a player left, interrupted, resumed and
   const auto joined = of_kind(match.events[2], Kind::joined);
   REQUIRE(joined.size() == 1);
   CHECK(joined[0].tick == match.peers[2]->first_tick());
+  // Each peer said once that the match runs: the two from their first
+  // frames, the joiner once in, not before.
+  for (size_t p = 0; p < 3; ++p) {
+    INFO("peer " << p);
+    const auto running = of_kind(match.events[p], Kind::running);
+    REQUIRE(running.size() == 1);
+    if (p == 2) CHECK(running[0].tick >= joined[0].tick);
+  }
 
   // A flipped bit: both peers report the desync, then its first field.
   Match broken(2, SessionMode::lockstep, 0, {});
@@ -205,7 +213,8 @@ TEST_CASE("events a game does not take: the last 256 wait, the older are counted
   CHECK(s.stats().rollbacks == 300);
   const auto events = s.take_events();
   CHECK(events.size() == max_pending_events);
-  CHECK(s.stats().dropped_events == 300 - static_cast<int64_t>(max_pending_events));
+  // 300 rollbacks and the running event (player 1 heard from at tick 1).
+  CHECK(s.stats().dropped_events == 301 - static_cast<int64_t>(max_pending_events));
   CHECK(events.back() == SessionEvent{SessionEvent::Kind::rolled_back, -1, 300, 300});
   CHECK(s.take_events().empty());
 }
