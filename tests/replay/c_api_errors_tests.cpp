@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include "replay/bitstep.h"
 #include "tests/replay/c_api_support.h"
@@ -127,5 +128,66 @@ TEST_CASE("C API: an input the body's type cannot take is refused, named, and ch
   CHECK(bitstep_set_velocity(sim, platform, slow, {0, 0, 0}) == BITSTEP_OK);
   CHECK(bitstep_apply_impulse(sim, ball, push, at) == BITSTEP_OK);
   CHECK(bitstep_hash(sim) != hash);
+  bitstep_destroy(sim);
+}
+
+TEST_CASE("C API: small buffers, corrupt and foreign images are refused, named, and change nothing", "[c_api]") {
+  bitstep_simulation* sim = made();
+  REQUIRE(bitstep_apply_impulse(sim, body(sim, "ball"), {units(3), 0, 0}, {0, units(3), 0}) == BITSTEP_OK);
+  for (int i = 0; i < 10; ++i) REQUIRE(bitstep_step(sim) == BITSTEP_OK);
+  const uint64_t hash = bitstep_hash(sim);
+  // Sizes: asked with a NULL buffer, refused one byte short, each naming both.
+  size_t size = 0;
+  CHECK(bitstep_save_state(sim, nullptr, 0, &size) == BITSTEP_BUFFER_TOO_SMALL);
+  std::vector<uint8_t> state(size);
+  CHECK(bitstep_save_state(sim, state.data(), size - 1, &size) == BITSTEP_BUFFER_TOO_SMALL);
+  CHECK(std::string(bitstep_last_error(sim)) ==
+        "save_state: " + std::to_string(size) + " bytes needed, " + std::to_string(size - 1) + " given");
+  REQUIRE(bitstep_save_state(sim, state.data(), state.size(), &size) == BITSTEP_OK);
+  size_t image_size = 0;
+  CHECK(bitstep_save(sim, nullptr, 0, &image_size) == BITSTEP_BUFFER_TOO_SMALL);
+  std::vector<uint8_t> image(image_size);
+  REQUIRE(bitstep_save(sim, image.data(), image.size(), &image_size) == BITSTEP_OK);
+  uint64_t checksum = 0;
+  REQUIRE(bitstep_state_checksum(state.data(), state.size(), &checksum) == BITSTEP_OK);
+  CHECK(checksum == bitstep_checksum(sim));
+  for (int i = 0; i < 5; ++i) REQUIRE(bitstep_step(sim) == BITSTEP_OK);
+  const uint64_t later = bitstep_hash(sim);
+  const auto refused = [&](bitstep_status status, const char* starts) {
+    CHECK(status == BITSTEP_INVALID);
+    INFO(bitstep_last_error(sim));
+    CHECK(std::string(bitstep_last_error(sim)).rfind(starts, 0) == 0);
+    CHECK(bitstep_hash(sim) == later);
+  };
+  // Every byte flipped in turn is refused (the payload's checksum, the
+  // header's fields) or, where it is a value, refused by its bound; a
+  // truncated image is refused; nothing changes either way.
+  int refused_flips = 0;
+  for (size_t at = 0; at < state.size(); at += 7) {
+    std::vector<uint8_t> flipped = state;
+    flipped[at] ^= 0x10;
+    if (bitstep_load_state(sim, flipped.data(), flipped.size()) == BITSTEP_INVALID) {
+      ++refused_flips;
+      CHECK(bitstep_hash(sim) == later);
+    } else {
+      FAIL("a flipped byte at " << at << " loaded");
+    }
+  }
+  CHECK(refused_flips > 10);
+  refused(bitstep_load_state(sim, state.data(), state.size() / 2), "load_state: ");
+  refused(bitstep_load(sim, image.data(), image.size() - 1), "load: ");
+  std::vector<uint8_t> flipped_image = image;
+  flipped_image[image.size() / 2] ^= 1;
+  refused(bitstep_load(sim, flipped_image.data(), flipped_image.size()), "load: ");
+  // A state is not a snapshot, nor the other way round.
+  refused(bitstep_load(sim, state.data(), state.size()), "load: ");
+  refused(bitstep_load_state(sim, image.data(), image.size()), "load_state: ");
+  CHECK(bitstep_state_checksum(image.data(), image.size(), &checksum) == BITSTEP_INVALID);
+  CHECK(bitstep_state_checksum(nullptr, 0, &checksum) == BITSTEP_NULL_ARGUMENT);
+  // The good ones restore: the hash of the tick they were saved at.
+  REQUIRE(bitstep_load_state(sim, state.data(), state.size()) == BITSTEP_OK);
+  CHECK(bitstep_hash(sim) == hash);
+  REQUIRE(bitstep_load(sim, image.data(), image.size()) == BITSTEP_OK);
+  CHECK(bitstep_hash(sim) == hash);
   bitstep_destroy(sim);
 }

@@ -123,7 +123,7 @@ TEST_CASE("C API: a body from a struct is the body from JSON, bit for bit, throw
   bitstep_destroy(by_struct);
 }
 
-TEST_CASE("C API: a joint from a struct is the joint from JSON; struck, it breaks with an event", "[c_api]") {
+TEST_CASE("C API: a joint from a struct is the joint from JSON, and struck it breaks with an event", "[c_api]") {
   bitstep_simulation* by_json = made();
   bitstep_simulation* by_struct = made();
   bitstep_joint a{}, b{};

@@ -5,7 +5,9 @@
 // or the bytes themselves), removed, or named by stale and made-up handles;
 // inputs with any 64-bit numbers; steps; saves and loads of snapshots and
 // rollback states, as saved or with bytes flipped and cut; getters, rays,
-// calls with null pointers; and a new simulation from a cut scene text.
+// calls with null pointers; a new simulation from a cut scene text; bodies
+// and joints from plain structs of any numbers and enumerations; and the
+// getters, batch reads and events with buffers of any size.
 //
 // Must hold after every call: a call that did not return BITSTEP_OK changed
 // nothing (the hash and the snapshot image as before) and, unless it was
@@ -188,7 +190,7 @@ class Session {
   // The properties of one call's outcome, `before` the hash mark() gave
   // just before it.
   void check_outcome(bitstep_status status, uint64_t before) {
-    require(status >= BITSTEP_OK && status <= BITSTEP_OUT_OF_MEMORY, "a status is one of the enum's");
+    require(status >= BITSTEP_OK && status <= BITSTEP_NOT_READY, "a status is one of the enum's");
     if (status == BITSTEP_OK) {
       hash_known_ = false;  // it may have changed the world
       return;
@@ -400,6 +402,9 @@ class Session {
         break;
       }
       case Call::null_arguments: null_arguments(); break;
+      case Call::create_body_struct: create_body_struct(); break;
+      case Call::create_joint_struct: create_joint_struct(); break;
+      case Call::read_all: read_all(); break;
       case Call::recreate: {
         bitstep_simulation* made = created(in_.u16());
         if (made == nullptr) break;
@@ -410,6 +415,121 @@ class Session {
         break;
       }
     }
+  }
+
+  bitstep_quat quat() {
+    if (in_.byte() < 0x80) return {int64_t{1} << 32, 0, 0, 0};
+    return {in_.number(), in_.number(), in_.number(), in_.number()};
+  }
+  bitstep_pose pose() { return {vec3(), quat()}; }
+
+  // A body from a struct of the bytes' numbers and enumerations (some
+  // past the enumerations' ends), 0 to 3 shapes or a NULL array.
+  void create_body_struct() {
+    bitstep_shape shapes[3]{};
+    bitstep_body_def def = bitstep_default_body_def();
+    def.type = in_.byte() % 4;
+    if (in_.byte() & 1) def.pose = pose();
+    if (in_.byte() & 1) def.linear_velocity = vec3();
+    if (in_.byte() & 1) def.angular_velocity = vec3();
+    if (in_.byte() & 1) def.density = in_.number();
+    if (in_.byte() & 1) def.mass = in_.number();
+    if (in_.byte() & 1) def.material = {in_.number(), in_.number(), in_.number(), in_.number()};
+    if (in_.byte() & 1) def.linear_damping = in_.number(), def.angular_damping = in_.number();
+    if (in_.byte() & 1) def.layers = in_.u32(), def.collides_with = in_.u32();
+    def.asleep = in_.byte() & 1;
+    def.sensor = in_.byte() & 1;
+    const uint8_t naming = in_.byte() % 3;
+    def.name = naming == 0 ? nullptr : naming == 1 ? "ball" : "made";
+    def.shape_count = in_.byte() % 4;
+    for (uint32_t i = 0; i < def.shape_count; ++i) {
+      shapes[i].type = in_.byte() % 5;
+      shapes[i].half_extents = vec3();
+      shapes[i].radius = in_.number();
+      shapes[i].half_height = in_.number();
+      shapes[i].local = in_.byte() & 1 ? pose() : bitstep_pose{{0, 0, 0}, {int64_t{1} << 32, 0, 0, 0}};
+    }
+    def.shapes = in_.byte() < 0x10 ? nullptr : shapes;
+    const uint64_t before = mark();
+    bitstep_body made{};
+    const bitstep_status status = bitstep_create_body(sim_, &def, &made);
+    check_outcome(status, before);
+    if (status == BITSTEP_OK && bodies_.size() < 64) bodies_.push_back(made);
+  }
+
+  void create_joint_struct() {
+    bitstep_joint_def def = bitstep_default_joint_def();
+    def.type = in_.byte() % 6;
+    def.body_a = body();
+    def.body_b = body();
+    def.anchor_a = vec3();
+    if (in_.byte() & 1) def.anchor_b = vec3(), def.length = in_.number();
+    def.axis = vec3();
+    def.limited = in_.byte() & 1;
+    if (in_.byte() & 1) {
+      def.lower_angle = in_.number(), def.upper_angle = in_.number(), def.swing_angle = in_.number();
+      def.lower_translation = in_.number(), def.upper_translation = in_.number();
+    }
+    if (in_.byte() & 1) def.motor_speed = in_.number(), def.motor_max = in_.number();
+    if (in_.byte() & 1) def.break_impulse = in_.number(), def.friction_torque = in_.number();
+    if (in_.byte() & 1) def.velocity_iterations = in_.u16(), def.position_iterations = in_.u16();
+    const uint64_t before = mark();
+    bitstep_joint made{};
+    const bitstep_status status = bitstep_create_joint(sim_, &def, &made);
+    check_outcome(status, before);
+    if (status == BITSTEP_OK && joints_.size() < 64) joints_.push_back(made);
+  }
+
+  // The getters, the batch reads and the events, into buffers of any size
+  // (a short one says the size it needs), and the integer conversions:
+  // none changes the world; every failure names itself.
+  void read_all() {
+    const uint64_t before = mark();
+    const bitstep_body b = body();
+    const auto read = [&](bitstep_status status) {
+      require(status == BITSTEP_OK || status == BITSTEP_NOT_FOUND || status == BITSTEP_BUFFER_TOO_SMALL,
+              "a read finds, misses or asks for room");
+      if (status != BITSTEP_OK) require_one_line_error(bitstep_last_error(sim_), "");
+      return status;
+    };
+    bitstep_vec3 v{}, w{};
+    int32_t asleep = 0;
+    uint32_t shapes = 0;
+    bitstep_shape shape{};
+    char name[8];
+    size_t size = 0;
+    const bitstep_status found = read(bitstep_get_velocity(sim_, b, &v, &w));
+    require(read(bitstep_is_asleep(sim_, b, &asleep)) == found, "a body is found by every getter or none");
+    require(read(bitstep_get_shape_count(sim_, b, &shapes)) == found, "a body is found by every getter or none");
+    if (found == BITSTEP_OK) {
+      require(shapes >= 1 && shapes <= 256 && (asleep == 0 || asleep == 1), "a body's shapes and sleep");
+      require(read(bitstep_get_shape(sim_, b, in_.byte() % (shapes + 1), &shape)) != BITSTEP_BUFFER_TOO_SMALL,
+              "a shape or none");
+      const size_t capacity = in_.byte() % sizeof name;
+      const bitstep_status named =
+          read(bitstep_get_body_name(sim_, b, capacity == 0 ? nullptr : name, capacity, &size));
+      require(named == (size <= capacity ? BITSTEP_OK : BITSTEP_BUFFER_TOO_SMALL) && size >= 1,
+              "a name, or the room it needs with its NUL");
+    }
+    std::vector<bitstep_body_pose> poses(in_.byte() % 8);
+    const bitstep_status posed = read(bitstep_get_poses(sim_, poses.data(), poses.size(), &size));
+    require(posed == (size <= poses.size() ? BITSTEP_OK : BITSTEP_BUFFER_TOO_SMALL), "every pose, or the room");
+    std::vector<bitstep_body_render_pose> render(in_.byte() % 8);
+    read(bitstep_get_render_poses(sim_, render.data(), render.size(), &size));
+    std::vector<bitstep_event> events(in_.byte() % 4);
+    const bitstep_status listed = read(bitstep_get_events(sim_, events.data(), events.size(), &size));
+    require(listed == (size <= events.size() ? BITSTEP_OK : BITSTEP_BUFFER_TOO_SMALL), "every event, or the room");
+    for (size_t i = 0; listed == BITSTEP_OK && i < size; ++i) {
+      require(events[i].type >= BITSTEP_CONTACT_BEGIN && events[i].type <= BITSTEP_JOINT_BROKEN, "an event's type");
+    }
+    require(bitstep_set_events(sim_, in_.byte() & 1) == BITSTEP_OK, "events on or off");
+    bitstep_fixed f = 0;
+    const bitstep_fixed numerator = in_.number(), denominator = in_.number();
+    const bitstep_status divided = bitstep_fixed_from_ratio(numerator, denominator, &f);
+    require(divided == BITSTEP_OK || divided == BITSTEP_INVALID, "a quotient or a refusal");
+    if (divided == BITSTEP_OK && denominator == 1) require(f == numerator * (int64_t{1} << 32), "n / 1 is n");
+    (void)bitstep_fixed_round(in_.number());
+    check_unchanged(before);
   }
 
   void get() {
@@ -450,6 +570,12 @@ class Session {
                                        bitstep_body_in_slot(sim_, 0, nullptr),
                                        bitstep_drive(sim_, nullptr, 0, 0, 0),
                                        bitstep_get_pose(sim_, b, nullptr),
+                                       bitstep_create_body(sim_, nullptr, nullptr),
+                                       bitstep_create_joint(sim_, nullptr, nullptr),
+                                       bitstep_get_velocity(sim_, b, nullptr, nullptr),
+                                       bitstep_get_shape(sim_, b, 0, nullptr),
+                                       bitstep_get_poses(sim_, nullptr, 0, nullptr),
+                                       bitstep_get_events(sim_, nullptr, 1, &size),
                                        bitstep_get_render_pose(sim_, b, nullptr),
                                        bitstep_save(sim_, nullptr, 16, &size),
                                        bitstep_save(sim_, nullptr, 0, nullptr),

@@ -57,8 +57,11 @@ enum class Call : uint8_t {
   find_body,
   null_arguments,
   recreate,
+  create_body_struct,
+  create_joint_struct,
+  read_all,
 };
-inline constexpr uint8_t call_count = static_cast<uint8_t>(Call::recreate) + 1;
+inline constexpr uint8_t call_count = static_cast<uint8_t>(Call::read_all) + 1;
 
 // Numbers' texts for the JSON fragments and bitstep_fixed_parse: in range,
 // at and just past the envelope's edges, past Q32.32, and not numbers.

@@ -174,7 +174,8 @@ def packets(images):
 # --- capi: C API call sequences (tools/fuzz/capi_input.h) -------------------
 CALLS = ["add_body_fragment", "add_body_text", "add_joint_fragment", "add_joint_text", "remove_body", "remove_joint",
          "set_velocity", "apply_impulse", "apply_force", "drive", "wake", "step", "save", "load", "save_state",
-         "load_state", "get", "cast_ray", "find_body", "null_arguments", "recreate"]
+         "load_state", "get", "cast_ray", "find_body", "null_arguments", "recreate",
+         "create_body_struct", "create_joint_struct", "read_all"]
 NAMES = ["ground", "box", "ball", "chassis", "crate", "pill", "pair", "sensor", "wall", ""]
 TEXTS = ["0", "1", "-1", "0.5", "1/60", "16000", "16000.000001", "-16001", "50", "50.01",
          "0.01", "0.009", "100000", "100001", "1e9", "1e300", "-1e300", "nan", "inf", "-inf",
@@ -293,6 +294,16 @@ def capi_seeds():
         "getters.bin": start + step(4) +
         get(known(2), floats=(float("nan"), 1.0, float("inf"), 0.0, 0.0, 0.0, -0.0, float("nan")), slot=1) +
         get(made_up(50, 0), slot=7) + get(known(3), floats=(1e38, -1e38, 1e-45, 0.0, 1.0, 0.0, 0.0, 0.5)),
+        # A ball from a struct thrown at 3 m/s, pinned by a struct joint that
+        # breaks at 50 N s, the getters and events read as it flies and lands.
+        "structs.bin": start + call("read_all", known(2), bytes([0, 8, 8, 8, 3, 1]), units(3), units(1), units(5)) +
+        call("create_body_struct", bytes([2, 1]), units(0), units(3), units(2), bytes([0]), bytes([1]),
+             units(3), units(0), units(0), bytes([0] * 8), bytes([2, 1, 3]), zero3, raw(2**31), units(0),
+             bytes([0, 0xff])) +
+        call("create_joint_struct", bytes([0]), known(0), known(4), units(0), units(3), units(2), bytes([0]),
+             zero3, bytes([0, 0, 0, 1]), units(50), units(0), bytes([0])) +
+        step(30) + call("read_all", known(4), bytes([0, 7, 2, 8, 1, 1]), units(-7), units(2), units(5)) +
+        step(30) + call("read_all", known(4), bytes([1, 0, 0, 0, 0, 0]), raw(-2**63), units(1), raw(2**62)),
         "drive.bin": start + call("drive", bytes([0]), units(1), units(0), double(0.25)) + step(8) +
         call("save_state", bytes([0])) + step(8) + call("drive", bytes([0]), units(0), units(1), units(0)) +
         step(8) + load("load_state", 0) + step(8),
