@@ -19,7 +19,7 @@ sources=(fixed/*.cpp tools/measure/known_answer.cpp tools/crosscheck/known_answe
 # nor the thread pool: leaving them out saves ~15% of each compile.
 replay_sources=(fixed/*.cpp core/*.cpp tools/crosscheck/verify_replays_main.cpp)
 for f in replay/*.cpp; do
-  case "$f" in replay/session*|replay/bitstep_c.cpp|replay/render_pose.cpp|replay/simulation.cpp|replay/sync_test.cpp|replay/thread_pool.cpp) ;; *) replay_sources+=("$f") ;; esac
+  case "$f" in replay/session*|replay/bitstep_c.cpp|replay/bitstep_session_c.cpp|replay/render_pose.cpp|replay/simulation.cpp|replay/sync_test.cpp|replay/thread_pool.cpp) ;; *) replay_sources+=("$f") ;; esac
 done
 # Each program is compiled as one translation unit that #includes its
 # sources (a unity build): the standard library's and nlohmann's headers are
