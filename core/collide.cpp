@@ -59,25 +59,26 @@ int rank(ShapeType type) {
   return 0;
 }
 
+// The routine of each pair, by rank: pairs[rank a][rank b] for rank a >=
+// rank b (the routine takes the higher-ranked shape first). A new shape
+// adds its row and a column to the rows after it.
+using PairRoutine = int (*)(const WorldShape& a, const WorldShape& b, Fixed speculative_distance, Manifold& out);
+
+int no_contact(const WorldShape&, const WorldShape&, Fixed, Manifold&) {
+  return 0;
+}  // plane-plane: two static half-spaces
+
+constexpr int shape_count = 4;
+constexpr PairRoutine pairs[shape_count][shape_count] = {
+    /* plane   */ {no_contact, nullptr, nullptr, nullptr},
+    /* box     */ {collide_box_plane, collide_box_box, nullptr, nullptr},
+    /* sphere  */ {collide_sphere_plane, collide_sphere_box, collide_sphere_sphere, nullptr},
+    /* capsule */ {collide_capsule_plane, collide_capsule_box, collide_capsule_sphere, collide_capsule_capsule},
+};
+
 // a has rank >= b's.
 int dispatch(const WorldShape& a, const WorldShape& b, Fixed speculative_distance, Manifold& out) {
-  const ShapeType ta = a.shape->type, tb = b.shape->type;
-  switch (ta) {
-    case ShapeType::plane: return 0;  // plane-plane: two static half-spaces
-    case ShapeType::box:
-      if (tb == ShapeType::box) return collide_box_box(a, b, speculative_distance, out);
-      return collide_box_plane(a, b, speculative_distance, out);
-    case ShapeType::sphere:
-      if (tb == ShapeType::sphere) return collide_sphere_sphere(a, b, speculative_distance, out);
-      if (tb == ShapeType::box) return collide_sphere_box(a, b, speculative_distance, out);
-      return collide_sphere_plane(a, b, speculative_distance, out);
-    case ShapeType::capsule:
-      if (tb == ShapeType::capsule) return collide_capsule_capsule(a, b, speculative_distance, out);
-      if (tb == ShapeType::sphere) return collide_capsule_sphere(a, b, speculative_distance, out);
-      if (tb == ShapeType::box) return collide_capsule_box(a, b, speculative_distance, out);
-      return collide_capsule_plane(a, b, speculative_distance, out);
-  }
-  return 0;
+  return pairs[rank(a.shape->type)][rank(b.shape->type)](a, b, speculative_distance, out);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 
 #include "core/aabb.h"
 #include "core/mass.h"
+#include "core/shape_types.h"
 #include "fixed/decimal.h"
 
 namespace bitstep {
@@ -15,8 +16,6 @@ bool position_inside(Vec3 p) {
   const Fixed limit = envelope::max_position;
   return abs(p.x) <= limit && abs(p.y) <= limit && abs(p.z) <= limit;
 }
-
-bool size_inside(Fixed s) { return s >= envelope::min_size && s <= envelope::max_size; }
 
 // A shape's field as the body's: "shapes[2].radius".
 std::string shape_field(int index, const char* field) { return "shapes[" + std::to_string(index) + "]." + field; }
@@ -30,24 +29,8 @@ Result<void> check_shape(const Shape& shape, int index) {
   const Fixed reach = envelope::max_size;
   const Vec3 p = shape.local.position;
   if (abs(p.x) > reach || abs(p.y) > reach || abs(p.z) > reach) return error("position", "more than 50 m from the body origin");
-  switch (shape.type) {
-    case ShapeType::box:
-      if (!size_inside(shape.half_extents.x) || !size_inside(shape.half_extents.y) ||
-          !size_inside(shape.half_extents.z)) {
-        return error("half_extents", "outside 0.01..50 m");
-      }
-      break;
-    case ShapeType::sphere:
-      if (!size_inside(shape.radius)) return error("radius", "outside 0.01..50 m");
-      break;
-    case ShapeType::capsule:
-      if (!size_inside(shape.radius)) return error("radius", "outside 0.01..50 m");
-      if (shape.half_height < Fixed{} || shape.half_height > envelope::max_size) {
-        return error("half_height", "outside 0..50 m");
-      }
-      break;
-    case ShapeType::plane: break;
-  }
+  const Result<void> own = with_shape_type(shape.type, [&](auto type) { return decltype(type)::check(shape); });
+  if (!own.ok()) return Error{shape_field(index, own.error().place.c_str()), own.error().reason};
   return {};
 }
 
@@ -177,9 +160,7 @@ int total_cap(int cap) { return std::min(cap, headroom + 1); }
 Fixed reach(const std::vector<Shape>& shapes) {
   Fixed farthest;
   for (const Shape& s : shapes) {
-    Fixed extent = s.radius;
-    if (s.type == ShapeType::box) extent = length(s.half_extents);
-    if (s.type == ShapeType::capsule) extent = s.half_height + s.radius;
+    const Fixed extent = with_shape_type(s.type, [&](auto type) { return decltype(type)::extent(s); });
     farthest = max(farthest, length(s.local.position) + extent);
   }
   return farthest;

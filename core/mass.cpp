@@ -1,46 +1,11 @@
 #include "core/mass.h"
 
 #include "core/settings.h"
+#include "core/shape_types.h"
 
 namespace bitstep {
 
 namespace {
-
-constexpr Fixed pi = "raw:3243f6a89"_fx;  // pi rounded to Q32.32
-constexpr Fixed four_thirds_pi = "raw:430548e0b"_fx;  // 4 pi / 3 rounded
-
-struct PartMass {
-  Fixed mass;
-  Vec3 principal;  // diagonal of the inertia tensor in the shape's own axes, kg m^2
-};
-
-// Solid box of half extents h: I_xx = m (h_y^2 + h_z^2) / 3, and so on.
-PartMass box_mass(Vec3 h, Fixed mass) {
-  const Fixed third = mass / 3.0_fx;
-  return {mass, {third * (h.y * h.y + h.z * h.z), third * (h.x * h.x + h.z * h.z), third * (h.x * h.x + h.y * h.y)}};
-}
-
-// Solid sphere: I = 2/5 m r^2.
-PartMass sphere_mass(Fixed r, Fixed mass) {
-  const Fixed i = mass * 2.0_fx / 5.0_fx * r * r;
-  return {mass, {i, i, i}};
-}
-
-// Capsule along y: a cylinder of radius r, length 2h, and two hemispheres.
-//   cylinder:    I_yy = m_c r^2 / 2,  I_xx = m_c (r^2 / 4 + (2h)^2 / 12)
-//   hemispheres: I_yy = m_s 2 r^2 / 5, I_xx = m_s (2 r^2 / 5 + h^2 + 3 h r / 4)
-// (each hemisphere's centre of mass sits 3r/8 beyond the segment end; the
-// last term is the parallel-axis shift from its flat face to the capsule's
-// centre).
-PartMass capsule_mass(Fixed r, Fixed h, Fixed density) {
-  const Fixed r2 = r * r;
-  const Fixed cylinder = density * pi * r2 * (h + h);
-  const Fixed spheres = density * four_thirds_pi * r2 * r;
-  const Fixed i_yy = cylinder * r2 / 2.0_fx + spheres * r2 * 2.0_fx / 5.0_fx;
-  const Fixed i_xx = cylinder * (r2 / 4.0_fx + h * h / 3.0_fx) +
-                     spheres * (r2 * 2.0_fx / 5.0_fx + h * h + h * r * 3.0_fx / 4.0_fx);
-  return {cylinder + spheres, {i_xx, i_yy, i_xx}};
-}
 
 // The tensor of a point mass m at offset d, for the parallel-axis rule:
 // m (|d|^2 E - d d^T).
@@ -65,16 +30,7 @@ bool heavier_than(Fixed density, Fixed v, Fixed max_mass) {
 }  // namespace
 
 Fixed volume(const Shape& shape) {
-  switch (shape.type) {
-    case ShapeType::box: return 8.0_fx * shape.half_extents.x * shape.half_extents.y * shape.half_extents.z;
-    case ShapeType::sphere: return four_thirds_pi * shape.radius * shape.radius * shape.radius;
-    case ShapeType::capsule: {
-      const Fixed r = shape.radius;
-      return pi * r * r * (shape.half_height + shape.half_height) + four_thirds_pi * r * r * r;
-    }
-    case ShapeType::plane: return Fixed{};
-  }
-  return Fixed{};
+  return with_shape_type(shape.type, [&](auto type) { return decltype(type)::volume(shape); });
 }
 
 Fixed total_volume(const std::vector<Shape>& shapes) {
@@ -99,7 +55,7 @@ MassProperties mass_properties(const std::vector<Shape>& shapes, Fixed density, 
 
 MassProperties mass_properties(const std::vector<Shape>& shapes, Fixed density, MassRange range) {
   MassProperties result;
-  std::vector<PartMass> parts;
+  std::vector<ShapeMass> parts;
   parts.reserve(shapes.size());
   Vec3 weighted_center;
   for (const Shape& shape : shapes) {
@@ -110,12 +66,7 @@ MassProperties mass_properties(const std::vector<Shape>& shapes, Fixed density, 
       return result;
     }
     const Fixed m = density * v;
-    switch (shape.type) {
-      case ShapeType::box: parts.push_back(box_mass(shape.half_extents, m)); break;
-      case ShapeType::sphere: parts.push_back(sphere_mass(shape.radius, m)); break;
-      case ShapeType::capsule: parts.push_back(capsule_mass(shape.radius, shape.half_height, density)); break;
-      case ShapeType::plane: parts.push_back({}); break;
-    }
+    parts.push_back(with_shape_type(shape.type, [&](auto type) { return decltype(type)::mass(shape, density); }));
     result.mass += m;
     if (result.mass > range.max) {
       result.ok = false;

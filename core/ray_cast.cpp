@@ -1,6 +1,8 @@
 #include "core/ray_cast.h"
 
 #include "core/collide_internal.h"
+#include "core/ray_primitives.h"
+#include "core/shape_types.h"
 #include "fixed/mat33.h"
 
 namespace bitstep {
@@ -14,11 +16,13 @@ Fixed path_ratio(Fixed gap, Fixed rate) {
 
 }  // namespace collide_detail
 
-namespace {
+namespace ray_primitives {
 
 using collide_detail::get;
 using collide_detail::path_ratio;
 using collide_detail::set;
+
+namespace {
 
 bool inside_ball(Vec3 offset, Fixed r) { return within_axes(offset, r) && length_sq(offset) <= r * r; }
 
@@ -45,6 +49,8 @@ bool clip(SlabClip& c, int axis, Fixed o, Fixed u, Fixed lo, Fixed hi) {
 
 // A ray starting inside a solid shape.
 RayEntry entry_at_start(const Ray& ray) { return {Fixed{}, -ray.direction}; }
+
+}  // namespace
 
 // A box centred at `centre` with `rotation`, half extents `h`.
 bool cast_box(Vec3 centre, const Mat33& rotation, Vec3 h, const Ray& ray, RayEntry& entry) {
@@ -85,6 +91,8 @@ bool cast_ball(Vec3 centre, Fixed r, const Ray& ray, RayEntry& entry) {
   return true;
 }
 
+namespace {
+
 // The side of a cylinder of radius r about the segment centre +- h axis
 // (unit axis): the same closest-approach form in the plane across the axis,
 // where the ray moves at |u_perp| per metre along it.
@@ -110,19 +118,10 @@ bool cast_cylinder_side(Vec3 centre, Vec3 axis, Fixed h, Fixed r, const Ray& ray
   return true;
 }
 
+}  // namespace
+
 // A capsule (a segment swept by r) is the union of its side and two balls:
 // the ray enters it where it enters the first of them.
-struct Nearest {
-  bool found = false;
-  RayEntry entry;
-  void offer(bool hit, const RayEntry& candidate) {
-    if (hit && (!found || candidate.distance < entry.distance)) {
-      found = true;
-      entry = candidate;
-    }
-  }
-};
-
 void cast_capsule(Vec3 centre, Vec3 axis, Fixed h, Fixed r, const Ray& ray, Nearest& nearest) {
   RayEntry e;
   nearest.offer(cast_cylinder_side(centre, axis, h, r, ray, e), e);
@@ -166,36 +165,26 @@ bool cast_half_space(Vec3 point, Vec3 normal, Fixed r, const Ray& ray, RayEntry&
   return true;
 }
 
+}  // namespace ray_primitives
+
+namespace {
+
+using collide_detail::get;
+using collide_detail::path_ratio;
+using ray_primitives::clip;
+using ray_primitives::SlabClip;
+
 bool acceptable(const Ray& ray) {
   return within_axes(ray.origin, max_ray_coordinate) && ray.length >= Fixed{} && ray.length <= max_ray_length;
 }
 
 }  // namespace
 
+// Each shape's own cast (shape_types.h).
 bool ray_enters(const WorldShape& placed, const Ray& ray, Fixed radius, RayEntry& entry) {
   if (!acceptable(ray) || radius < Fixed{}) return false;
-  const Shape& shape = *placed.shape;
-  const Vec3 centre = placed.pose.position;
-  Nearest nearest;
-  switch (shape.type) {
-    case ShapeType::sphere: return cast_ball(centre, shape.radius + radius, ray, entry);
-    case ShapeType::capsule: {
-      cast_capsule(centre, rotate(placed.pose.orientation, Vec3{Fixed{}, Fixed::one(), Fixed{}}), shape.half_height,
-                   shape.radius + radius, ray, nearest);
-      break;
-    }
-    case ShapeType::box: {
-      const Mat33 rotation_matrix = rotation(placed.pose.orientation);
-      if (radius == Fixed{}) return cast_box(centre, rotation_matrix, shape.half_extents, ray, entry);
-      cast_rounded_box(centre, rotation_matrix, shape.half_extents, radius, ray, nearest);
-      break;
-    }
-    case ShapeType::plane:
-      return cast_half_space(centre, rotate(placed.pose.orientation, Vec3{Fixed{}, Fixed::one(), Fixed{}}), radius, ray,
-                             entry);
-  }
-  if (nearest.found) entry = nearest.entry;
-  return nearest.found;
+  return with_shape_type(placed.shape->type,
+                         [&](auto type) { return decltype(type)::ray(placed, ray, radius, entry); });
 }
 
 bool ray_enters(const Aabb& box, const Ray& ray, Fixed& distance) {

@@ -1,0 +1,109 @@
+// Each shape type's facts, one file per type, behind one checked switch
+// (with_shape_type), as joint_types.h does for joints: a type is a struct
+// of the same static functions, and a ShapeType without its case is a
+// -Wswitch error (no `default:`), so a new shape cannot silently act as a
+// box or a sphere. A new shape: its enum value (shape.h), its struct here
+// and its file, its case below, its row and column of collide.cpp's pair
+// table, and its keys in the scene reader and the state description
+// (replay/scene.cpp, replay/state_description.h).
+//
+// The functions each type has:
+//   name                its name in scenes, states and messages
+//   volume(shape)       m^3 (a plane's: 0)
+//   mass(shape, density)
+//                       its solid mass, and the diagonal of its inertia
+//                       tensor about its own centre in its own axes
+//   check(shape)        the envelope's checks of its sizes: refused with
+//                       the field ("radius") and why, or fine
+//   extent(shape)       how far its farthest point lies from its origin
+//                       (the body's reach, core/envelope.h; a plane's: 0)
+//   bounds(placed)      its world box (a plane's: the whole envelope)
+//   ray(placed, ray, radius, entry)
+//                       where a ray first enters the shape grown by
+//                       `radius` (core/ray_cast.h's rules)
+// Internal to core/.
+#pragma once
+
+#include <cstdlib>
+
+#include "core/aabb.h"
+#include "core/error.h"
+#include "core/settings.h"
+#include "core/ray_cast.h"
+#include "core/shape.h"
+
+namespace bitstep {
+
+// A shape's solid mass and the diagonal of its inertia tensor in its own
+// axes, about its own centre (kg, kg m^2).
+struct ShapeMass {
+  Fixed mass;
+  Vec3 principal;
+};
+
+#define BITSTEP_SHAPE_TYPE_FUNCTIONS                                               \
+  static Fixed volume(const Shape& shape);                                         \
+  static ShapeMass mass(const Shape& shape, Fixed density);                        \
+  static Result<void> check(const Shape& shape);                                   \
+  static Fixed extent(const Shape& shape);                                         \
+  static Aabb bounds(const WorldShape& placed);                                    \
+  static bool ray(const WorldShape& placed, const Ray& ray, Fixed radius, RayEntry& entry);
+
+// A static half-space (shape_plane.cpp).
+struct PlaneShape {
+  static constexpr const char* name = "plane";
+  BITSTEP_SHAPE_TYPE_FUNCTIONS
+};
+// A box (shape_box.cpp).
+struct BoxShape {
+  static constexpr const char* name = "box";
+  BITSTEP_SHAPE_TYPE_FUNCTIONS
+};
+// A capsule along its local y (shape_capsule.cpp).
+struct CapsuleShape {
+  static constexpr const char* name = "capsule";
+  BITSTEP_SHAPE_TYPE_FUNCTIONS
+};
+// A sphere (shape_sphere.cpp).
+struct SphereShape {
+  static constexpr const char* name = "sphere";
+  BITSTEP_SHAPE_TYPE_FUNCTIONS
+};
+
+#undef BITSTEP_SHAPE_TYPE_FUNCTIONS
+
+// Calls f with the struct of `type` (f(BoxShape{}) for a box).
+template <class F>
+decltype(auto) with_shape_type(ShapeType type, F&& f) {
+  switch (type) {
+    case ShapeType::plane: return f(PlaneShape{});
+    case ShapeType::box: return f(BoxShape{});
+    case ShapeType::capsule: return f(CapsuleShape{});
+    case ShapeType::sphere: return f(SphereShape{});
+  }
+  std::abort();  // never: World::create_body and the state reader take ShapeType's values only
+}
+
+// Whether `type` is one of ShapeType's values.
+inline bool is_shape_type(ShapeType type) {
+  switch (type) {
+    case ShapeType::plane:
+    case ShapeType::box:
+    case ShapeType::capsule:
+    case ShapeType::sphere: return true;
+  }
+  return false;
+}
+
+inline const char* shape_name(ShapeType type) {
+  return with_shape_type(type, [](auto t) { return decltype(t)::name; });
+}
+
+// A size the envelope admits: 0.01..50 m (core/settings.h).
+inline bool size_in_envelope(Fixed s) { return s >= envelope::min_size && s <= envelope::max_size; }
+
+// pi and 4 pi / 3 rounded to Q32.32 (the volumes' and inertias').
+inline constexpr Fixed volume_pi = "raw:3243f6a89"_fx;
+inline constexpr Fixed volume_four_thirds_pi = "raw:430548e0b"_fx;
+
+}  // namespace bitstep
