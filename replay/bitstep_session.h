@@ -57,7 +57,8 @@ bitstep_session_config bitstep_default_session_config(void);
  * 0 when it cannot read a state (a joiner then refuses it). save and load
  * both NULL: the game keeps no state beside the world; advance may be
  * NULL. Everything of the game its future depends on belongs in save:
- * what is left out does not roll back, and the peers desync. */
+ * what is left out does not roll back, and the peers desync. A hook must
+ * not call the session's own functions (it runs inside one of them). */
 typedef struct {
   void* user; /* passed to every hook */
   void (*apply)(void* user, bitstep_simulation* sim, int32_t player, const uint8_t* input, size_t size);
