@@ -45,4 +45,16 @@ bool BoxShape::ray(const WorldShape& placed, const Ray& ray, Fixed radius, RayEn
   return nearest.found;
 }
 
+Fixed BoxShape::core_radius(const Shape&) { return Fixed{}; }
+
+// The corner whose signs are d's in the box's axes: R (sign(R^T d) h) + c.
+Vec3 BoxShape::core_support(const WorldShape& placed, Vec3 direction) {
+  const Mat33 r = rotation(placed.pose.orientation);
+  const Vec3 h = placed.shape->half_extents;
+  const auto pick = [](Fixed along, Fixed half) { return along < Fixed{} ? -half : half; };
+  const Vec3 local{pick(dot(r.column(0), direction), h.x), pick(dot(r.column(1), direction), h.y),
+                   pick(dot(r.column(2), direction), h.z)};
+  return placed.pose.position + r * local;
+}
+
 }  // namespace bitstep

@@ -60,4 +60,12 @@ bool CapsuleShape::ray(const WorldShape& placed, const Ray& ray, Fixed radius, R
   return nearest.found;
 }
 
+Fixed CapsuleShape::core_radius(const Shape& shape) { return shape.radius; }
+
+// Its core is its segment: the end on d's side.
+Vec3 CapsuleShape::core_support(const WorldShape& placed, Vec3 direction) {
+  const Vec3 half = rotate(placed.pose.orientation, Vec3{Fixed{}, placed.shape->half_height, Fixed{}});
+  return dot(half, direction) < Fixed{} ? placed.pose.position - half : placed.pose.position + half;
+}
+
 }  // namespace bitstep

@@ -26,4 +26,9 @@ bool PlaneShape::ray(const WorldShape& placed, const Ray& ray, Fixed radius, Ray
                                          ray, entry);
 }
 
+Fixed PlaneShape::core_radius(const Shape&) { return Fixed{}; }
+
+// Unbounded: no support point (its origin); the generic path never takes a plane.
+Vec3 PlaneShape::core_support(const WorldShape& placed, Vec3) { return placed.pose.position; }
+
 }  // namespace bitstep

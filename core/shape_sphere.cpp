@@ -33,4 +33,9 @@ bool SphereShape::ray(const WorldShape& placed, const Ray& ray, Fixed radius, Ra
   return ray_primitives::cast_ball(placed.pose.position, placed.shape->radius + radius, ray, entry);
 }
 
+Fixed SphereShape::core_radius(const Shape& shape) { return shape.radius; }
+
+// Its core is its centre.
+Vec3 SphereShape::core_support(const WorldShape& placed, Vec3) { return placed.pose.position; }
+
 }  // namespace bitstep

@@ -21,6 +21,15 @@
 //   ray(placed, ray, radius, entry)
 //                       where a ray first enters the shape grown by
 //                       `radius` (core/ray_cast.h's rules)
+//   core_radius(shape)  the shape is its core (a point, a segment or a
+//                       box) grown by this radius (a sphere's radius, a
+//                       box's 0), as Box2D's and Jolt's convex radius
+//   core_support(placed, d)
+//                       the core's farthest point along world direction d
+//                       (any length; ties take the + side), for GJK
+//                       (gjk.h). Exact: corners and ends, no square root. A
+//                       plane is unbounded: it has none (its origin), and
+//                       the generic path never takes one
 // Internal to core/.
 #pragma once
 
@@ -41,13 +50,15 @@ struct ShapeMass {
   Vec3 principal;
 };
 
-#define BITSTEP_SHAPE_TYPE_FUNCTIONS                                               \
-  static Fixed volume(const Shape& shape);                                         \
-  static ShapeMass mass(const Shape& shape, Fixed density);                        \
-  static Result<void> check(const Shape& shape);                                   \
-  static Fixed extent(const Shape& shape);                                         \
-  static Aabb bounds(const WorldShape& placed);                                    \
-  static bool ray(const WorldShape& placed, const Ray& ray, Fixed radius, RayEntry& entry);
+#define BITSTEP_SHAPE_TYPE_FUNCTIONS                                                        \
+  static Fixed volume(const Shape& shape);                                                  \
+  static ShapeMass mass(const Shape& shape, Fixed density);                                 \
+  static Result<void> check(const Shape& shape);                                            \
+  static Fixed extent(const Shape& shape);                                                  \
+  static Aabb bounds(const WorldShape& placed);                                             \
+  static bool ray(const WorldShape& placed, const Ray& ray, Fixed radius, RayEntry& entry); \
+  static Fixed core_radius(const Shape& shape);                                             \
+  static Vec3 core_support(const WorldShape& placed, Vec3 direction);
 
 // A static half-space (shape_plane.cpp).
 struct PlaneShape {

@@ -1,0 +1,29 @@
+// The distance between two convex shapes by GJK (Gilbert, Johnson and
+// Keerthi 1988) over their support functions, exact in fixed point: the
+// generic path for convex pairs without a hand-written routine. Each shape
+// is its core (a point, a segment or a box: shape_types.h core_support)
+// grown by its core radius, as in Box2D's b2ShapeDistance and Jolt's convex
+// radius: GJK finds the closest points of the cores, the radii are taken
+// off after. The search runs on the Minkowski difference A - B of the
+// cores; the closest point of each simplex (a point, segment, triangle or
+// tetrahedron) to the origin comes from Ericson's Voronoi-region tests,
+// dot products only. Coordinates are taken about A's centre, so that the
+// products stay small for shapes far from the world's origin.
+#pragma once
+
+#include "core/shape.h"
+
+namespace bitstep {
+
+struct ConvexDistance {
+  bool overlap = false;  // the cores meet (distance < 0 by at least the radii): no witness points
+  Fixed distance;        // between the shapes (the cores' less both radii): negative when the radii overlap
+  Vec3 point_a, point_b; // the closest points on the shapes' surfaces (world)
+  Vec3 normal;           // unit, from A toward B
+  int iterations = 0;
+};
+
+// Neither shape may be a plane (unbounded: no support point).
+ConvexDistance convex_distance(const WorldShape& a, const WorldShape& b);
+
+}  // namespace bitstep
