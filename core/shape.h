@@ -2,6 +2,7 @@
 // shapes; more than one makes a compound (tables, chairs, ragdoll parts).
 #pragma once
 
+#include <array>
 #include <cstdint>
 
 #include "core/pose.h"
@@ -14,6 +15,10 @@ enum class ShapeType : uint8_t {
   capsule,  // a segment from -half_height to +half_height along local y, swept by radius
   sphere,   // radius
 };
+
+// Each type's name in scenes, states and messages, by its value: the one
+// list (shape_types.h has each type's other facts).
+inline constexpr std::array<const char*, 4> shape_type_names = {"plane", "box", "capsule", "sphere"};
 
 struct Shape {
   ShapeType type = ShapeType::box;

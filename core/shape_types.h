@@ -4,11 +4,10 @@
 // -Wswitch error (no `default:`), so a new shape cannot silently act as a
 // box or a sphere. A new shape: its enum value (shape.h), its struct here
 // and its file, its case below, its row and column of collide.cpp's pair
-// table, and its keys in the scene reader and the state description
-// (replay/scene.cpp, replay/state_description.h).
+// table, its name (shape.h), and its keys in the scene reader
+// (replay/scene.cpp) and the state description (replay/state_description.h).
 //
 // The functions each type has:
-//   name                its name in scenes, states and messages
 //   volume(shape)       m^3 (a plane's: 0)
 //   mass(shape, density)
 //                       its solid mass, and the diagonal of its inertia
@@ -62,22 +61,18 @@ struct ShapeMass {
 
 // A static half-space (shape_plane.cpp).
 struct PlaneShape {
-  static constexpr const char* name = "plane";
   BITSTEP_SHAPE_TYPE_FUNCTIONS
 };
 // A box (shape_box.cpp).
 struct BoxShape {
-  static constexpr const char* name = "box";
   BITSTEP_SHAPE_TYPE_FUNCTIONS
 };
 // A capsule along its local y (shape_capsule.cpp).
 struct CapsuleShape {
-  static constexpr const char* name = "capsule";
   BITSTEP_SHAPE_TYPE_FUNCTIONS
 };
 // A sphere (shape_sphere.cpp).
 struct SphereShape {
-  static constexpr const char* name = "sphere";
   BITSTEP_SHAPE_TYPE_FUNCTIONS
 };
 
@@ -106,9 +101,8 @@ inline bool is_shape_type(ShapeType type) {
   return false;
 }
 
-inline const char* shape_name(ShapeType type) {
-  return with_shape_type(type, [](auto t) { return decltype(t)::name; });
-}
+// Its name (shape.h's list).
+inline const char* shape_name(ShapeType type) { return shape_type_names[static_cast<size_t>(type)]; }
 
 // A size the envelope admits: 0.01..50 m (core/settings.h).
 inline bool size_in_envelope(Fixed s) { return s >= envelope::min_size && s <= envelope::max_size; }

@@ -57,8 +57,8 @@ MaterialTable read_materials(const Node& node) {
 Shape read_shape(const Node& node) {
   ObjectReader reader(node);
   Shape shape;
-  static constexpr ShapeType types[] = {ShapeType::box, ShapeType::sphere, ShapeType::capsule, ShapeType::plane};
-  shape.type = types[read_choice(reader.require("type"), {"box", "sphere", "capsule", "plane"})];
+  static const std::vector<std::string_view> names(shape_type_names.begin(), shape_type_names.end());
+  shape.type = static_cast<ShapeType>(read_choice(reader.require("type"), names));
   switch (shape.type) {
     case ShapeType::box: shape.half_extents = read_vec3(reader.require("half_extents")); break;
     case ShapeType::sphere: shape.radius = read_fixed(reader.require("radius")); break;

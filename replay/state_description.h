@@ -133,7 +133,7 @@ inline constexpr std::array<const char*, 8> setting_flags = {"baumgarte",  "warm
 inline constexpr int default_held_passes = Settings{}.held_velocity_iterations;
 inline constexpr std::array<const char*, 3> sleep_methods = {"off", "motion", "still"};
 inline constexpr std::array<const char*, 3> body_types = {"static", "kinematic", "dynamic"};
-inline constexpr std::array<const char*, 4> shape_types = {"plane", "box", "capsule", "sphere"};
+inline constexpr std::array<const char*, 4> shape_types = shape_type_names;  // core/shape.h
 inline constexpr std::array<const char*, 5> joint_types = {"point", "max_distance", "hinge", "cone", "slider"};
 inline constexpr std::array<const char*, 2> joint_flags = {"limited", "motor"};
 

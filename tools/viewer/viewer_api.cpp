@@ -146,15 +146,7 @@ std::string floats_json(std::initializer_list<float> values) {
   return out + "]";
 }
 
-const char* shape_type(ShapeType type) {
-  switch (type) {
-    case ShapeType::plane: return "plane";
-    case ShapeType::box: return "box";
-    case ShapeType::capsule: return "capsule";
-    case ShapeType::sphere: return "sphere";
-  }
-  return "unknown";
-}
+const char* shape_type(ShapeType type) { return shape_type_names[static_cast<size_t>(type)]; }
 
 const char* body_type(BodyType type) {
   switch (type) {
