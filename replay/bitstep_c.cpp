@@ -82,6 +82,18 @@ const bitstep::Body* live_body(bitstep_simulation* sim, bitstep_body body) {
   return world.is_alive(body_of(body)) ? &world.body(body_of(body)) : nullptr;
 }
 
+// A getter of one live body: `out` checked, the body found (NOT_FOUND
+// naming the handle), then read(body, *out) gives the status.
+template <typename Out, typename Read>
+bitstep_status read_body(bitstep_simulation* sim, const char* call, bitstep_body body, Out* out, Read&& read) {
+  return guarded(sim, [&] {
+    if (out == nullptr) return null_argument(sim, call, "out");
+    const bitstep::Body* b = live_body(sim, body);
+    if (b == nullptr) return no_body(sim, body);
+    return read(*b, *out);
+  });
+}
+
 // `size` bytes needed for a caller's buffer of `capacity` (a NULL buffer of
 // capacity 0 asks): BUFFER_TOO_SMALL naming the call, or OK.
 bitstep_status fits(bitstep_simulation* sim, const char* call, size_t size, size_t capacity) {
@@ -308,14 +320,8 @@ bitstep_status bitstep_remove_joint(bitstep_simulation* sim, bitstep_joint joint
 }
 
 bitstep_status bitstep_get_body_type(bitstep_simulation* sim, bitstep_body body, bitstep_body_type* out) {
-  return guarded(sim, [&] {
-    if (out == nullptr) return null_argument(sim, "get_body_type", "out");
-    if (!sim->sim->world().is_alive(body_of(body))) return no_body(sim, body);
-    switch (sim->sim->world().body(body_of(body)).type) {
-      case bitstep::BodyType::static_body: *out = BITSTEP_STATIC; break;
-      case bitstep::BodyType::kinematic: *out = BITSTEP_KINEMATIC; break;
-      case bitstep::BodyType::dynamic: *out = BITSTEP_DYNAMIC; break;
-    }
+  return read_body(sim, "get_body_type", body, out, [](const bitstep::Body& b, bitstep_body_type& type) {
+    type = static_cast<bitstep_body_type>(b.type);  // the same numbers (static_asserts below)
     return BITSTEP_OK;
   });
 }
@@ -564,11 +570,8 @@ bitstep_status bitstep_get_velocity(bitstep_simulation* sim, bitstep_body body, 
 }
 
 bitstep_status bitstep_is_asleep(bitstep_simulation* sim, bitstep_body body, int32_t* out) {
-  return guarded(sim, [&] {
-    if (out == nullptr) return null_argument(sim, "is_asleep", "out");
-    const bitstep::Body* b = live_body(sim, body);
-    if (b == nullptr) return no_body(sim, body);
-    *out = b->type == bitstep::BodyType::dynamic && b->asleep ? 1 : 0;
+  return read_body(sim, "is_asleep", body, out, [](const bitstep::Body& b, int32_t& asleep) {
+    asleep = b.type == bitstep::BodyType::dynamic && b.asleep ? 1 : 0;
     return BITSTEP_OK;
   });
 }
@@ -589,25 +592,19 @@ bitstep_status bitstep_get_body_name(bitstep_simulation* sim, bitstep_body body,
 }
 
 bitstep_status bitstep_get_shape_count(bitstep_simulation* sim, bitstep_body body, uint32_t* out) {
-  return guarded(sim, [&] {
-    if (out == nullptr) return null_argument(sim, "get_shape_count", "out");
-    const bitstep::Body* b = live_body(sim, body);
-    if (b == nullptr) return no_body(sim, body);
-    *out = static_cast<uint32_t>(b->shapes.size());
+  return read_body(sim, "get_shape_count", body, out, [](const bitstep::Body& b, uint32_t& count) {
+    count = static_cast<uint32_t>(b.shapes.size());
     return BITSTEP_OK;
   });
 }
 
 bitstep_status bitstep_get_shape(bitstep_simulation* sim, bitstep_body body, uint32_t index, bitstep_shape* out) {
-  return guarded(sim, [&] {
-    if (out == nullptr) return null_argument(sim, "get_shape", "out");
-    const bitstep::Body* b = live_body(sim, body);
-    if (b == nullptr) return no_body(sim, body);
-    if (index >= b->shapes.size()) {
+  return read_body(sim, "get_shape", body, out, [&](const bitstep::Body& b, bitstep_shape& shape) {
+    if (index >= b.shapes.size()) {
       return fail(sim, BITSTEP_NOT_FOUND,
-                  "get_shape: shape " + std::to_string(index) + " of " + std::to_string(b->shapes.size()));
+                  "get_shape: shape " + std::to_string(index) + " of " + std::to_string(b.shapes.size()));
     }
-    *out = shape_to_c(b->shapes[index], sim->sim->frame_offset(body_of(body)));
+    shape = shape_to_c(b.shapes[index], sim->sim->frame_offset(body_of(body)));
     return BITSTEP_OK;
   });
 }
@@ -666,6 +663,7 @@ bitstep_status bitstep_get_events(bitstep_simulation* sim, bitstep_event* out, s
 }  // extern "C"
 
 // The C enumerations are the engine's, number for number.
+static_assert(BITSTEP_STATIC == static_cast<int>(bitstep::BodyType::static_body));
 static_assert(BITSTEP_DYNAMIC == static_cast<int>(bitstep::BodyType::dynamic));
 static_assert(BITSTEP_KINEMATIC == static_cast<int>(bitstep::BodyType::kinematic));
 static_assert(BITSTEP_SHAPE_PLANE == static_cast<int>(bitstep::ShapeType::plane));

@@ -102,23 +102,21 @@ fi
 # in C# alike.
 ticks=300
 mcs -nologo -out:"$work/SessionPeer.exe" tests/consumer/csharp/Bitstep.cs tests/consumer/csharp/SessionPeer.cs
-csharp() { LD_LIBRARY_PATH="$prefix/lib:${LD_LIBRARY_PATH:-}" mono "$work/SessionPeer.exe" "$@"; }
+c_peer=("$work/shared/session_peer")
+csharp_peer=(env LD_LIBRARY_PATH="$prefix/lib:${LD_LIBRARY_PATH:-}" mono "$work/SessionPeer.exe")
+run() {  # a peer of kind $1 (c, csharp) as player $2 on port $3, dialling $4
+  local -n peer_command=${1}_peer
+  timeout 90 "${peer_command[@]}" "$scene" "$2" "$3" "$4" "$ticks" 10
+}
 scene=tests/consumer/arena.json
-reference=$("$work/shared/session_peer" "$scene" reference "$ticks")
-if [ "$(csharp "$scene" reference "$ticks")" != "$reference" ]; then
+reference=$("${c_peer[@]}" "$scene" reference "$ticks")
+if [ "$("${csharp_peer[@]}" "$scene" reference "$ticks")" != "$reference" ]; then
   echo "check_package.sh: the C# reference run differs from the C one ($reference)" >&2
   status=1
 fi
 port=$((20000 + $$ % 20000))
 for pair in "c c" "c csharp"; do
   read -r first second <<<"$pair"
-  run() {  # a peer of kind $1 as player $2
-    if [ "$1" = c ]; then
-      timeout 90 "$work/shared/session_peer" "$scene" "$2" "$3" "$4" "$ticks" 10
-    else
-      timeout 90 bash -c "$(declare -f csharp); prefix='$prefix' work='$work'; csharp '$scene' $2 $3 $4 $ticks 10"
-    fi
-  }
   run "$first" 0 "$port" $((port + 1)) >"$work/peer0" 2>"$work/peer0.err" &
   player0=$!
   run "$second" 1 $((port + 1)) "$port" >"$work/peer1" 2>"$work/peer1.err" || true

@@ -23,6 +23,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "replay/bitstep.h"
@@ -253,13 +254,14 @@ class Session {
     return text;
   }
 
-  // add_body or add_joint of `json`; the handle made kept in `made`.
-  template <typename Handle>
-  void add(bitstep_status (*call)(bitstep_simulation*, const char*, Handle*), const std::string& json,
+  // add_body or add_joint of JSON text, create_body or create_joint of a
+  // struct; the handle made kept in `made`.
+  template <typename Handle, typename Argument>
+  void add(bitstep_status (*call)(bitstep_simulation*, Argument, Handle*), std::type_identity_t<Argument> argument,
            std::vector<Handle>& made) {
     const uint64_t before = mark();
     Handle added{};
-    const bitstep_status status = call(sim_, json.c_str(), &added);
+    const bitstep_status status = call(sim_, argument, &added);
     check_outcome(status, before);
     if (status == BITSTEP_OK) made.push_back(added);
   }
@@ -335,13 +337,13 @@ class Session {
   void one(Call call) {
     switch (call) {
       case Call::add_body_fragment:
-        add(bitstep_add_body, fragment(body_fragments, std::size(body_fragments)), bodies_);
+        add(bitstep_add_body, fragment(body_fragments, std::size(body_fragments)).c_str(), bodies_);
         break;
-      case Call::add_body_text: add(bitstep_add_body, raw_text(), bodies_); break;
+      case Call::add_body_text: add(bitstep_add_body, raw_text().c_str(), bodies_); break;
       case Call::add_joint_fragment:
-        add(bitstep_add_joint, fragment(joint_fragments, std::size(joint_fragments)), joints_);
+        add(bitstep_add_joint, fragment(joint_fragments, std::size(joint_fragments)).c_str(), joints_);
         break;
-      case Call::add_joint_text: add(bitstep_add_joint, raw_text(), joints_); break;
+      case Call::add_joint_text: add(bitstep_add_joint, raw_text().c_str(), joints_); break;
       case Call::remove_body: on_body(bitstep_remove_body); break;
       case Call::remove_joint: {
         const uint8_t how = in_.byte();
@@ -450,11 +452,7 @@ class Session {
       shapes[i].local = in_.byte() & 1 ? pose() : bitstep_pose{{0, 0, 0}, {int64_t{1} << 32, 0, 0, 0}};
     }
     def.shapes = in_.byte() < 0x10 ? nullptr : shapes;
-    const uint64_t before = mark();
-    bitstep_body made{};
-    const bitstep_status status = bitstep_create_body(sim_, &def, &made);
-    check_outcome(status, before);
-    if (status == BITSTEP_OK && bodies_.size() < 64) bodies_.push_back(made);
+    add(bitstep_create_body, &def, bodies_);
   }
 
   void create_joint_struct() {
@@ -473,11 +471,7 @@ class Session {
     if (in_.byte() & 1) def.motor_speed = in_.number(), def.motor_max = in_.number();
     if (in_.byte() & 1) def.break_impulse = in_.number(), def.friction_torque = in_.number();
     if (in_.byte() & 1) def.velocity_iterations = in_.u16(), def.position_iterations = in_.u16();
-    const uint64_t before = mark();
-    bitstep_joint made{};
-    const bitstep_status status = bitstep_create_joint(sim_, &def, &made);
-    check_outcome(status, before);
-    if (status == BITSTEP_OK && joints_.size() < 64) joints_.push_back(made);
+    add(bitstep_create_joint, &def, joints_);
   }
 
   // The getters, the batch reads and the events, into buffers of any size
