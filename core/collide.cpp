@@ -55,6 +55,7 @@ int rank(ShapeType type) {
     case ShapeType::box: return 1;
     case ShapeType::sphere: return 2;
     case ShapeType::capsule: return 3;
+    case ShapeType::hull: return 4;
   }
   return 0;
 }
@@ -68,12 +69,14 @@ int no_contact(const WorldShape&, const WorldShape&, Fixed, Manifold&) {
   return 0;
 }  // plane-plane: two static half-spaces
 
-constexpr int shape_count = 4;
+constexpr int shape_count = 5;
 constexpr PairRoutine pairs[shape_count][shape_count] = {
-    /* plane   */ {no_contact, nullptr, nullptr, nullptr},
-    /* box     */ {collide_box_plane, collide_box_box, nullptr, nullptr},
-    /* sphere  */ {collide_sphere_plane, collide_sphere_box, collide_sphere_sphere, nullptr},
-    /* capsule */ {collide_capsule_plane, collide_capsule_box, collide_capsule_sphere, collide_capsule_capsule},
+    /* plane   */ {no_contact, nullptr, nullptr, nullptr, nullptr},
+    /* box     */ {collide_box_plane, collide_box_box, nullptr, nullptr, nullptr},
+    /* sphere  */ {collide_sphere_plane, collide_sphere_box, collide_sphere_sphere, nullptr, nullptr},
+    /* capsule */
+    {collide_capsule_plane, collide_capsule_box, collide_capsule_sphere, collide_capsule_capsule, nullptr},
+    /* hull    */ {collide_hull_plane, collide_hull_box, collide_hull_sphere, collide_hull_capsule, collide_hull_hull},
 };
 
 // a has rank >= b's.

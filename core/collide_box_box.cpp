@@ -53,61 +53,24 @@ struct Candidate {
   FeatureId feature;
 };
 
-// Reduces `count` > 4 candidates to 4, deterministically (ties go to the
-// lower index): the deepest point; the one farthest from it in the
-// reference plane; then the one making the largest triangle with those two on
-// each side of the line through them. This keeps the deepest point (the one
-// that most needs pushing out) and spans the largest area (the most stable
-// support), as Jolt's PruneContactPoints and Box2D v3's reduction do.
-// Returns the chosen indices in increasing order.
+// Four of `count` > 4 candidates (choose_four), measured in the reference
+// face's plane (its two tangent axes).
 int reduce_to_four(const Candidate* c, int count, int tangent_1, int tangent_2, int* chosen) {
   auto plane_delta = [&](int from, int to) {
     return std::array<Fixed, 2>{get(c[to].p, tangent_1) - get(c[from].p, tangent_1),
                                 get(c[to].p, tangent_2) - get(c[from].p, tangent_2)};
   };
-  int deepest = 0;
-  for (int i = 1; i < count; ++i) {
-    if (c[i].depth > c[deepest].depth) deepest = i;
-  }
-  int farthest = -1;
-  Fixed farthest_sq{};
-  for (int i = 0; i < count; ++i) {
-    const auto e = plane_delta(deepest, i);
-    const Fixed d_sq = det2(e[0], e[0], -e[1], e[1]);
-    if (d_sq > farthest_sq) {
-      farthest_sq = d_sq;
-      farthest = i;
-    }
-  }
-  int n = 0;
-  chosen[n++] = deepest;
-  if (farthest < 0) return n;  // all points coincide
-  chosen[n++] = farthest;
-  const auto base = plane_delta(deepest, farthest);
-  int left = -1, right = -1;
-  Fixed left_area{}, right_area{};
-  for (int i = 0; i < count; ++i) {
-    const auto e = plane_delta(deepest, i);
-    const Fixed area = det2(base[0], e[1], base[1], e[0]);  // twice the signed triangle area
-    if (area > left_area) {
-      left_area = area;
-      left = i;
-    }
-    if (area < right_area) {
-      right_area = area;
-      right = i;
-    }
-  }
-  if (left >= 0) chosen[n++] = left;
-  if (right >= 0) chosen[n++] = right;
-  for (int i = 1; i < n; ++i) {  // insertion sort: output in polygon order
-    for (int j = i; j > 0 && chosen[j - 1] > chosen[j]; --j) {
-      const int swap = chosen[j];
-      chosen[j] = chosen[j - 1];
-      chosen[j - 1] = swap;
-    }
-  }
-  return n;
+  return choose_four(
+      count, [&](int i) { return c[i].depth; },
+      [&](int from, int to) {
+        const auto e = plane_delta(from, to);
+        return det2(e[0], e[0], -e[1], e[1]);
+      },
+      [&](int from, int to, int i) {
+        const auto base = plane_delta(from, to), e = plane_delta(from, i);
+        return det2(base[0], e[1], base[1], e[0]);  // twice the signed triangle area
+      },
+      chosen);
 }
 
 // Edge index for feature ids: 4 * axis + (bit 0: + on axis+1, bit 1: + on axis+2).

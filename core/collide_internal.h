@@ -1,7 +1,7 @@
 // The narrowphase's insides: one function per pair of shape types, and the
 // small geometric helpers they share. collide() (core/collide.cpp) swaps the
 // two shapes so that each pair is written once, in the order
-//   capsule > sphere > box > plane
+//   hull > capsule > sphere > box > plane
 // (the first argument has the higher rank), and flips the normal back.
 //
 // Every pair function fills `out` (normal from its first shape to its second,
@@ -91,6 +91,11 @@ int collide_capsule_sphere(const WorldShape& capsule, const WorldShape& sphere, 
                            Manifold& out);
 int collide_capsule_plane(const WorldShape& capsule, const WorldShape& plane, Fixed speculative_distance,
                           Manifold& out);
+int collide_hull_hull(const WorldShape& a, const WorldShape& b, Fixed speculative_distance, Manifold& out);
+int collide_hull_box(const WorldShape& hull, const WorldShape& box, Fixed speculative_distance, Manifold& out);
+int collide_hull_sphere(const WorldShape& hull, const WorldShape& sphere, Fixed speculative_distance, Manifold& out);
+int collide_hull_capsule(const WorldShape& hull, const WorldShape& capsule, Fixed speculative_distance, Manifold& out);
+int collide_hull_plane(const WorldShape& hull, const WorldShape& plane, Fixed speculative_distance, Manifold& out);
 
 // --- feature ids -----------------------------------------------------------------
 //
@@ -113,6 +118,14 @@ int collide_capsule_plane(const WorldShape& capsule, const WorldShape& plane, Fi
 // Capsule-box: 0 for one closest point, 1 for the point on a box edge when
 // the segment passes through the box, 16 + 2 * face + end for the segment
 // clipped to a face (end 0: towards -half_height).
+// Hull-hull and hull-box (collide_hull.cpp; the box as a polyhedron,
+// core/polyhedron.h): kind << 24 | p << 18 | q << 12 | r << 6 | s for a
+// face contact, kind 1 with the reference face on A, 2 on B, p and q the
+// reference and incident faces, r and s the clipped polygon's edges at the
+// point (0..31 the incident loop's edges, 32 + i the reference face's side
+// plane i); 3 << 24 | A's edge << 12 | B's edge for an edge contact.
+// Hull-plane: the hull's corner. Hull-capsule: 0 for one point, 16 + end
+// for the segment clipped to a face; hull-sphere: 0.
 // Sphere-*, capsule-sphere: 0 (one point; a sphere rolling across features
 // keeps its warm start).
 constexpr FeatureId box_feature(uint32_t kind, uint32_t p, uint32_t q, uint32_t r, uint32_t s) {
@@ -149,6 +162,58 @@ inline void add_point(Manifold& out, Vec3 position, Fixed depth, FeatureId featu
   p.position = position;
   p.depth = depth;
   p.feature = feature;
+}
+
+// Keeps four of `count` > 4 contact points (ties to the lower index): the
+// deepest; the one farthest from it; then the one making the largest
+// triangle with those two on each side of the line through them. This keeps
+// the deepest point (the one that most needs pushing out) and spans the
+// largest area (the most stable support), as Jolt's PruneContactPoints and
+// Box2D v3's reduction do. depth(i), distance_sq(i, j) and area(i, j, k)
+// (twice the signed area of the triangle i j k about the normal) are the
+// caller's geometry. Writes the chosen indices in increasing order.
+template <class Depth, class DistanceSq, class Area>
+int choose_four(int count, Depth depth, DistanceSq distance_sq, Area area, int* chosen) {
+  int deepest = 0;
+  for (int i = 1; i < count; ++i) {
+    if (depth(i) > depth(deepest)) deepest = i;
+  }
+  int farthest = -1;
+  Fixed farthest_sq{};
+  for (int i = 0; i < count; ++i) {
+    const Fixed d_sq = distance_sq(deepest, i);
+    if (d_sq > farthest_sq) {
+      farthest_sq = d_sq;
+      farthest = i;
+    }
+  }
+  int n = 0;
+  chosen[n++] = deepest;
+  if (farthest < 0) return n;  // all points coincide
+  chosen[n++] = farthest;
+  int left = -1, right = -1;
+  Fixed left_area{}, right_area{};
+  for (int i = 0; i < count; ++i) {
+    const Fixed a = area(deepest, farthest, i);
+    if (a > left_area) {
+      left_area = a;
+      left = i;
+    }
+    if (a < right_area) {
+      right_area = a;
+      right = i;
+    }
+  }
+  if (left >= 0) chosen[n++] = left;
+  if (right >= 0) chosen[n++] = right;
+  for (int i = 1; i < n; ++i) {  // insertion sort: output in polygon order
+    for (int j = i; j > 0 && chosen[j - 1] > chosen[j]; --j) {
+      const int swap = chosen[j];
+      chosen[j] = chosen[j - 1];
+      chosen[j - 1] = swap;
+    }
+  }
+  return n;
 }
 
 // clamp(numerator / denominator, 0, 1) for denominator > 0, dividing only when

@@ -146,9 +146,12 @@ void plan_shape_pairs(const std::vector<Body>& bodies, const std::vector<BodyPai
   cache.collided.resize(collided);
 }
 
+// The shapes whose rotation matrix the narrowphase reads (collide_internal.h axes_of).
+bool has_axes(ShapeType type) { return type == ShapeType::box || type == ShapeType::hull; }
+
 // Places the shapes of every body in a test that collide() will run
 // (NarrowphaseCache::placed), each once however many pairs its body is
-// in: a body's pose composed with the shape's, and a box's rotation.
+// in: a body's pose composed with the shape's, and a box's or hull's rotation.
 void place_shapes(const std::vector<Body>& bodies, NarrowphaseCache& cache) {
   constexpr size_t none = NarrowphaseCache::Test::none;
   cache.first_placed.assign(bodies.size(), none);
@@ -163,13 +166,13 @@ void place_shapes(const std::vector<Body>& bodies, NarrowphaseCache& cache) {
       for (const Shape& shape : body.shapes) {
         const Pose pose = compose(body.pose, shape.local);
         cache.placed.push_back({&shape, pose});
-        cache.placed_axes.push_back(shape.type == ShapeType::box ? rotation(pose.orientation) : Mat33{});
+        cache.placed_axes.push_back(has_axes(shape.type) ? rotation(pose.orientation) : Mat33{});
       }
     }
   }
   // The matrices are pointed at once their list stops growing.
   for (size_t k = 0; k < cache.placed.size(); ++k) {
-    if (cache.placed[k].shape->type == ShapeType::box) cache.placed[k].axes = &cache.placed_axes[k];
+    if (has_axes(cache.placed[k].shape->type)) cache.placed[k].axes = &cache.placed_axes[k];
   }
 }
 

@@ -27,6 +27,12 @@ bool heavier_than(Fixed density, Fixed v, Fixed max_mass) {
   return product_exceeds(density, v, max_mass);
 }
 
+// A shape's centre of mass in the body frame.
+Vec3 shape_center(const Shape& shape, const ShapeMass& part) {
+  if (part.center == Vec3{}) return shape.local.position;  // the primitives'
+  return shape.local.position + rotate(shape.local.orientation, part.center);
+}
+
 }  // namespace
 
 Fixed volume(const Shape& shape) {
@@ -72,18 +78,19 @@ MassProperties mass_properties(const std::vector<Shape>& shapes, Fixed density, 
       result.ok = false;
       return result;
     }
-    weighted_center += shape.local.position * m;
+    weighted_center += shape_center(shape, parts.back()) * m;
   }
   if (result.mass < range.min) {
     result.ok = false;
     return result;
   }
   result.center = weighted_center / result.mass;
-  // I = sum of R_i diag(principal_i) R_i^T + m_i (|d_i|^2 E - d_i d_i^T), d_i = c_i - c.
+  // I = sum of R_i I_i R_i^T + m_i (|d_i|^2 E - d_i d_i^T), d_i = c_i - c.
   for (size_t i = 0; i < shapes.size(); ++i) {
     const Mat33 r = rotation(shapes[i].local.orientation);
-    const Mat33 own = r * Mat33::diagonal(parts[i].principal) * transpose(r);
-    result.inertia = result.inertia + own + point_mass_tensor(parts[i].mass, shapes[i].local.position - result.center);
+    const Mat33 own = r * parts[i].inertia * transpose(r);
+    const Vec3 offset = shape_center(shapes[i], parts[i]) - result.center;
+    result.inertia = result.inertia + own + point_mass_tensor(parts[i].mass, offset);
   }
   return result;
 }

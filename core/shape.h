@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 
 #include "core/pose.h"
 
@@ -14,11 +15,14 @@ enum class ShapeType : uint8_t {
   box,      // half_extents along the local axes
   capsule,  // a segment from -half_height to +half_height along local y, swept by radius
   sphere,   // radius
+  hull,     // a convex hull of points (core/convex_hull.h), shared and immutable
 };
 
 // Each type's name in scenes, states and messages, by its value: the one
 // list (shape_types.h has each type's other facts).
-inline constexpr std::array<const char*, 4> shape_type_names = {"plane", "box", "capsule", "sphere"};
+inline constexpr std::array<const char*, 5> shape_type_names = {"plane", "box", "capsule", "sphere", "hull"};
+
+struct ConvexHull;
 
 struct Shape {
   ShapeType type = ShapeType::box;
@@ -26,6 +30,7 @@ struct Shape {
   Fixed radius;        // m, sphere and capsule
   Fixed half_height;   // m, capsule: half the length of its inner segment
   Pose local;          // in the body frame (whose origin is the centre of mass)
+  std::shared_ptr<const ConvexHull> hull = nullptr;  // hull: its points, faces and mass (never null for a hull)
 };
 
 struct Mat33;

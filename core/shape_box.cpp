@@ -13,7 +13,10 @@ ShapeMass BoxShape::mass(const Shape& shape, Fixed density) {
   const Fixed mass = density * volume(shape);
   const Vec3 h = shape.half_extents;
   const Fixed third = mass / 3.0_fx;
-  return {mass, {third * (h.y * h.y + h.z * h.z), third * (h.x * h.x + h.z * h.z), third * (h.x * h.x + h.y * h.y)}};
+  return {mass,
+          Mat33::diagonal(
+              {third * (h.y * h.y + h.z * h.z), third * (h.x * h.x + h.z * h.z), third * (h.x * h.x + h.y * h.y)}),
+          Vec3{}};
 }
 
 Result<void> BoxShape::check(const Shape& shape) {

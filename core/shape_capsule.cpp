@@ -32,7 +32,7 @@ ShapeMass CapsuleShape::mass(const Shape& shape, Fixed density) {
   const Fixed i_yy = cylinder * r2 / 2.0_fx + spheres * r2 * 2.0_fx / 5.0_fx;
   const Fixed i_xx = cylinder * (r2 / 4.0_fx + h * h / 3.0_fx) +
                      spheres * (r2 * 2.0_fx / 5.0_fx + h * h + h * r * 3.0_fx / 4.0_fx);
-  return {cylinder + spheres, {i_xx, i_yy, i_xx}};
+  return {cylinder + spheres, Mat33::diagonal({i_xx, i_yy, i_xx}), Vec3{}};
 }
 
 Result<void> CapsuleShape::check(const Shape& shape) {

@@ -5,6 +5,8 @@
 
 #include "core/collide.h"
 #include "core/collide_internal.h"
+#include "core/gjk.h"
+#include "core/shape_types.h"
 #include "fixed/mat33.h"
 
 namespace bitstep {
@@ -205,6 +207,29 @@ bool advance(const WorldShape& moving, const Ray& path, const WorldShape& target
   }
 }
 
+// Conservative advancement over GJK (core/gjk.h), for any two convex
+// shapes: the generic path a hull takes.
+bool advance_convex(const WorldShape& moving, const Ray& path, const WorldShape& target, ShapeEntry& entry) {
+  Fixed travelled;
+  for (int step = 0;; ++step) {
+    const WorldShape placed{moving.shape,
+                            {mul_add(path.direction, travelled, moving.pose.position), moving.pose.orientation}};
+    const ConvexDistance d = convex_distance(placed, target);  // its normal: from the moving shape to the target
+    if (step == 0 && (d.overlap || d.distance <= advance_tolerance)) {
+      entry = entry_at_start(moving, path);
+      return true;
+    }
+    if (d.overlap || d.distance <= advance_tolerance || step == max_advance_steps) {
+      entry = {travelled, d.point_b, -d.normal};
+      return true;
+    }
+    const Fixed closing = dot(path.direction, d.normal);
+    if (closing <= Fixed{}) return false;
+    travelled += path_ratio(d.distance, closing);
+    if (travelled > path.length) return false;
+  }
+}
+
 // Box against box: the separating axis test along the path.
 bool sweep_boxes(const WorldShape& moving, const Ray& path, const WorldShape& target, ShapeEntry& entry) {
   const Vec3 origin = target.pose.position;
@@ -267,7 +292,7 @@ bool sweep_boxes(const WorldShape& moving, const Ray& path, const WorldShape& ta
 bool onto_plane(const WorldShape& moving, const Ray& path, const WorldShape& plane, ShapeEntry& entry) {
   const Vec3 n = plane_normal(plane);
   const Core a = core_of(moving, Vec3{});
-  const Vec3 lowest = lowest_along(a, n);
+  const Vec3 lowest = a.type == ShapeType::hull ? HullShape::core_support(moving, -n) : lowest_along(a, n);
   RayEntry e;
   if (!ray_enters(plane, {lowest, path.direction, path.length}, a.radius, e)) return false;
   if (e.distance == Fixed{}) {
@@ -303,6 +328,7 @@ bool shape_enters(const WorldShape& moving, const Ray& path, const WorldShape& t
     return true;
   }
   if (kind == ShapeType::box && target_kind == ShapeType::box) return sweep_boxes(moving, path, target, entry);
+  if (kind == ShapeType::hull || target_kind == ShapeType::hull) return advance_convex(moving, path, target, entry);
   return advance(moving, path, target, entry);
 }
 

@@ -13,7 +13,7 @@ ShapeMass SphereShape::mass(const Shape& shape, Fixed density) {
   const Fixed mass = density * volume(shape);
   const Fixed r = shape.radius;
   const Fixed i = mass * 2.0_fx / 5.0_fx * r * r;
-  return {mass, {i, i, i}};
+  return {mass, Mat33::diagonal({i, i, i}), Vec3{}};
 }
 
 Result<void> SphereShape::check(const Shape& shape) {

@@ -36,17 +36,20 @@
 
 #include "core/aabb.h"
 #include "core/error.h"
-#include "core/settings.h"
 #include "core/ray_cast.h"
+#include "core/settings.h"
 #include "core/shape.h"
+#include "fixed/mat33.h"
 
 namespace bitstep {
 
-// A shape's solid mass and the diagonal of its inertia tensor in its own
-// axes, about its own centre (kg, kg m^2).
+// A shape's solid mass, its inertia tensor about its centre of mass in its
+// own axes (diagonal for the primitives), and that centre in its own frame
+// (the origin for the primitives; a hull's centroid) (kg, kg m^2, m).
 struct ShapeMass {
   Fixed mass;
-  Vec3 principal;
+  Mat33 inertia;
+  Vec3 center;
 };
 
 #define BITSTEP_SHAPE_TYPE_FUNCTIONS                                                        \
@@ -75,6 +78,10 @@ struct CapsuleShape {
 struct SphereShape {
   BITSTEP_SHAPE_TYPE_FUNCTIONS
 };
+// A convex hull (shape_hull.cpp, core/convex_hull.h).
+struct HullShape {
+  BITSTEP_SHAPE_TYPE_FUNCTIONS
+};
 
 #undef BITSTEP_SHAPE_TYPE_FUNCTIONS
 
@@ -86,6 +93,7 @@ decltype(auto) with_shape_type(ShapeType type, F&& f) {
     case ShapeType::box: return f(BoxShape{});
     case ShapeType::capsule: return f(CapsuleShape{});
     case ShapeType::sphere: return f(SphereShape{});
+    case ShapeType::hull: return f(HullShape{});
   }
   std::abort();  // never: World::create_body and the state reader take ShapeType's values only
 }
@@ -96,7 +104,8 @@ inline bool is_shape_type(ShapeType type) {
     case ShapeType::plane:
     case ShapeType::box:
     case ShapeType::capsule:
-    case ShapeType::sphere: return true;
+    case ShapeType::sphere:
+    case ShapeType::hull: return true;
   }
   return false;
 }

@@ -2,7 +2,7 @@
 
 #include <cstddef>
 
-#include "fixed/big_uint.h"
+#include "fixed/big_int.h"
 
 namespace bitstep {
 
@@ -37,36 +37,12 @@ namespace {
 
 using Big = BigUint<8>;
 
-// A signed big integer as sign and magnitude.
-struct SignedBig {
-  Big magnitude;
-  bool negative = false;
-};
-
-SignedBig product(int64_t a, int64_t b) {
-  return {Big::from_u64(bitstep::magnitude(a)) * Big::from_u64(bitstep::magnitude(b)), (a < 0) != (b < 0)};
-}
-
-SignedBig add(SignedBig a, SignedBig b) {
-  if (a.negative == b.negative) {
-    a.magnitude.add(b.magnitude);
-    return a;
-  }
-  if (a.magnitude.compare(b.magnitude) >= 0) {
-    a.magnitude.subtract(b.magnitude);
-    return a;
-  }
-  b.magnitude.subtract(a.magnitude);
-  return b;
-}
-
-SignedBig negate(SignedBig a) {
-  a.negative = !a.negative;
-  return a;
-}
+using SignedBig = BigInt<8>;
 
 // p q - r s exactly.
-SignedBig minor(int64_t p, int64_t q, int64_t r, int64_t s) { return add(product(p, q), negate(product(r, s))); }
+SignedBig minor(int64_t p, int64_t q, int64_t r, int64_t s) {
+  return SignedBig::from_i64(p) * SignedBig::from_i64(q) - SignedBig::from_i64(r) * SignedBig::from_i64(s);
+}
 
 // round(numerator 2^64 / denominator) as raw, ties to even, saturated.
 Fixed divide(SignedBig numerator, const SignedBig& denominator) {
@@ -108,10 +84,7 @@ Mat33 inverse(const Mat33& m) {
   }
   SignedBig determinant;
   for (int j = 0; j < 3; ++j) {
-    SignedBig term = cofactor[0][j];
-    term.magnitude = term.magnitude * Big::from_u64(magnitude(a[0][j]));
-    term.negative = term.negative != (a[0][j] < 0);
-    determinant = add(determinant, term);
+    determinant = determinant + cofactor[0][j] * SignedBig::from_i64(a[0][j]);
   }
   if (determinant.magnitude.is_zero()) {
     BITSTEP_FAULT_IF(true, "inverse", "singular matrix", 0, 0);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <unordered_map>
 
+#include "core/convex_hull.h"
 #include "fixed/splitmix64.h"
 #include "replay/scene_reader.h"
 
@@ -104,6 +105,7 @@ Fixed bounding_radius(const Shape& shape) {
     case ShapeType::box: return length(shape.half_extents);
     case ShapeType::sphere: return shape.radius;
     case ShapeType::capsule: return shape.radius + shape.half_height;
+    case ShapeType::hull: return shape.hull ? shape.hull->extent : Fixed{};  // (the generators make none)
     case ShapeType::plane: break;
   }
   return Fixed{};

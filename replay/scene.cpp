@@ -7,6 +7,7 @@
 #include <map>
 #include <set>
 
+#include "core/convex_hull.h"
 #include "core/envelope.h"
 #include "replay/generators.h"
 #include "replay/json_tree.h"
@@ -54,6 +55,24 @@ MaterialTable read_materials(const Node& node) {
   return table;
 }
 
+// A hull's points, [[x, y, z], ...] in the shape's frame, built into its
+// hull (core/convex_hull.h); the builder's refusal names the point.
+std::shared_ptr<const ConvexHull> read_hull(const Node& node) {
+  if (node.kind != Kind::array)
+    fail(node, std::string("expected an array of points, got ") + json::describe(node.kind));
+  check_count(node, max_hull_points, "points");
+  std::vector<Vec3> points;
+  points.reserve(node.children.size());
+  for (const Node& point : node.children) points.push_back(read_vec3(point));
+  Result<std::shared_ptr<const ConvexHull>> hull = build_convex_hull(points);
+  if (!hull.ok()) {
+    const std::string& place = hull.error().place;
+    const std::string within = place.rfind("points", 0) == 0 ? place.substr(6) : place;  // "points[7].y" -> "[7].y"
+    fail(node.path + within, hull.error().reason);
+  }
+  return std::move(hull.value());
+}
+
 Shape read_shape(const Node& node) {
   ObjectReader reader(node);
   Shape shape;
@@ -67,6 +86,7 @@ Shape read_shape(const Node& node) {
       shape.half_height = read_fixed(reader.require("half_height"));
       break;
     case ShapeType::plane: break;
+    case ShapeType::hull: shape.hull = read_hull(reader.require("points")); break;
   }
   read_optional(reader, "position", shape.local.position);
   if (const Node* orientation = reader.find("orientation")) shape.local.orientation = read_orientation(*orientation);

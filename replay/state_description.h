@@ -46,6 +46,7 @@
 #include "core/body.h"
 #include "core/car.h"
 #include "core/contact.h"
+#include "core/convex_hull.h"
 #include "core/envelope.h"
 #include "core/joint.h"
 #include "core/settings.h"
@@ -133,7 +134,7 @@ inline constexpr std::array<const char*, 8> setting_flags = {"baumgarte",  "warm
 inline constexpr int default_held_passes = Settings{}.held_velocity_iterations;
 inline constexpr std::array<const char*, 3> sleep_methods = {"off", "motion", "still"};
 inline constexpr std::array<const char*, 3> body_types = {"static", "kinematic", "dynamic"};
-inline constexpr std::array<const char*, 4> shape_types = shape_type_names;  // core/shape.h
+inline constexpr auto shape_types = shape_type_names;  // core/shape.h
 inline constexpr std::array<const char*, 5> joint_types = {"point", "max_distance", "hinge", "cone", "slider"};
 inline constexpr std::array<const char*, 2> joint_flags = {"limited", "motor"};
 
@@ -210,6 +211,24 @@ void describe_settings(V& v, S& s) {
   v.require([&] { return s.dt > Fixed{}; }, [] { return std::string("dt not positive"); });
 }
 
+// A hull's corners (its faces and mass are built from them again: the
+// builder gives the same hull for them, core/convex_hull.h).
+template <class V, class Sh>
+void describe_hull_points(V& v, Sh& shape) {
+  constexpr size_t point_bytes = 8 * 3;
+  const auto describe_point = [&](auto& point) { v.vec(nullptr, point); };
+  if constexpr (V::reading) {
+    std::vector<Vec3> points;
+    v.list("points", points, point_bytes, max_hull_vertices, nullptr, describe_point);
+    Result<std::shared_ptr<const ConvexHull>> hull = build_convex_hull(points);
+    const bool same = hull.ok() && hull.value()->vertices == points;
+    v.require([&] { return same; }, [] { return std::string("hull points that are not the corners of a hull"); });
+    if (same) shape.hull = std::move(hull.value());
+  } else {
+    v.list("points", shape.hull->vertices, point_bytes, max_hull_vertices, nullptr, describe_point);
+  }
+}
+
 template <class V, class Sh>
 void describe_shape(V& v, Sh& shape) {
   v.choice("type", shape.type, shape_types, 0);
@@ -218,6 +237,7 @@ void describe_shape(V& v, Sh& shape) {
   v.fixed("half_height", shape.half_height);
   v.vec("position", shape.local.position);
   v.quat("orientation", shape.local.orientation);
+  if (shape.type == ShapeType::hull) describe_hull_points(v, shape);
   v.require([&] { return state_checks::shape_inside(shape); },
             [] { return std::string("a shape outside the envelope (size, position or orientation)"); });
 }

@@ -49,7 +49,8 @@ inline std::string json_of(const Shape& s) {
     case ShapeType::capsule:
       return "{\"type\": \"capsule\", \"radius\": " + num(s.radius) + ", \"half_height\": " + num(s.half_height) + at +
              "}";
-    case ShapeType::plane: break;
+    case ShapeType::plane:
+    case ShapeType::hull: break;  // the corners are the primitives'
   }
   return "";
 }

@@ -12,11 +12,12 @@
 #include <vector>
 
 #include "core/collide.h"
+#include "core/convex_hull.h"
 #include "core/settings.h"
 #include "fixed/decimal.h"
 #include "fixed/mat33.h"
-#include "tests/test_support.h"
 #include "fixed/splitmix64.h"
+#include "tests/test_support.h"
 
 namespace bitstep {
 // Catch2 prints Fixed and Vec3 in failure messages.
@@ -610,12 +611,24 @@ TEST_CASE("random poses: unit normals, at most 4 points, deterministic, no overf
     return uniform(scales[s], scales[s + 1]);
   };
   auto shape = [&](bool allow_plane) {
-    const int type = random.below(allow_plane ? 4 : 3) + (allow_plane ? 0 : 1);
+    const int type = random.below(allow_plane ? 5 : 4) + (allow_plane ? 0 : 1);
     Shape s;
     s.type = static_cast<ShapeType>(type);
     s.half_extents = {size(), size(), size()};
     s.radius = size();
     s.half_height = random.below(8) == 0 ? Fixed{} : size();
+    if (s.type == ShapeType::hull) {  // a box's corners, pulled in at one end: a wedge-like hull
+      const Vec3 h = s.half_extents;
+      std::vector<Vec3> corners;
+      for (int k = 0; k < 8; ++k) {
+        const Fixed taper = (k & 2) != 0 ? 0.5_fx : 1_fx;
+        corners.push_back(
+            {(k & 1) != 0 ? h.x * taper : -h.x * taper, (k & 2) != 0 ? h.y : -h.y, (k & 4) != 0 ? h.z : -h.z});
+      }
+      auto built = build_convex_hull(corners);
+      if (!built.ok()) FAIL(built.error().message());
+      s.hull = built.value();
+    }
     return s;
   };
   auto orientation = [&] {
@@ -627,6 +640,7 @@ TEST_CASE("random poses: unit normals, at most 4 points, deterministic, no overf
       case ShapeType::sphere: return s.radius;
       case ShapeType::capsule: return s.half_height + s.radius;
       case ShapeType::plane: return Fixed{};
+      case ShapeType::hull: return s.hull->extent;
     }
     return Fixed{};
   };

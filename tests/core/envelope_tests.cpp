@@ -28,7 +28,8 @@ Fixed reach_below(const Shape& s) {
     case ShapeType::box: return s.half_extents.y - s.local.position.y;
     case ShapeType::sphere: return s.radius - s.local.position.y;
     case ShapeType::capsule: return s.half_height + s.radius - s.local.position.y;
-    case ShapeType::plane: break;
+    case ShapeType::plane:
+    case ShapeType::hull: break;
   }
   return Fixed{};
 }

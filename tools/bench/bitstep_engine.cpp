@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/convex_hull.h"
 #include "core/world.h"
 #include "replay/state_hash.h"
 #include "replay/thread_pool.h"
@@ -27,6 +28,15 @@ Shape to_shape(const ShapeSpec& spec) {
     case ShapeKind::box: shape.type = ShapeType::box; break;
     case ShapeKind::sphere: shape.type = ShapeType::sphere; break;
     case ShapeKind::capsule: shape.type = ShapeType::capsule; break;
+    case ShapeKind::hull: {
+      shape.type = ShapeType::hull;
+      std::vector<Vec3> points;
+      for (const V3& p : spec.points) points.push_back(fx(p));
+      auto hull = build_convex_hull(points);
+      if (!hull.ok()) throw std::runtime_error("a hull's points: " + hull.error().message());
+      shape.hull = hull.value();
+      break;
+    }
   }
   shape.half_extents = fx(spec.half_extents);
   shape.radius = fx(spec.radius);

@@ -65,7 +65,7 @@ btScalar combined_restitution(const btCollisionObject* a, const btCollisionObjec
 // compounds, which would give Bullet different bodies than bitstep's.)
 struct ShapeMass {
   double volume;
-  V3 inertia_per_kg;
+  V3 inertia_per_kg;  // the diagonal (a hull's whole tensor is its spec's)
 };
 
 ShapeMass shape_mass(const ShapeSpec& s) {
@@ -89,6 +89,7 @@ ShapeMass shape_mass(const ShapeSpec& s) {
       const double i_xx = cylinder * (r2 / 4 + h * h / 3) + spheres * (r2 * 0.4 + h * h + h * r * 0.75);
       return {v, {i_xx / v, i_yy / v, i_xx / v}};
     }
+    case ShapeKind::hull: return {s.volume, {0, 0, 0}};
   }
   return {0, {0, 0, 0}};
 }
@@ -99,8 +100,32 @@ std::unique_ptr<btCollisionShape> make_shape(const ShapeSpec& s) {
     case ShapeKind::sphere: return std::make_unique<btSphereShape>(bt(s.radius));
     // btCapsuleShape(radius, height): height is the inner segment, along local y.
     case ShapeKind::capsule: return std::make_unique<btCapsuleShape>(bt(s.radius), bt(2 * s.half_height));
+    // Bullet grows a hull by its collision margin: 1 mm here (its default,
+    // 4 cm, would make a 0.5 m die 8% larger).
+    case ShapeKind::hull: {
+      auto hull = std::make_unique<btConvexHullShape>();
+      for (const V3& p : s.points) hull->addPoint(bt(p), false);
+      hull->recalcLocalAabb();
+      hull->setMargin(btScalar(0.001));
+      return hull;
+    }
   }
   return nullptr;
+}
+
+// A shape's centre of mass in the body frame (a hull's centroid is off its origin).
+btVector3 shape_centre(const ShapeSpec& s) {
+  return bt(s.local_position) + btMatrix3x3(bt(s.local_orientation)) * bt(s.centroid);
+}
+
+// Its inertia per kg about that centre, in its own axes.
+btMatrix3x3 own_tensor(const ShapeSpec& s, const ShapeMass& sm) {
+  if (s.kind == ShapeKind::hull) {
+    const auto& i = s.inertia_per_kg;
+    return {bt(i[0][0]), bt(i[0][1]), bt(i[0][2]), bt(i[1][0]), bt(i[1][1]),
+            bt(i[1][2]), bt(i[2][0]), bt(i[2][1]), bt(i[2][2])};
+  }
+  return {bt(sm.inertia_per_kg[0]), 0, 0, 0, bt(sm.inertia_per_kg[1]), 0, 0, 0, bt(sm.inertia_per_kg[2])};
 }
 
 bool is_identity(const ShapeSpec& s) {
@@ -144,7 +169,7 @@ class BulletEngine final : public Engine {
     for (const ShapeSpec& s : spec.shapes) {
       const double v = shape_mass(s).volume;
       volume += v;
-      weighted_centre += bt(s.local_position) * bt(v);
+      weighted_centre += shape_centre(s) * bt(v);
     }
     btTransform principal = btTransform::getIdentity();
     btVector3 inertia(0, 0, 0);
@@ -156,12 +181,12 @@ class BulletEngine final : public Engine {
         const ShapeMass sm = shape_mass(s);
         const double m = spec.mass * sm.volume / volume;
         const btMatrix3x3 r(bt(s.local_orientation));
-        const btVector3 part = bt(sm.inertia_per_kg) * bt(m);
-        const btVector3 d = bt(s.local_position) - principal.getOrigin();
+        const btVector3 d = shape_centre(s) - principal.getOrigin();
         btMatrix3x3 shift(-d.x() * d.x(), -d.x() * d.y(), -d.x() * d.z(), -d.y() * d.x(), -d.y() * d.y(),
                           -d.y() * d.z(), -d.z() * d.x(), -d.z() * d.y(), -d.z() * d.z());
         for (int k = 0; k < 3; ++k) shift[k][k] += d.length2();
-        tensor = tensor + r.scaled(part) * r.transpose() + shift.scaled(btVector3(bt(m), bt(m), bt(m)));
+        tensor = tensor + r * own_tensor(s, sm).scaled(btVector3(bt(m), bt(m), bt(m))) * r.transpose() +
+                 shift.scaled(btVector3(bt(m), bt(m), bt(m)));
       }
       btMatrix3x3 rotation;
       tensor.diagonalize(rotation, btScalar(1e-5), 20);  // tensor = rotation diag rotation^T

@@ -15,7 +15,7 @@ namespace bitstep::bench {
 using V3 = std::array<double, 3>;
 using Q4 = std::array<double, 4>;  // w, x, y, z
 
-enum class ShapeKind { box, sphere, capsule };
+enum class ShapeKind { box, sphere, capsule, hull };
 
 struct ShapeSpec {
   ShapeKind kind = ShapeKind::box;
@@ -24,6 +24,12 @@ struct ShapeSpec {
   double half_height = 0.5;        // m, capsule: half its inner segment, along local y
   V3 local_position{0, 0, 0};      // in the body frame
   Q4 local_orientation{1, 0, 0, 0};
+  // A hull: its corners (the shape's frame), and the mass properties
+  // bitstep's builder found for them (each engine's body is then the same).
+  std::vector<V3> points{};
+  double volume = 0;                   // m^3
+  V3 centroid{0, 0, 0};                // m, the shape's frame
+  std::array<V3, 3> inertia_per_kg{};  // m^2, about the centroid, the shape's axes (full)
 };
 
 struct BodySpec {

@@ -11,6 +11,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/convex_hull.h"
+#include "fixed/splitmix64.h"
 #include "replay/generators.h"
 #include "tools/bench/scene_specs.h"
 
@@ -563,6 +565,69 @@ ExperimentResult thrown(const Variant& variant, const StepConfig& config, const 
   return run.result;
 }
 
+// A die: a cube of half size `a` with its corners cut to `b` (a hull of 24
+// corners: six octagons and eight triangles).
+std::vector<Vec3> die_points(Fixed a, Fixed b) {
+  std::vector<Vec3> points;
+  for (int k = 0; k < 8; ++k) {
+    const Fixed x = (k & 1) != 0 ? Fixed::one() : -Fixed::one(), y = (k & 2) != 0 ? Fixed::one() : -Fixed::one(),
+                z = (k & 4) != 0 ? Fixed::one() : -Fixed::one();
+    points.push_back({x * a, y * a, z * b});
+    points.push_back({x * a, y * b, z * a});
+    points.push_back({x * b, y * a, z * a});
+  }
+  return points;
+}
+
+// 20 dice (0.5 m, corners cut 5 cm) thrown spinning at the ground from a
+// seeded spread: after 6 s each should lie on a face. Error: the largest
+// tilt of a die from face-down (degrees); failed when one is still moving
+// or below the ground.
+ExperimentResult dice(const Variant& variant, const StepConfig& config, const RunOptions&) {
+  Run run(variant, config);
+  Scene scene;
+  Shape die;
+  die.type = ShapeType::hull;
+  die.hull = build_convex_hull(die_points(0.25_fx, 0.2_fx)).value();
+  SplitMix64 random{20261201};
+  const auto uniform = [&](int lo, int hi) {
+    return Fixed::from_int(lo + static_cast<int>(random.next() % static_cast<uint64_t>(hi - lo + 1)));
+  };
+  for (int i = 0; i < 20; ++i) {
+    SceneBody body;
+    body.def.pose.position = {Fixed::from_int(i % 5 - 2), Fixed::from_int(2 + i / 5), Fixed::from_int(i % 3 - 1)};
+    body.def.linear_velocity = {uniform(-3, 3), uniform(-2, 2), uniform(-3, 3)};
+    body.def.angular_velocity = {uniform(-8, 8), uniform(-8, 8), uniform(-8, 8)};
+    body.def.shapes.push_back(die);
+    scene.bodies.push_back(body);
+  }
+  std::vector<BodySpec> specs{ground()};
+  SceneSpecs dice_specs;
+  std::string reason;
+  if (!specs_from_scene(scene, "dice", dice_specs, reason)) throw std::runtime_error(reason);
+  specs.insert(specs.end(), dice_specs.bodies.begin(), dice_specs.bodies.end());
+  run.add_all(specs);
+  double deepest = 0;
+  const int n = run.steps_for(6.0);
+  for (int i = 1; i <= n; ++i) run.step();
+  double worst_tilt = 0, fastest = 0;
+  for (size_t b = 1; b < specs.size(); ++b) {
+    const BodyState s = run.engine->state(static_cast<int>(b));
+    const auto R = matrix(s.orientation);
+    // Face-down: one of the die's axes (the body's, its inertia being a
+    // multiple of the identity) along the vertical.
+    const double most_vertical = std::max({std::abs(R[1][0]), std::abs(R[1][1]), std::abs(R[1][2])});
+    worst_tilt = std::max(worst_tilt, std::acos(std::min(most_vertical, 1.0)) * 180 / 3.14159265358979);
+    deepest = std::max(deepest, 0.25 - s.position[1]);
+    fastest = std::max(fastest, std::hypot(s.linear_velocity[0], s.linear_velocity[1], s.linear_velocity[2]));
+  }
+  run.result.error = worst_tilt;
+  run.result.failed = fastest > 0.01 || deepest > 0.05;
+  run.metric("deepest_centre_below_rest_m", deepest);
+  run.metric("fastest_at_end_m_per_s", fastest);
+  return run.result;
+}
+
 // --- joints ------------------------------------------------------------------
 
 // A static 5 cm sphere at `at`: what joints hang from (joined bodies do not
@@ -700,11 +765,12 @@ ExperimentResult hinge_limit(const Variant& variant, const StepConfig& config, c
 const std::vector<Experiment>& experiments() {
   static const std::vector<Experiment> list = {
       {"free_fall", "accuracy", "abs(y - exact) after 2 s (m)", "free fall from rest, 2 s", true, free_fall},
-      {"projectile", "accuracy", "distance to the exact point after 2 s (m)", "launched at 20 m/s, 45 degrees, 2 s", true, projectile},
+      {"projectile", "accuracy", "distance to the exact point after 2 s (m)", "launched at 20 m/s, 45 degrees, 2 s",
+       true, projectile},
       {"incline_hold", "accuracy", "drift (m)", "cube on a 30 degree slope, mu 0.6 > tan 30: must hold 5 s", true,
        incline_hold},
-      {"incline_slide", "accuracy", "relative error of the distance slid", "30 degree slope, mu 0.4: a = g (sin - mu cos)",
-       true, incline_slide},
+      {"incline_slide", "accuracy", "relative error of the distance slid",
+       "30 degree slope, mu 0.4: a = g (sin - mu cos)", true, incline_slide},
       {"stop_distance", "accuracy", "relative error of the stop distance", "sliding at 5 m/s, mu 0.5: v0^2 / (2 mu g)",
        true, stop_distance},
       {"bounce", "accuracy", "relative error of the rebound height", "ball, restitution 0.5, from 1 m: rises e^2 h",
@@ -718,20 +784,20 @@ const std::vector<Experiment>& experiments() {
       {"pyramid20", "stability", "max drift (m)", "2D pyramid, 20 at the base (210 cubes)", false, pyramid20},
       {"jenga", "stability", "max drift (m)", "18 levels of 3 blocks", false, jenga},
       {"tables", "stability", "max drift (m)", "5 compound tables stacked", false, tables},
-      {"wall64", "stability", "max drift (m)", "running-bond wall, 64 at the base (2,080 bricks)", false,
-       wall64},
-      {"wall128", "stability", "max drift (m)", "running-bond wall, 128 at the base (8,256 bricks)", false,
-       wall128},
+      {"wall64", "stability", "max drift (m)", "running-bond wall, 64 at the base (2,080 bricks)", false, wall64},
+      {"wall128", "stability", "max drift (m)", "running-bond wall, 128 at the base (8,256 bricks)", false, wall128},
       {"light_under_heavy_100", "stability", "max penetration, last second (m)", "1 kg cube under 100 kg, 2 s", true,
        light_under_heavy_100},
-      {"light_under_heavy_1000", "stability", "max penetration, last second (m)", "1 kg cube under 1,000 kg, 2 s",
-       true, light_under_heavy_1000},
+      {"light_under_heavy_1000", "stability", "max penetration, last second (m)", "1 kg cube under 1,000 kg, 2 s", true,
+       light_under_heavy_1000},
       {"heavy_on_light", "stability", "max penetration (m)", "1,000 kg cube dropped 1 m on a 1 kg cube", true,
        heavy_on_light},
-      {"overlap_recovery", "stability", "time until every overlap < 1 cm (s)",
-       "5 cubes starting 25% inside each other", true, overlap_recovery},
+      {"overlap_recovery", "stability", "time until every overlap < 1 cm (s)", "5 cubes starting 25% inside each other",
+       true, overlap_recovery},
       {"thrown", "stability", "deepest corner below the ground (m)", "50 cubes thrown at the ground at 20 m/s", true,
        thrown},
+      {"dice", "hulls", "largest tilt from face-down after 6 s (degrees)",
+       "20 dice (hulls: 0.5 m cubes, corners cut 5 cm) thrown spinning at the ground", true, dice},
       {"heap_rest", "stability", "farthest move 30-40 s (m)", "heaps of 27 cubes dropped into a pen (quick: 2 of 24)",
        false, heap_rest},
       {"pendulum", "joints", "relative error of the period",

@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <variant>
 
+#include "core/convex_hull.h"
 #include "core/world.h"
 #include "replay/replay.h"
 #include "replay/scene.h"
@@ -20,6 +21,15 @@ ShapeSpec to_spec(const Shape& shape) {
     case ShapeType::sphere: spec.kind = ShapeKind::sphere; break;
     case ShapeType::capsule: spec.kind = ShapeKind::capsule; break;
     case ShapeType::plane: break;  // refused by the caller
+    case ShapeType::hull: {
+      spec.kind = ShapeKind::hull;
+      const ConvexHull& hull = *shape.hull;
+      for (const Vec3& v : hull.vertices) spec.points.push_back(to_double(v));
+      spec.volume = to_double(hull.volume);
+      spec.centroid = to_double(hull.centroid);
+      for (size_t k = 0; k < 3; ++k) spec.inertia_per_kg[k] = to_double(hull.unit_inertia.rows[k]);
+      break;
+    }
   }
   spec.half_extents = to_double(shape.half_extents);
   spec.radius = to_double(shape.radius);

@@ -46,10 +46,10 @@ std::string instructions_cell(double ours, double theirs) {
 // first second) and after 10 s, the playground after 10 s.
 const std::vector<SpeedCase>& speed_cases() {
   static const std::vector<SpeedCase> cases = {
-      {"stack20.json", "standing", 60, 240},  {"pyramid20.json", "standing", 60, 120},
-      {"wall64.json", "standing", 60, 20},    {"thrown.json", "impact", 0, 60},
-      {"thrown.json", "settled", 600, 120},   {"playground.json", "settled", 600, 60},
-      {"knocked20.json", "knocked over", 0, 120},
+      {"stack20.json", "standing", 60, 240},      {"pyramid20.json", "standing", 60, 120},
+      {"wall64.json", "standing", 60, 20},        {"thrown.json", "impact", 0, 60},
+      {"thrown.json", "settled", 600, 120},       {"playground.json", "settled", 600, 60},
+      {"knocked20.json", "knocked over", 0, 120}, {"dice.json", "tumbling", 0, 120},
   };
   return cases;
 }

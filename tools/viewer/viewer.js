@@ -43,6 +43,23 @@ const controls = new OrbitControls(camera, canvas);
 const sleepingColour = new THREE.Color(0x56657a);
 const staticColour = new THREE.Color(0x7d8590);
 const kinematicColour = new THREE.Color(0xd98c3a);
+
+// A hull's faces as flat-shaded triangles: each loop (counter-clockwise
+// seen from outside) fanned from its first corner.
+function hullGeometry(vertices, faces) {
+  const positions = [];
+  for (const loop of faces) {
+    for (let i = 1; i + 1 < loop.length; ++i) {
+      for (const k of [loop[0], loop[i], loop[i + 1]])
+        positions.push(vertices[3 * k], vertices[3 * k + 1], vertices[3 * k + 2]);
+    }
+  }
+  const geometry = new THREE.BufferGeometry();
+  geometry.setAttribute('position', new THREE.Float32BufferAttribute(positions, 3));
+  geometry.computeVertexNormals();
+  return geometry;
+}
+
 const awakeColour = (slot) => new THREE.Color().setHSL(((slot * 0.618034) % 1 + 1) % 1, 0.55, 0.55);
 
 class Drawing {
@@ -78,6 +95,8 @@ class Drawing {
       geometry = new THREE.SphereGeometry(shape.radius[0], 24, 16);
     } else if (shape.type === 'capsule') {
       geometry = new THREE.CapsuleGeometry(shape.radius[0], 2 * shape.half_height[0], 6, 16);
+    } else if (shape.type === 'hull') {
+      geometry = hullGeometry(shape.vertices, shape.faces);
     } else {
       geometry = new THREE.PlaneGeometry(400, 400).rotateX(-Math.PI / 2); // the plane's normal is its local +y
     }

@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "core/convex_hull.h"
 #include "core/query.h"
 #include "fixed/decimal.h"
 #include "replay/render_pose.h"
@@ -144,6 +145,25 @@ std::string floats_json(std::initializer_list<float> values) {
     out += (out.size() > 1 ? "," : "") + std::string(number);
   }
   return out + "]";
+}
+
+// A hull's corners ([x, y, z, x, y, z, ...], m, the shape's frame) and its
+// faces' loops of corner indices (counter-clockwise seen from outside), as
+// the keys that follow a shape's others.
+std::string hull_json(const ConvexHull& hull) {
+  std::string vertices, faces;
+  for (const Vec3& v : hull.vertices) {
+    vertices += (vertices.empty() ? "" : ",") + floats_json({to_float(v.x), to_float(v.y), to_float(v.z)}).substr(1);
+    vertices.pop_back();
+  }
+  for (const ConvexHull::Face& face : hull.faces) {
+    std::string loop;
+    for (uint16_t i = 0; i < face.count; ++i) {
+      loop += (i == 0 ? "" : ",") + std::to_string(hull.face_vertices[face.first + i]);
+    }
+    faces += (faces.empty() ? "[" : ",[") + loop + "]";
+  }
+  return ",\"vertices\":[" + vertices + "],\"faces\":[" + faces + "]";
 }
 
 const char* shape_type(ShapeType type) { return shape_type_names[static_cast<size_t>(type)]; }
@@ -283,7 +303,7 @@ VIEWER_EXPORT const float* bv_poses(int v) {
 // Every live body's name, type and shapes (in the body frame, whose origin
 // is the centre of mass) as JSON: [{"slot", "generation", "name", "type",
 // "shapes": [{"type", "half_extents", "radius", "half_height", "position",
-// "orientation"}]}].
+// "orientation", and a hull's "vertices" and "faces"}]}].
 VIEWER_EXPORT const char* bv_shapes(int v) {
   Player* p = player(v);
   if (p == nullptr || !p->loaded) return "[]";
@@ -301,11 +321,12 @@ VIEWER_EXPORT const char* bv_shapes(int v) {
       const RenderPose local = render_pose(s.local);
       out += std::string(i == 0 ? "" : ",") + "{\"type\":\"" + shape_type(s.type) + "\",\"half_extents\":" +
              floats_json({to_float(s.half_extents.x), to_float(s.half_extents.y), to_float(s.half_extents.z)}) +
-             ",\"radius\":" + floats_json({to_float(s.radius)}) + ",\"half_height\":" +
-             floats_json({to_float(s.half_height)}) + ",\"position\":" +
-             floats_json({local.position[0], local.position[1], local.position[2]}) + ",\"orientation\":" +
+             ",\"radius\":" + floats_json({to_float(s.radius)}) +
+             ",\"half_height\":" + floats_json({to_float(s.half_height)}) +
+             ",\"position\":" + floats_json({local.position[0], local.position[1], local.position[2]}) +
+             ",\"orientation\":" +
              floats_json({local.orientation[0], local.orientation[1], local.orientation[2], local.orientation[3]}) +
-             "}";
+             (s.type == ShapeType::hull ? hull_json(*s.hull) : std::string()) + "}";
     }
     out += "]}";
   }
