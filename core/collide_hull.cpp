@@ -43,13 +43,15 @@ inline constexpr int clip_capacity = 2 * max_hull_vertices + 2;
 // from 0, the reference face's side planes from this.
 inline constexpr uint32_t side_plane_tag = 32;
 
-// A polyhedron's corners and face planes in A's frame (x -> R x + t).
+// A polyhedron's corners, face planes and edge directions in A's frame
+// (x -> R x + t).
 struct Framed {
   Polyhedron shape;
   size_t vertex_count = 0, face_count = 0;
   std::array<Vec3, max_hull_vertices> vertices;
   std::array<Vec3, max_faces> normals;
   std::array<Fixed, max_faces> offsets;
+  std::array<Vec3, max_edges> directions;
   Vec3 inside;
 };
 
@@ -63,6 +65,7 @@ void place(const Polyhedron& shape, const Mat33& r, Vec3 t, Framed& out) {
     out.normals[f] = r * face.normal;
     out.offsets[f] = face.offset + dot(out.normals[f], t);  // n' . (R x + t) = n . x + n' . t
   }
+  for (size_t e = 0; e < shape.edges.size(); ++e) out.directions[e] = r * shape.edge_directions[e];
   out.inside = r * shape.inside + t;
 }
 
@@ -91,36 +94,40 @@ struct EdgeQuery {
   Vec3 normal;  // unit, away from A
 };
 
-bool opposite_signs(Fixed x, Fixed y) { return (x < Fixed{} && y > Fixed{}) || (x > Fixed{} && y < Fixed{}); }
-bool same_signs(Fixed x, Fixed y) { return (x < Fixed{} && y < Fixed{}) || (x > Fixed{} && y > Fixed{}); }
+// -1, 0 or +1.
+int sign(Fixed x) { return x < Fixed{} ? -1 : (x > Fixed{} ? 1 : 0); }
 
-// Whether the arcs a-b and c-d (face normals across an edge of A, and the
-// negated ones across an edge of B) cross on the unit sphere: the edges
-// then make a face of the Minkowski difference. b_x_a = b x a, d_x_c = d x c.
-bool minkowski_face(Vec3 a, Vec3 b, Vec3 b_x_a, Vec3 c, Vec3 d, Vec3 d_x_c) {
-  const Fixed cba = dot(c, b_x_a), dba = dot(d, b_x_a), adc = dot(a, d_x_c), bdc = dot(b, d_x_c);
-  return opposite_signs(cba, dba) && opposite_signs(adc, bdc) && same_signs(cba, bdc);
-}
-
+// The pairs of A's and B's edges whose Gauss-map arcs cross: the arc of an
+// edge joins the normals of its two faces, B's negated (the Minkowski
+// difference A - B). Arcs a-b and c-d cross (Gregorius) when c and d lie
+// on opposite sides of the plane of a-b, a and b on opposite sides of the
+// plane of c-d, and c and b on the same sides:
+//   (c . b_x_a) (d . b_x_a) < 0,  (a . d_x_c) (b . d_x_c) < 0,  (c . b_x_a) (b . d_x_c) > 0.
+// Only signs count, so the planes' normals b x a and d x c may be any
+// multiples of one sign: the edges' directions (with counter-clockwise
+// loops, twin x face points from head to tail on both shapes, and the two
+// flips cancel). The signs of B's face normals along A's edge are found
+// once per A edge, for every B edge that shares the face.
+//
+// Of those pairs, the axis along which B lies farthest from A: across the
+// two edges, turned away from A's inside.
 EdgeQuery query_edges(const Framed& a, const Framed& b) {
   EdgeQuery best;
-  std::array<Vec3, max_edges> b_arcs, b_directions;
-  for (size_t j = 0; j < b.shape.edges.size(); ++j) {
-    const ConvexHull::Edge& e = b.shape.edges[j];
-    b_arcs[j] = cross(-b.normals[e.twin_face], -b.normals[e.face]);  // (-d) x (-c) with c, d negated
-    b_directions[j] = normalize(b.vertices[e.head] - b.vertices[e.tail]);
-  }
+  std::array<int, max_faces> b_side;  // sign(n_B . direction_A), by B's face
   for (size_t i = 0; i < a.shape.edges.size(); ++i) {
     const ConvexHull::Edge& ea = a.shape.edges[i];
-    const Vec3 na = a.normals[ea.face], nb = a.normals[ea.twin_face];
-    const Vec3 a_arc = cross(nb, na);
     const Vec3 tail_a = a.vertices[ea.tail];
-    const Vec3 direction_a = normalize(a.vertices[ea.head] - tail_a);
+    const Vec3 direction_a = a.directions[i];
+    for (size_t g = 0; g < b.face_count; ++g) b_side[g] = sign(dot(b.normals[g], direction_a));
     for (size_t j = 0; j < b.shape.edges.size(); ++j) {
       const ConvexHull::Edge& eb = b.shape.edges[j];
-      const Vec3 nc = -b.normals[eb.face], nd = -b.normals[eb.twin_face];
-      if (!minkowski_face(na, nb, a_arc, nc, nd, b_arcs[j])) continue;
-      const Vec3 axis = cross(direction_a, b_directions[j]);
+      // c . b_x_a = -b_side[face], d . b_x_a = -b_side[twin] (c, d negated).
+      const int cba = -b_side[eb.face], dba = -b_side[eb.twin_face];
+      if (cba * dba >= 0) continue;
+      const Vec3 direction_b = b.directions[j];
+      const int adc = sign(dot(a.normals[ea.face], direction_b)), bdc = sign(dot(a.normals[ea.twin_face], direction_b));
+      if (adc * bdc >= 0 || cba * bdc <= 0) continue;
+      const Vec3 axis = cross(direction_a, direction_b);
       if (length_sq(axis) < parallel_cross_sq_tolerance) continue;  // parallel edges: a face axis decides
       Vec3 normal = normalize(axis);
       if (dot(normal, tail_a - a.inside) < Fixed{}) normal = -normal;
@@ -369,7 +376,7 @@ EdgeQuery segment_edge_axis(const ConvexHull& hull, Vec3 from, Vec3 to) {
     const ConvexHull::Edge& edge = hull.edges[i];
     const Fixed side_a = dot(hull.faces[edge.face].normal, direction);
     const Fixed side_b = dot(hull.faces[edge.twin_face].normal, direction);
-    if (!opposite_signs(side_a, side_b)) continue;
+    if (sign(side_a) * sign(side_b) >= 0) continue;
     const Vec3 tail = hull.vertices[edge.tail];
     const Vec3 axis = cross(direction, normalize(hull.vertices[edge.head] - tail));
     if (length_sq(axis) < parallel_cross_sq_tolerance) continue;

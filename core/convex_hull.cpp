@@ -607,6 +607,9 @@ bool add_edges(ConvexHull& hull, const std::vector<Loop>& loops) {
     hull.edges.push_back({static_cast<uint16_t>(edge.first), static_cast<uint16_t>(edge.second),
                           static_cast<uint16_t>(f), static_cast<uint16_t>(twin->second)});
   }
+  for (const ConvexHull::Edge& e : hull.edges) {
+    hull.edge_directions.push_back(normalize(hull.vertices[e.head] - hull.vertices[e.tail]));
+  }
   return true;  // std::map iterates (tail, head) in order
 }
 

@@ -62,6 +62,7 @@ struct ConvexHull {
   std::vector<Face> faces;
   std::vector<uint16_t> face_vertices;
   std::vector<Edge> edges;
+  std::vector<Vec3> edge_directions;  // unit, tail to head, by edge
 
   Fixed volume;        // m^3
   Vec3 centroid;       // m, shape frame

@@ -44,6 +44,19 @@ constexpr std::array<ConvexHull::Edge, 12> make_box_edges() {
 
 constexpr std::array<ConvexHull::Edge, 12> box_edges = make_box_edges();
 
+// Each edge joins corners that differ in one bit, set in its head (tail <
+// head): it runs along + that axis.
+constexpr std::array<Vec3, 12> make_box_edge_directions() {
+  std::array<Vec3, 12> directions{};
+  for (size_t i = 0; i < box_edges.size(); ++i) {
+    const int bits = box_edges[i].tail ^ box_edges[i].head;
+    directions[i] = collide_detail::unit_axis(bits == 1 ? 0 : bits == 2 ? 1 : 2);
+  }
+  return directions;
+}
+
+constexpr std::array<Vec3, 12> box_edge_directions = make_box_edge_directions();
+
 }  // namespace
 
 BoxPolyhedron::BoxPolyhedron(Vec3 h) {
@@ -59,6 +72,6 @@ BoxPolyhedron::BoxPolyhedron(Vec3 h) {
   }
 }
 
-Polyhedron BoxPolyhedron::view() const { return {vertices, faces, box_loops, box_edges, Vec3{}}; }
+Polyhedron BoxPolyhedron::view() const { return {vertices, faces, box_loops, box_edges, box_edge_directions, Vec3{}}; }
 
 }  // namespace bitstep

@@ -19,11 +19,12 @@ struct Polyhedron {
   std::span<const ConvexHull::Face> faces;
   std::span<const uint16_t> face_vertices;
   std::span<const ConvexHull::Edge> edges;
+  std::span<const Vec3> edge_directions;  // unit, tail to head
   Vec3 inside;  // a point inside it (a hull's centroid, a box's centre)
 };
 
 inline Polyhedron polyhedron_of(const ConvexHull& hull) {
-  return {hull.vertices, hull.faces, hull.face_vertices, hull.edges, hull.centroid};
+  return {hull.vertices, hull.faces, hull.face_vertices, hull.edges, hull.edge_directions, hull.centroid};
 }
 
 // A box of half extents h as a polyhedron; keep it alive while its view is used.
