@@ -110,7 +110,8 @@ typedef enum {
   BITSTEP_SHAPE_PLANE = 0, /* static bodies only: local +y is the outward normal, the surface through the origin */
   BITSTEP_SHAPE_BOX = 1,
   BITSTEP_SHAPE_CAPSULE = 2, /* a segment from -half_height to +half_height along local y, swept by radius */
-  BITSTEP_SHAPE_SPHERE = 3
+  BITSTEP_SHAPE_SPHERE = 3,
+  BITSTEP_SHAPE_HULL = 4 /* the convex hull of points: 4..1024, within 50 m of its origin, at most 32 corners */
 } bitstep_shape_type;
 typedef struct {
   int32_t type;              /* bitstep_shape_type */
@@ -118,6 +119,11 @@ typedef struct {
   bitstep_fixed radius;      /* sphere, capsule, m */
   bitstep_fixed half_height; /* capsule, m */
   bitstep_pose local;        /* in the body's frame */
+  /* hull: its points in the shape's frame (m), read while the call runs;
+   * bitstep_get_shape gives NULL and the count of its corners
+   * (bitstep_get_hull_points reads them) */
+  const bitstep_vec3* points;
+  uint32_t point_count;
 } bitstep_shape;
 typedef struct {
   bitstep_fixed static_friction, dynamic_friction; /* >= 0 */
@@ -184,6 +190,11 @@ bitstep_status bitstep_get_body_name(bitstep_simulation* sim, bitstep_body body,
                                      size_t* size);
 bitstep_status bitstep_get_shape_count(bitstep_simulation* sim, bitstep_body body, uint32_t* out);
 bitstep_status bitstep_get_shape(bitstep_simulation* sim, bitstep_body body, uint32_t index, bitstep_shape* out);
+/* A hull shape's corners (the shape's frame, in the builder's order):
+ * *count of them; BUFFER_TOO_SMALL, nothing written, when capacity is less
+ * (a NULL buffer of capacity 0 asks); INVALID for a shape of another type. */
+bitstep_status bitstep_get_hull_points(bitstep_simulation* sim, bitstep_body body, uint32_t index, bitstep_vec3* out,
+                                       size_t capacity, size_t* count);
 
 /* Inputs for the next step, bounded as a replay's inputs are (so a match
  * played through this API can be recorded and replayed):

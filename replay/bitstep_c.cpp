@@ -7,7 +7,9 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
+#include "core/convex_hull.h"
 #include "fixed/decimal.h"
 #include "replay/bitstep.h"
 #include "replay/bitstep_handle.h"
@@ -119,6 +121,25 @@ bitstep::Result<bitstep::Material> material_of(const bitstep_material& m) {
                            fixed_of(m.rolling_resistance)};
 }
 
+// A hull shape's points built into its hull; the builder's refusal placed
+// under the shape ("shapes[2].points[7].y: outside -50..50 m").
+bitstep::Result<std::shared_ptr<const bitstep::ConvexHull>> hull_of(const bitstep_shape& cs, const std::string& place) {
+  if (cs.points == nullptr && cs.point_count > 0) {
+    return bitstep::Error{place + ".points", "NULL with a point_count of " + std::to_string(cs.point_count)};
+  }
+  if (cs.point_count > bitstep::max_hull_points) {
+    return bitstep::Error{place + ".points", std::to_string(cs.point_count) + " points: a hull needs 4 to 1024"};
+  }
+  std::vector<Vec3> points;
+  for (uint32_t k = 0; k < cs.point_count; ++k) points.push_back(vec3_of(cs.points[k]));
+  auto hull = bitstep::build_convex_hull(points);
+  if (!hull.ok()) {
+    const bitstep::Error& e = hull.error();
+    return bitstep::Error{place + (e.place.empty() ? ".points" : "." + e.place), e.reason};
+  }
+  return std::move(hull.value());
+}
+
 // The world's definition of a C body, or the field that makes no sense as
 // one (the world checks the rest: core/envelope.h).
 bitstep::Result<bitstep::BodyDef> body_def_of(const bitstep_body_def& c) {
@@ -150,7 +171,7 @@ bitstep::Result<bitstep::BodyDef> body_def_of(const bitstep_body_def& c) {
   for (uint32_t i = 0; i < c.shape_count; ++i) {
     const bitstep_shape& cs = c.shapes[i];
     const std::string place = "shapes[" + std::to_string(i) + "]";
-    if (cs.type < BITSTEP_SHAPE_PLANE || cs.type > BITSTEP_SHAPE_SPHERE) {
+    if (cs.type < BITSTEP_SHAPE_PLANE || cs.type > BITSTEP_SHAPE_HULL) {
       return bitstep::Error{place + ".type", "not a bitstep_shape_type"};
     }
     bitstep::Shape shape;
@@ -162,6 +183,11 @@ bitstep::Result<bitstep::BodyDef> body_def_of(const bitstep_body_def& c) {
     const auto local = unit_quat(cs.local.orientation, place + ".local.orientation");
     if (!local.ok()) return local.error();
     shape.local.orientation = local.value();
+    if (shape.type == bitstep::ShapeType::hull) {
+      auto hull = hull_of(cs, place);
+      if (!hull.ok()) return hull.error();
+      shape.hull = std::move(hull.value());
+    }
     def.shapes.push_back(shape);
   }
   return def;
@@ -196,6 +222,7 @@ bitstep::Result<bitstep::JointDef> joint_def_of(const bitstep_joint_def& c) {
 
 bitstep_shape shape_to_c(const bitstep::Shape& shape, Vec3 frame_offset) {
   bitstep_shape c{};
+  if (shape.hull) c.point_count = static_cast<uint32_t>(shape.hull->vertices.size());
   c.type = static_cast<int32_t>(shape.type);
   c.half_extents = vec3_to_c(shape.half_extents);
   c.radius = shape.radius.raw();
@@ -609,6 +636,29 @@ bitstep_status bitstep_get_shape(bitstep_simulation* sim, bitstep_body body, uin
   });
 }
 
+bitstep_status bitstep_get_hull_points(bitstep_simulation* sim, bitstep_body body, uint32_t index, bitstep_vec3* out,
+                                       size_t capacity, size_t* count) {
+  return guarded(sim, [&] {
+    if (count == nullptr) return null_argument(sim, "get_hull_points", "count");
+    if (out == nullptr && capacity > 0) return null_argument(sim, "get_hull_points", "out (of capacity > 0)");
+    const bitstep::Body* live = live_body(sim, body);
+    if (live == nullptr) return no_body(sim, body);
+    const bitstep::Body& b = *live;
+    if (index >= b.shapes.size()) {
+      return fail(sim, BITSTEP_NOT_FOUND,
+                  "get_hull_points: shape " + std::to_string(index) + " of " + std::to_string(b.shapes.size()));
+    }
+    const bitstep::Shape& shape = b.shapes[index];
+    if (!shape.hull)
+      return fail(sim, BITSTEP_INVALID, "get_hull_points: shape " + std::to_string(index) + " is no hull");
+    const size_t n = shape.hull->vertices.size();
+    *count = n;
+    if (const bitstep_status status = fits(sim, "get_hull_points", n, capacity); status != BITSTEP_OK) return status;
+    for (size_t k = 0; k < n; ++k) out[k] = vec3_to_c(shape.hull->vertices[k]);
+    return BITSTEP_OK;
+  });
+}
+
 bitstep_status bitstep_get_poses(bitstep_simulation* sim, bitstep_body_pose* out, size_t capacity, size_t* count) {
   return guarded(sim, [&] {
     return every_live_body(sim, "get_poses", out, capacity, count, [&](bitstep::BodyId id, bitstep_body_pose& o) {
@@ -670,6 +720,7 @@ static_assert(BITSTEP_SHAPE_PLANE == static_cast<int>(bitstep::ShapeType::plane)
 static_assert(BITSTEP_SHAPE_BOX == static_cast<int>(bitstep::ShapeType::box));
 static_assert(BITSTEP_SHAPE_CAPSULE == static_cast<int>(bitstep::ShapeType::capsule));
 static_assert(BITSTEP_SHAPE_SPHERE == static_cast<int>(bitstep::ShapeType::sphere));
+static_assert(BITSTEP_SHAPE_HULL == static_cast<int>(bitstep::ShapeType::hull));
 static_assert(BITSTEP_JOINT_MAX_DISTANCE == static_cast<int>(bitstep::JointType::max_distance));
 static_assert(BITSTEP_JOINT_HINGE == static_cast<int>(bitstep::JointType::hinge));
 static_assert(BITSTEP_JOINT_CONE == static_cast<int>(bitstep::JointType::cone));

@@ -31,19 +31,6 @@ Quat random_orientation(SplitMix64& random) {
   return normalize(Quat{component(), component(), component(), component()});
 }
 
-// The hull of a box's eight corners (the builder snaps them to its grid:
-// half extents on the 2^-20 m grid stay exact).
-Shape box_hull(Vec3 h) {
-  std::vector<Vec3> corners;
-  for (int i = 0; i < 8; ++i) {
-    corners.push_back({(i & 1) != 0 ? h.x : -h.x, (i & 2) != 0 ? h.y : -h.y, (i & 4) != 0 ? h.z : -h.z});
-  }
-  Shape s;
-  s.type = ShapeType::hull;
-  s.hull = build_convex_hull(corners).value();
-  return s;
-}
-
 // Half extents on the hull's grid, 0.1..1.5 m.
 Vec3 random_half_extents(SplitMix64& random) {
   const auto size = [&] { return Fixed::from_raw(fixed_of(uniform(random, 0.1, 1.5)).raw() & ~int64_t{0xFFF}); };
@@ -109,7 +96,7 @@ TEST_CASE("Hull contacts: a box made as a hull meets boxes as the box-box routin
   for (int round = 0; round < 600; ++round) {
     const Vec3 ha = random_half_extents(random), hb = random_half_extents(random);
     const Shape box_a{ShapeType::box, ha, {}, {}, {}}, box_b{ShapeType::box, hb, {}, {}, {}};
-    const Shape hull_a = box_hull(ha), hull_b = box_hull(hb);
+    const Shape hull_a = test::box_hull(ha), hull_b = test::box_hull(hb);
     const Vec3 base = round % 3 == 0 ? Vec3{fixed_of(9000.5), fixed_of(-300.25), fixed_of(-4000)} : Vec3{};
     const Pose pose_a{base, random_orientation(random)};
     // B placed about as far as the two reach: touching, overlapping or apart.
@@ -151,7 +138,7 @@ TEST_CASE("Hull contacts: planes, spheres and capsules meet a box-shaped hull as
   for (int round = 0; round < 400; ++round) {
     const Vec3 h = random_half_extents(random);
     const Shape box{ShapeType::box, h, {}, {}, {}};
-    const Shape hull = box_hull(h);
+    const Shape hull = test::box_hull(h);
     const Pose pose{{fixed_of(uniform(random, -2, 2)), fixed_of(uniform(random, -0.5, 1.5)), Fixed{}},
                     random_orientation(random)};
     compare({&hull, pose}, {&box, pose}, {&ground, Pose{}}, plane);

@@ -1,9 +1,8 @@
 // Scenes that start in motion: a body released above a support
 // falls and rests on it, not above it, in both pipelines, sleep on or off;
 // a fast body meets a thin wall and neither stops short of it nor passes.
-#include <catch2/catch.hpp>
-
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 
 #include "core/manifold.h"
@@ -73,7 +72,7 @@ TEST_CASE("a box released above a support falls and rests on it, not above it", 
 // 500 m/s let it pass through.
 TEST_CASE("a fast small body meets a thin wall: it neither passes through nor stops short", "[motion]") {
   for (Pipeline pipeline : {Pipeline::standard, Pipeline::guendelman}) {
-    for (ShapeType type : {ShapeType::box, ShapeType::sphere, ShapeType::capsule}) {
+    for (ShapeType type : {ShapeType::box, ShapeType::sphere, ShapeType::capsule, ShapeType::hull}) {
       for (Fixed speed : {20.0_fx, 100.0_fx, 500.0_fx}) {
         Settings settings = settings_for(pipeline, SleepMethod::off);
         settings.gravity = Vec3{};
@@ -81,10 +80,14 @@ TEST_CASE("a fast small body meets a thin wall: it neither passes through nor st
         BodyDef wall;
         wall.type = BodyType::static_body;
         wall.pose.position = {10.0_fx, Fixed{}, Fixed{}};
-        wall.shapes.push_back({ShapeType::box, {0.01_fx, 5.0_fx, 5.0_fx}, {}, {}, {}});
+        // The hull meets a hull wall: the generic path on both sides.
+        const Vec3 wall_half{0.01_fx, 5.0_fx, 5.0_fx};
+        wall.shapes.push_back(type == ShapeType::hull ? test::box_hull(wall_half)
+                                                      : Shape{ShapeType::box, wall_half, {}, {}, {}});
         t.world.create_body(wall);
         BodyDef body;
-        body.shapes.push_back({type, {0.01_fx, 0.01_fx, 0.01_fx}, 0.01_fx, 0.01_fx, {}});
+        const Vec3 half{0.01_fx, 0.01_fx, 0.01_fx};
+        body.shapes.push_back(type == ShapeType::hull ? test::box_hull(half) : Shape{type, half, 0.01_fx, 0.01_fx, {}});
         body.mass = 0.1_fx;
         body.linear_velocity = {speed, Fixed{}, Fixed{}};
         const BodyId id = t.world.create_body(body).value();

@@ -2,6 +2,9 @@
 // do too.
 #pragma once
 
+#include <vector>
+
+#include "core/convex_hull.h"
 #include "core/world.h"
 
 namespace bitstep::test {
@@ -9,6 +12,19 @@ namespace bitstep::test {
 // A rotation of `degrees` about the unit vector `axis`.
 inline Quat about_degrees(Vec3 axis, Fixed degrees) {
   return from_axis_angle(axis, degrees * "3.14159265358979/180"_fx);
+}
+
+// A box of half extents h made as a hull of its eight corners (the
+// generic path's shape, to set beside the box's own routines).
+inline Shape box_hull(Vec3 h) {
+  std::vector<Vec3> corners;
+  for (int k = 0; k < 8; ++k) {
+    corners.push_back({(k & 1) != 0 ? h.x : -h.x, (k & 2) != 0 ? h.y : -h.y, (k & 4) != 0 ? h.z : -h.z});
+  }
+  Shape s;
+  s.type = ShapeType::hull;
+  s.hull = build_convex_hull(corners).value();
+  return s;
 }
 
 struct TestWorld {

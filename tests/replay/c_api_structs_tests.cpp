@@ -123,6 +123,75 @@ TEST_CASE("C API: a body from a struct is the body from JSON, bit for bit, throw
   bitstep_destroy(by_struct);
 }
 
+TEST_CASE("C API: a hull from points is the hull from JSON, thrown and tumbling, its corners read back",
+          "[c_api][hull]") {
+  // A wedge of 6 corners and a point inside it (dropped), thrown spinning.
+  const char* const wedge_json = R"({"name": "wedge", "position": [0, 2, 5], "velocity": [1, 0, 0],
+      "angular_velocity": [2, 3, 1], "shapes": [{"type": "hull", "points":
+      [[-0.5, 0, -0.5], [0.5, 0, -0.5], [-0.5, 0.625, -0.5], [0.5, 0.625, -0.5], [-0.5, 0, 0.5], [0.5, 0, 0.5], [0, 0.25, 0]]}]})";
+  const bitstep_vec3 points[] = {{-units(1) / 2, 0, -units(1) / 2},
+                                 {units(1) / 2, 0, -units(1) / 2},
+                                 {-units(1) / 2, units(5) / 8, -units(1) / 2},
+                                 {units(1) / 2, units(5) / 8, -units(1) / 2},
+                                 {-units(1) / 2, 0, units(1) / 2},
+                                 {units(1) / 2, 0, units(1) / 2},
+                                 {0, units(1) / 4, 0}};  // on the hull's 2^-20 m grid: read back as given
+  bitstep_shape shape{};
+  shape.type = BITSTEP_SHAPE_HULL;
+  shape.local.orientation = {units(1), 0, 0, 0};
+  shape.points = points;
+  shape.point_count = 7;
+  bitstep_body_def def = bitstep_default_body_def();
+  def.name = "wedge";
+  def.pose.position = {0, units(2), units(5)};
+  def.linear_velocity = {units(1), 0, 0};
+  def.angular_velocity = {units(2), units(3), units(1)};
+  def.shapes = &shape;
+  def.shape_count = 1;
+  bitstep_simulation* by_json = made();
+  bitstep_simulation* by_struct = made();
+  bitstep_body a{}, b{};
+  REQUIRE(bitstep_add_body(by_json, wedge_json, &a) == BITSTEP_OK);
+  REQUIRE(bitstep_create_body(by_struct, &def, &b) == BITSTEP_OK);
+  for (int step = 1; step <= 120; ++step) {
+    REQUIRE(bitstep_step(by_json) == BITSTEP_OK);
+    REQUIRE(bitstep_step(by_struct) == BITSTEP_OK);
+    REQUIRE(bitstep_hash(by_json) == bitstep_hash(by_struct));
+  }
+  bitstep_shape read{};
+  REQUIRE(bitstep_get_shape(by_struct, b, 0, &read) == BITSTEP_OK);
+  CHECK(read.type == BITSTEP_SHAPE_HULL);
+  CHECK(read.points == nullptr);
+  CHECK(read.point_count == 6);  // the inner point is no corner
+  size_t count = 0;
+  CHECK(bitstep_get_hull_points(by_struct, b, 0, nullptr, 0, &count) == BITSTEP_BUFFER_TOO_SMALL);
+  CHECK(count == 6);
+  bitstep_vec3 corners[6];
+  REQUIRE(bitstep_get_hull_points(by_struct, b, 0, corners, 6, &count) == BITSTEP_OK);
+  CHECK(std::memcmp(corners, points, sizeof corners) == 0);  // the corners, in input order
+  // Refusals name the shape's place, and nothing is made.
+  bitstep_vec3 far[] = {points[0], points[1], points[2], {0, units(51), 0}};
+  shape.points = far;
+  shape.point_count = 4;
+  bitstep_body c{};
+  CHECK(bitstep_create_body(by_struct, &def, &c) == BITSTEP_INVALID);
+  CHECK(std::string(bitstep_last_error(by_struct)) == "create_body: shapes[0].points[3].y: outside -50..50 m");
+  shape.points = nullptr;
+  CHECK(bitstep_create_body(by_struct, &def, &c) == BITSTEP_INVALID);
+  CHECK(std::string(bitstep_last_error(by_struct)) == "create_body: shapes[0].points: NULL with a point_count of 4");
+  shape.point_count = 3;
+  shape.points = points;
+  CHECK(bitstep_create_body(by_struct, &def, &c) == BITSTEP_INVALID);
+  CHECK(std::string(bitstep_last_error(by_struct)) ==
+        "create_body: shapes[0].points: 3 points: a hull needs 4 to 1024");
+  const bitstep_body ground = body(by_struct, "ground");
+  CHECK(bitstep_get_hull_points(by_struct, ground, 0, corners, 6, &count) == BITSTEP_INVALID);
+  CHECK(std::string(bitstep_last_error(by_struct)) == "get_hull_points: shape 0 is no hull");
+  CHECK(bitstep_get_hull_points(by_struct, b, 0, corners, 6, nullptr) == BITSTEP_NULL_ARGUMENT);
+  bitstep_destroy(by_json);
+  bitstep_destroy(by_struct);
+}
+
 TEST_CASE("C API: a joint from a struct is the joint from JSON, and struck it breaks with an event", "[c_api]") {
   bitstep_simulation* by_json = made();
   bitstep_simulation* by_struct = made();

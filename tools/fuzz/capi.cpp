@@ -429,6 +429,7 @@ class Session {
   // past the enumerations' ends), 0 to 3 shapes or a NULL array.
   void create_body_struct() {
     bitstep_shape shapes[3]{};
+    bitstep_vec3 points[3][8]{};
     bitstep_body_def def = bitstep_default_body_def();
     def.type = in_.byte() % 4;
     if (in_.byte() & 1) def.pose = pose();
@@ -445,7 +446,10 @@ class Session {
     def.name = naming == 0 ? nullptr : naming == 1 ? "ball" : "made";
     def.shape_count = in_.byte() % 4;
     for (uint32_t i = 0; i < def.shape_count; ++i) {
-      shapes[i].type = in_.byte() % 5;
+      shapes[i].type = in_.byte() % 6;
+      shapes[i].point_count = in_.byte() % 9;  // a hull's 0..8 points (or a NULL array)
+      for (uint32_t k = 0; k < shapes[i].point_count; ++k) points[i][k] = vec3();
+      shapes[i].points = in_.byte() < 0x10 ? nullptr : points[i];
       shapes[i].half_extents = vec3();
       shapes[i].radius = in_.number();
       shapes[i].half_height = in_.number();
@@ -499,6 +503,13 @@ class Session {
       require(shapes >= 1 && shapes <= 256 && (asleep == 0 || asleep == 1), "a body's shapes and sleep");
       require(read(bitstep_get_shape(sim_, b, in_.byte() % (shapes + 1), &shape)) != BITSTEP_BUFFER_TOO_SMALL,
               "a shape or none");
+      bitstep_vec3 corners[8];
+      size_t corner_count = 0;
+      const bitstep_status cornered =
+          bitstep_get_hull_points(sim_, b, in_.byte() % (shapes + 1), corners, in_.byte() % 9, &corner_count);
+      require(cornered == BITSTEP_OK || cornered == BITSTEP_NOT_FOUND || cornered == BITSTEP_INVALID ||
+                  cornered == BITSTEP_BUFFER_TOO_SMALL,
+              "a hull's corners, the room they need, or no hull");
       const size_t capacity = in_.byte() % sizeof name;
       const bitstep_status named =
           read(bitstep_get_body_name(sim_, b, capacity == 0 ? nullptr : name, capacity, &size));
