@@ -22,13 +22,11 @@ struct Simplex {
 
 constexpr int max_iterations = 32;
 
-Vec3 support(const WorldShape& s, Vec3 direction, Vec3 origin) {
-  return with_shape_type(s.shape->type, [&](auto type) { return decltype(type)::core_support(s, direction); }) -
-         origin;
-}
+Vec3 support(const ConvexCore& s, Vec3 direction, Vec3 origin) { return s.support(s.object, direction) - origin; }
 
-Fixed core_radius(const WorldShape& s) {
-  return with_shape_type(s.shape->type, [&](auto type) { return decltype(type)::core_radius(*s.shape); });
+Vec3 shape_support(const void* object, Vec3 direction) {
+  const WorldShape& s = *static_cast<const WorldShape*>(object);
+  return with_shape_type(s.shape->type, [&](auto type) { return decltype(type)::core_support(s, direction); });
 }
 
 // The simplex kept to the vertices `keep` (indices), weighted `w`.
@@ -146,11 +144,16 @@ bool closest_on_tetrahedron(Simplex& s) {
 
 }  // namespace
 
-ConvexDistance convex_distance(const WorldShape& a, const WorldShape& b) {
+ConvexCore core_of(const WorldShape& s) {
+  const Fixed radius = with_shape_type(s.shape->type, [&](auto type) { return decltype(type)::core_radius(*s.shape); });
+  return {&s, shape_support, s.pose.position, radius};
+}
+
+ConvexDistance convex_distance(const ConvexCore& a, const ConvexCore& b) {
   ConvexDistance result;
-  const Vec3 origin = a.pose.position;
+  const Vec3 origin = a.centre;
   Simplex s;
-  Vec3 direction = b.pose.position - a.pose.position;  // a first guess: from A toward B
+  Vec3 direction = b.centre - a.centre;  // a first guess: from A toward B
   if (direction == Vec3{}) direction = {Fixed::one(), Fixed{}, Fixed{}};
   // v: the closest point of the simplex so far (of A - B); search along -v.
   const Vec3 first_a = support(a, -direction, origin), first_b = support(b, direction, origin);
@@ -186,7 +189,7 @@ ConvexDistance convex_distance(const WorldShape& a, const WorldShape& b) {
     if (length_sq(next) >= v_sq) break;  // no closer: rounding has the last word
     v = next;
   }
-  const Fixed ra = core_radius(a), rb = core_radius(b);
+  const Fixed ra = a.radius, rb = b.radius;
   if (result.overlap) {
     result.distance = -(ra + rb);
     return result;

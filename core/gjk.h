@@ -23,7 +23,24 @@ struct ConvexDistance {
   int iterations = 0;
 };
 
-// Neither shape may be a plane (unbounded: no support point).
-ConvexDistance convex_distance(const WorldShape& a, const WorldShape& b);
+// A convex core as GJK reads it: its farthest point along a world
+// direction (any length), a point inside it, and the radius it is grown by.
+// A placed shape is one (core_of); so is a mesh's triangle (collide_mesh.cpp).
+struct ConvexCore {
+  const void* object;
+  Vec3 (*support)(const void* object, Vec3 direction);
+  Vec3 centre;
+  Fixed radius;
+};
+
+// The core of a placed shape (shape_types.h core_support, core_radius);
+// not a plane (unbounded: no support point). It refers to `s`.
+ConvexCore core_of(const WorldShape& s);
+
+ConvexDistance convex_distance(const ConvexCore& a, const ConvexCore& b);
+// Neither shape may be a plane.
+inline ConvexDistance convex_distance(const WorldShape& a, const WorldShape& b) {
+  return convex_distance(core_of(a), core_of(b));
+}
 
 }  // namespace bitstep
