@@ -56,6 +56,7 @@ int rank(ShapeType type) {
     case ShapeType::sphere: return 2;
     case ShapeType::capsule: return 3;
     case ShapeType::hull: return 4;
+    case ShapeType::mesh: return 5;
   }
   return 0;
 }
@@ -67,16 +68,19 @@ using PairRoutine = int (*)(const WorldShape& a, const WorldShape& b, Fixed spec
 
 int no_contact(const WorldShape&, const WorldShape&, Fixed, Manifold&) {
   return 0;
-}  // plane-plane: two static half-spaces
+}  // plane-plane, mesh-plane, mesh-mesh: static shapes
 
-constexpr int shape_count = 5;
+constexpr int shape_count = 6;
 constexpr PairRoutine pairs[shape_count][shape_count] = {
-    /* plane   */ {no_contact, nullptr, nullptr, nullptr, nullptr},
-    /* box     */ {collide_box_plane, collide_box_box, nullptr, nullptr, nullptr},
-    /* sphere  */ {collide_sphere_plane, collide_sphere_box, collide_sphere_sphere, nullptr, nullptr},
-    /* capsule */
-    {collide_capsule_plane, collide_capsule_box, collide_capsule_sphere, collide_capsule_capsule, nullptr},
+    // clang-format off
+    /* plane   */ {no_contact},
+    /* box     */ {collide_box_plane, collide_box_box},
+    /* sphere  */ {collide_sphere_plane, collide_sphere_box, collide_sphere_sphere},
+    /* capsule */ {collide_capsule_plane, collide_capsule_box, collide_capsule_sphere, collide_capsule_capsule},
     /* hull    */ {collide_hull_plane, collide_hull_box, collide_hull_sphere, collide_hull_capsule, collide_hull_hull},
+    /* mesh    */ {no_contact, collide_mesh_box, collide_mesh_sphere, collide_mesh_capsule, collide_mesh_hull,
+                   no_contact},
+    // clang-format on
 };
 
 // a has rank >= b's.

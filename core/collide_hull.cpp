@@ -142,19 +142,8 @@ size_t face_toward(const ConvexHull& hull, Vec3 direction) {
 // parameters 0 <= lo <= hi <= 1; false when nothing is left.
 bool clip_segment_to_face(const ConvexHull& hull, size_t f, Vec3 from, Vec3 to, Fixed& lo, Fixed& hi) {
   const ConvexHull::Face& face = hull.faces[f];
-  lo = Fixed{};
-  hi = Fixed::one();
-  for (uint16_t i = 0; i < face.count; ++i) {
-    const Vec3 a = hull.vertices[hull.face_vertices[face.first + i]];
-    const Vec3 b = hull.vertices[hull.face_vertices[face.first + (i + 1u) % face.count]];
-    const Vec3 s = cross(b - a, face.normal);
-    const Fixed d_from = dot(s, from - a), d_to = dot(s, to - a);
-    if (d_from > Fixed{} && d_to > Fixed{}) return false;
-    if (d_from > Fixed{}) lo = max(lo, d_from / (d_from - d_to));
-    if (d_to > Fixed{}) hi = min(hi, d_from / (d_from - d_to));
-    if (lo > hi) return false;
-  }
-  return true;
+  const auto corner = [&](size_t i) { return hull.vertices[hull.face_vertices[face.first + i]]; };
+  return polyhedra::clip_segment(corner, face.count, face.normal, from, to, lo, hi);
 }
 
 // Balls of radius r along the segment from..to (hull frame) between

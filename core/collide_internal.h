@@ -1,7 +1,7 @@
 // The narrowphase's insides: one function per pair of shape types, and the
 // small geometric helpers they share. collide() (core/collide.cpp) swaps the
 // two shapes so that each pair is written once, in the order
-//   hull > capsule > sphere > box > plane
+//   mesh > hull > capsule > sphere > box > plane
 // (the first argument has the higher rank), and flips the normal back.
 //
 // Every pair function fills `out` (normal from its first shape to its second,
@@ -96,6 +96,10 @@ int collide_hull_box(const WorldShape& hull, const WorldShape& box, Fixed specul
 int collide_hull_sphere(const WorldShape& hull, const WorldShape& sphere, Fixed speculative_distance, Manifold& out);
 int collide_hull_capsule(const WorldShape& hull, const WorldShape& capsule, Fixed speculative_distance, Manifold& out);
 int collide_hull_plane(const WorldShape& hull, const WorldShape& plane, Fixed speculative_distance, Manifold& out);
+int collide_mesh_box(const WorldShape& mesh, const WorldShape& box, Fixed speculative_distance, Manifold& out);
+int collide_mesh_hull(const WorldShape& mesh, const WorldShape& hull, Fixed speculative_distance, Manifold& out);
+int collide_mesh_sphere(const WorldShape& mesh, const WorldShape& sphere, Fixed speculative_distance, Manifold& out);
+int collide_mesh_capsule(const WorldShape& mesh, const WorldShape& capsule, Fixed speculative_distance, Manifold& out);
 
 // --- feature ids -----------------------------------------------------------------
 //

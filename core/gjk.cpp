@@ -144,7 +144,21 @@ bool closest_on_tetrahedron(Simplex& s) {
 
 }  // namespace
 
-ConvexCore core_of(const WorldShape& s) {
+// The corner farthest along d; the first of equals.
+Vec3 corner_support(const void* object, Vec3 direction) {
+  const auto& corners = *static_cast<const std::array<Vec3, 3>*>(object);
+  size_t best = 0;
+  for (size_t i = 1; i < 3; ++i) {
+    if (dot(corners[i], direction) > dot(corners[best], direction)) best = i;
+  }
+  return corners[best];
+}
+
+ConvexCore triangle_core(const std::array<Vec3, 3>& corners) {
+  return {&corners, corner_support, (corners[0] + corners[1] + corners[2]) / 3.0_fx, Fixed{}};
+}
+
+ConvexCore convex_core(const WorldShape& s) {
   const Fixed radius = with_shape_type(s.shape->type, [&](auto type) { return decltype(type)::core_radius(*s.shape); });
   return {&s, shape_support, s.pose.position, radius};
 }

@@ -11,21 +11,23 @@
 // products stay small for shapes far from the world's origin.
 #pragma once
 
+#include <array>
+
 #include "core/shape.h"
 
 namespace bitstep {
 
 struct ConvexDistance {
-  bool overlap = false;  // the cores meet (distance < 0 by at least the radii): no witness points
-  Fixed distance;        // between the shapes (the cores' less both radii): negative when the radii overlap
-  Vec3 point_a, point_b; // the closest points on the shapes' surfaces (world)
-  Vec3 normal;           // unit, from A toward B
+  bool overlap = false;   // the cores meet (distance < 0 by at least the radii): no witness points
+  Fixed distance;         // between the shapes (the cores' less both radii): negative when the radii overlap
+  Vec3 point_a, point_b;  // the closest points on the shapes' surfaces (world)
+  Vec3 normal;            // unit, from A toward B
   int iterations = 0;
 };
 
 // A convex core as GJK reads it: its farthest point along a world
 // direction (any length), a point inside it, and the radius it is grown by.
-// A placed shape is one (core_of); so is a mesh's triangle (collide_mesh.cpp).
+// A placed shape is one (convex_core); so is a mesh's triangle (collide_mesh.cpp).
 struct ConvexCore {
   const void* object;
   Vec3 (*support)(const void* object, Vec3 direction);
@@ -35,12 +37,15 @@ struct ConvexCore {
 
 // The core of a placed shape (shape_types.h core_support, core_radius);
 // not a plane (unbounded: no support point). It refers to `s`.
-ConvexCore core_of(const WorldShape& s);
+ConvexCore convex_core(const WorldShape& s);
+
+// A triangle's core: `corners` (the caller's, alive while it is used).
+ConvexCore triangle_core(const std::array<Vec3, 3>& corners);
 
 ConvexDistance convex_distance(const ConvexCore& a, const ConvexCore& b);
 // Neither shape may be a plane.
 inline ConvexDistance convex_distance(const WorldShape& a, const WorldShape& b) {
-  return convex_distance(core_of(a), core_of(b));
+  return convex_distance(convex_core(a), convex_core(b));
 }
 
 }  // namespace bitstep

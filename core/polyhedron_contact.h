@@ -97,4 +97,22 @@ int emit(const Candidate* c, int count, Vec3 normal_in_a, const Pose& pose_a, co
 int face_contact(const Framed& p, size_t f, const Framed& q, uint32_t kind, Fixed speculative_distance,
                  Candidate* candidates);
 
+// The segment from..to clipped to the side planes of a convex polygon (its
+// corners counter-clockwise about `normal`, corner(i) for i < count), as
+// parameters 0 <= lo <= hi <= 1; false when nothing is left.
+template <class Corner>
+bool clip_segment(Corner corner, size_t count, Vec3 normal, Vec3 from, Vec3 to, Fixed& lo, Fixed& hi) {
+  lo = Fixed{};
+  hi = Fixed::one();
+  for (size_t i = 0; i < count; ++i) {
+    const Vec3 a = corner(i), s = cross(corner((i + 1) % count) - a, normal);  // outward in the plane
+    const Fixed d_from = dot(s, from - a), d_to = dot(s, to - a);
+    if (d_from > Fixed{} && d_to > Fixed{}) return false;
+    if (d_from > Fixed{}) lo = max(lo, d_from / (d_from - d_to));
+    if (d_to > Fixed{}) hi = min(hi, d_from / (d_from - d_to));
+    if (lo > hi) return false;
+  }
+  return true;
+}
+
 }  // namespace bitstep::collide_detail::polyhedra

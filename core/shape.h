@@ -16,13 +16,15 @@ enum class ShapeType : uint8_t {
   capsule,  // a segment from -half_height to +half_height along local y, swept by radius
   sphere,   // radius
   hull,     // a convex hull of points (core/convex_hull.h), shared and immutable
+  mesh,     // static triangles, one-sided (core/triangle_mesh.h), shared and immutable; static bodies only
 };
 
 // Each type's name in scenes, states and messages, by its value: the one
 // list (shape_types.h has each type's other facts).
-inline constexpr std::array<const char*, 5> shape_type_names = {"plane", "box", "capsule", "sphere", "hull"};
+inline constexpr std::array<const char*, 6> shape_type_names = {"plane", "box", "capsule", "sphere", "hull", "mesh"};
 
 struct ConvexHull;
+struct TriangleMesh;
 
 struct Shape {
   ShapeType type = ShapeType::box;
@@ -31,6 +33,7 @@ struct Shape {
   Fixed half_height;   // m, capsule: half the length of its inner segment
   Pose local;          // in the body frame (whose origin is the centre of mass)
   std::shared_ptr<const ConvexHull> hull = nullptr;  // hull: its points, faces and mass (never null for a hull)
+  std::shared_ptr<const TriangleMesh> mesh = nullptr;  // mesh: its triangles and tree (never null for a mesh)
 };
 
 struct Mat33;

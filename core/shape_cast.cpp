@@ -7,6 +7,7 @@
 #include "core/collide_internal.h"
 #include "core/gjk.h"
 #include "core/shape_types.h"
+#include "core/triangle_mesh.h"
 #include "fixed/mat33.h"
 
 namespace bitstep {
@@ -40,10 +41,10 @@ ShapeEntry entry_at_start(const WorldShape& moving, const Ray& path) {
 struct Core {
   ShapeType type;
   Vec3 centre;
-  Mat33 axes;   // box: the local axes as columns
-  Vec3 half;    // box: half extents
-  Vec3 start;   // capsule: the segment start + ...
-  Vec3 along;   // ... along (start to end)
+  Mat33 axes;  // box: the local axes as columns
+  Vec3 half;   // box: half extents
+  Vec3 start;  // capsule: the segment start + ...
+  Vec3 along;  // ... along (start to end)
   Fixed radius;
 };
 
@@ -209,12 +210,13 @@ bool advance(const WorldShape& moving, const Ray& path, const WorldShape& target
 
 // Conservative advancement over GJK (core/gjk.h), for any two convex
 // shapes: the generic path a hull takes.
-bool advance_convex(const WorldShape& moving, const Ray& path, const WorldShape& target, ShapeEntry& entry) {
+bool advance_convex(const WorldShape& moving, const Ray& path, const ConvexCore& target, ShapeEntry& entry) {
   Fixed travelled;
   for (int step = 0;; ++step) {
     const WorldShape placed{moving.shape,
                             {mul_add(path.direction, travelled, moving.pose.position), moving.pose.orientation}};
-    const ConvexDistance d = convex_distance(placed, target);  // its normal: from the moving shape to the target
+    const ConvexDistance d =
+        convex_distance(convex_core(placed), target);  // its normal: from the moving shape to the target
     if (step == 0 && (d.overlap || d.distance <= advance_tolerance)) {
       entry = entry_at_start(moving, path);
       return true;
@@ -228,6 +230,38 @@ bool advance_convex(const WorldShape& moving, const Ray& path, const WorldShape&
     travelled += path_ratio(d.distance, closing);
     if (travelled > path.length) return false;
   }
+}
+
+// A convex shape along a path onto a mesh: conservative advancement onto
+// each triangle whose front it moves toward, near the path's sweep (the
+// mesh's tree, in its frame); the first entry.
+bool onto_mesh(const WorldShape& moving, const Ray& path, const WorldShape& target, ShapeEntry& entry) {
+  const TriangleMesh& mesh = *target.shape->mesh;
+  const WorldShape at_end{moving.shape,
+                          {mul_add(path.direction, path.length, moving.pose.position), moving.pose.orientation}};
+  const Aabb swept = shape_aabb(moving).merged(shape_aabb(at_end));
+  // The sweep's box in the mesh's frame: its eight corners taken there.
+  Aabb local{target.pose.apply_inverse(swept.min), target.pose.apply_inverse(swept.min)};
+  for (int k = 1; k < 8; ++k) {
+    const Vec3 corner{(k & 1) != 0 ? swept.max.x : swept.min.x, (k & 2) != 0 ? swept.max.y : swept.min.y,
+                      (k & 4) != 0 ? swept.max.z : swept.min.z};
+    const Vec3 p = target.pose.apply_inverse(corner);
+    local = local.merged({p, p});
+  }
+  bool found = false;
+  for_each_triangle_near(mesh, local, [&](uint32_t index) {
+    const TriangleMesh::Triangle& t = mesh.triangles[index];
+    if (dot(rotate(target.pose.orientation, t.normal), path.direction) >= Fixed{}) return;  // behind or along it
+    std::array<Vec3, 3> world;
+    for (size_t k = 0; k < 3; ++k) world[k] = target.pose.apply(mesh.vertices[t.corners[k]]);
+    const ConvexCore core = triangle_core(world);
+    ShapeEntry e;
+    if (advance_convex(moving, path, core, e) && (!found || e.distance < entry.distance)) {
+      entry = e;
+      found = true;
+    }
+  });
+  return found;
 }
 
 // Box against box: the separating axis test along the path.
@@ -283,7 +317,8 @@ bool sweep_boxes(const WorldShape& moving, const Ray& path, const WorldShape& ta
   const int count = collide(placed, target, touch_window, m);
   Vec3 sum;
   for (int k = 0; k < count; ++k) sum += m.points[static_cast<size_t>(k)].position;
-  const Vec3 point = count > 0 ? sum / Fixed::from_int(count) : lowest_along(a, normal) + path.direction * enter + origin;
+  const Vec3 point =
+      count > 0 ? sum / Fixed::from_int(count) : lowest_along(a, normal) + path.direction * enter + origin;
   entry = {enter, point, normal};
   return true;
 }
@@ -312,10 +347,10 @@ bool shape_enters(const WorldShape& moving, const Ray& path, const WorldShape& t
   if (kind == ShapeType::sphere) {
     const Fixed r = moving.shape->radius;
     if (!ray_enters(target, {moving.pose.position, path.direction, path.length}, r, e)) return false;
-    entry = e.distance == Fixed{} ? entry_at_start(moving, path)
-                                  : ShapeEntry{e.distance, mul_add(path.direction, e.distance, moving.pose.position) -
-                                                               e.normal * r,
-                                               e.normal};
+    entry = e.distance == Fixed{}
+                ? entry_at_start(moving, path)
+                : ShapeEntry{e.distance, mul_add(path.direction, e.distance, moving.pose.position) - e.normal * r,
+                             e.normal};
     return true;
   }
   if (target_kind == ShapeType::plane) return onto_plane(moving, path, target, entry);
@@ -328,7 +363,11 @@ bool shape_enters(const WorldShape& moving, const Ray& path, const WorldShape& t
     return true;
   }
   if (kind == ShapeType::box && target_kind == ShapeType::box) return sweep_boxes(moving, path, target, entry);
-  if (kind == ShapeType::hull || target_kind == ShapeType::hull) return advance_convex(moving, path, target, entry);
+  if (target_kind == ShapeType::mesh) return onto_mesh(moving, path, target, entry);
+  if (kind == ShapeType::mesh) return false;  // meshes are static
+  if (kind == ShapeType::hull || target_kind == ShapeType::hull) {
+    return advance_convex(moving, path, convex_core(target), entry);
+  }
   return advance(moving, path, target, entry);
 }
 

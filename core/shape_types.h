@@ -82,6 +82,10 @@ struct SphereShape {
 struct HullShape {
   BITSTEP_SHAPE_TYPE_FUNCTIONS
 };
+// A static triangle mesh (shape_mesh.cpp, core/triangle_mesh.h).
+struct MeshShape {
+  BITSTEP_SHAPE_TYPE_FUNCTIONS
+};
 
 #undef BITSTEP_SHAPE_TYPE_FUNCTIONS
 
@@ -94,6 +98,7 @@ decltype(auto) with_shape_type(ShapeType type, F&& f) {
     case ShapeType::capsule: return f(CapsuleShape{});
     case ShapeType::sphere: return f(SphereShape{});
     case ShapeType::hull: return f(HullShape{});
+    case ShapeType::mesh: return f(MeshShape{});
   }
   std::abort();  // never: World::create_body and the state reader take ShapeType's values only
 }
@@ -105,7 +110,8 @@ inline bool is_shape_type(ShapeType type) {
     case ShapeType::box:
     case ShapeType::capsule:
     case ShapeType::sphere:
-    case ShapeType::hull: return true;
+    case ShapeType::hull:
+    case ShapeType::mesh: return true;
   }
   return false;
 }

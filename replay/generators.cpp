@@ -106,7 +106,8 @@ Fixed bounding_radius(const Shape& shape) {
     case ShapeType::sphere: return shape.radius;
     case ShapeType::capsule: return shape.radius + shape.half_height;
     case ShapeType::hull: return shape.hull ? shape.hull->extent : Fixed{};  // (the generators make none)
-    case ShapeType::plane: break;
+    case ShapeType::plane:
+    case ShapeType::mesh: break;
   }
   return Fixed{};
 }

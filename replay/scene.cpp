@@ -9,6 +9,7 @@
 
 #include "core/convex_hull.h"
 #include "core/envelope.h"
+#include "core/triangle_mesh.h"
 #include "replay/generators.h"
 #include "replay/json_tree.h"
 #include "replay/limits.h"
@@ -73,6 +74,37 @@ std::shared_ptr<const ConvexHull> read_hull(const Node& node) {
   return std::move(hull.value());
 }
 
+// A mesh's "vertices" ([[x, y, z], ...], the shape's frame) and "indices"
+// (three per triangle, counter-clockwise seen from its front), built into
+// its mesh (core/triangle_mesh.h); a refusal names its place.
+std::shared_ptr<const TriangleMesh> read_mesh(const Node& vertices_node, const Node& indices_node) {
+  if (vertices_node.kind != Kind::array) {
+    fail(vertices_node, std::string("expected an array of points, got ") + json::describe(vertices_node.kind));
+  }
+  if (indices_node.kind != Kind::array) {
+    fail(indices_node, std::string("expected an array of vertex indices, got ") + json::describe(indices_node.kind));
+  }
+  check_count(vertices_node, max_mesh_vertices, "vertices");
+  check_count(indices_node, size_t{3} * max_mesh_triangles, "indices");
+  std::vector<Vec3> vertices;
+  vertices.reserve(vertices_node.children.size());
+  for (const Node& point : vertices_node.children) vertices.push_back(read_vec3(point));
+  std::vector<uint32_t> indices;
+  indices.reserve(indices_node.children.size());
+  for (const Node& index : indices_node.children) {
+    indices.push_back(static_cast<uint32_t>(read_int(index, 0, static_cast<int>(max_mesh_vertices) - 1)));
+  }
+  Result<std::shared_ptr<const TriangleMesh>> mesh = build_triangle_mesh(vertices, indices);
+  if (!mesh.ok()) {
+    const std::string& place = mesh.error().place;
+    // "vertices[2].x" and "indices[5]" lie under their arrays; "triangle 3" under the indices.
+    if (place.rfind("vertices", 0) == 0) fail(vertices_node.path + place.substr(8), mesh.error().reason);
+    if (place.rfind("indices", 0) == 0) fail(indices_node.path + place.substr(7), mesh.error().reason);
+    fail(indices_node.path + (place.empty() ? "" : " (" + place + ")"), mesh.error().reason);
+  }
+  return std::move(mesh.value());
+}
+
 Shape read_shape(const Node& node) {
   ObjectReader reader(node);
   Shape shape;
@@ -87,6 +119,7 @@ Shape read_shape(const Node& node) {
       break;
     case ShapeType::plane: break;
     case ShapeType::hull: shape.hull = read_hull(reader.require("points")); break;
+    case ShapeType::mesh: shape.mesh = read_mesh(reader.require("vertices"), reader.require("indices")); break;
   }
   read_optional(reader, "position", shape.local.position);
   if (const Node* orientation = reader.find("orientation")) shape.local.orientation = read_orientation(*orientation);

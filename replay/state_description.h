@@ -50,6 +50,7 @@
 #include "core/envelope.h"
 #include "core/joint.h"
 #include "core/settings.h"
+#include "core/triangle_mesh.h"
 #include "replay/limits.h"
 
 namespace bitstep {
@@ -229,6 +230,33 @@ void describe_hull_points(V& v, Sh& shape) {
   }
 }
 
+// A mesh's vertices and triangles (its planes, edges and tree are built
+// from them again, core/triangle_mesh.h). A step's state alone leaves a
+// body's shapes out (rollback_state.h): static geometry is not copied per
+// step; the hash and a snapshot hold all of it.
+template <class V, class Sh>
+void describe_mesh_arrays(V& v, Sh& shape) {
+  constexpr size_t vertex_bytes = 8 * 3, index_bytes = 4;
+  const auto describe_vertex = [&](auto& vertex) { v.vec(nullptr, vertex); };
+  const auto describe_index = [&](auto& index) { v.integer(nullptr, index, 4, 0, max_mesh_vertices - 1); };
+  if constexpr (V::reading) {
+    std::vector<Vec3> vertices;
+    std::vector<uint32_t> indices;
+    v.list("vertices", vertices, vertex_bytes, max_mesh_vertices, nullptr, describe_vertex);
+    v.list("indices", indices, index_bytes, uint64_t{3} * max_mesh_triangles, nullptr, describe_index);
+    Result<std::shared_ptr<const TriangleMesh>> mesh = build_triangle_mesh(vertices, indices);
+    v.require([&] { return mesh.ok(); }, [] { return std::string("mesh arrays that do not build a mesh"); });
+    if (mesh.ok()) shape.mesh = std::move(mesh.value());
+  } else {
+    std::vector<uint32_t> indices;
+    indices.reserve(shape.mesh->triangles.size() * 3);
+    for (const TriangleMesh::Triangle& t : shape.mesh->triangles)
+      indices.insert(indices.end(), t.corners.begin(), t.corners.end());
+    v.list("vertices", shape.mesh->vertices, vertex_bytes, max_mesh_vertices, nullptr, describe_vertex);
+    v.list("indices", indices, index_bytes, uint64_t{3} * max_mesh_triangles, nullptr, describe_index);
+  }
+}
+
 template <class V, class Sh>
 void describe_shape(V& v, Sh& shape) {
   v.choice("type", shape.type, shape_types, 0);
@@ -238,6 +266,7 @@ void describe_shape(V& v, Sh& shape) {
   v.vec("position", shape.local.position);
   v.quat("orientation", shape.local.orientation);
   if (shape.type == ShapeType::hull) describe_hull_points(v, shape);
+  if (shape.type == ShapeType::mesh) describe_mesh_arrays(v, shape);
   v.require([&] { return state_checks::shape_inside(shape); },
             [] { return std::string("a shape outside the envelope (size, position or orientation)"); });
 }

@@ -50,7 +50,8 @@ inline std::string json_of(const Shape& s) {
       return "{\"type\": \"capsule\", \"radius\": " + num(s.radius) + ", \"half_height\": " + num(s.half_height) + at +
              "}";
     case ShapeType::plane:
-    case ShapeType::hull: break;  // the corners are the primitives'
+    case ShapeType::hull:
+    case ShapeType::mesh: break;  // the corners are the primitives'
   }
   return "";
 }

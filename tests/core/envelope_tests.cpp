@@ -29,7 +29,8 @@ Fixed reach_below(const Shape& s) {
     case ShapeType::sphere: return s.radius - s.local.position.y;
     case ShapeType::capsule: return s.half_height + s.radius - s.local.position.y;
     case ShapeType::plane:
-    case ShapeType::hull: break;
+    case ShapeType::hull:
+    case ShapeType::mesh: break;
   }
   return Fixed{};
 }

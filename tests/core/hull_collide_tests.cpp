@@ -161,33 +161,8 @@ TEST_CASE("Hull contacts: planes, spheres and capsules meet a box-shaped hull as
   }
 }
 
-namespace {
-
-// A die: a cube of half size 0.5 m with its corners cut 0.1 m deep (six
-// octagons, eight triangles, 24 corners).
-Shape die_shape() {
-  std::vector<Vec3> points;
-  const Fixed a = 0.5_fx, b = 0.4_fx;
-  for (int sx = -1; sx <= 1; sx += 2) {
-    for (int sy = -1; sy <= 1; sy += 2) {
-      for (int sz = -1; sz <= 1; sz += 2) {
-        const Fixed x = Fixed::from_int(sx), y = Fixed::from_int(sy), z = Fixed::from_int(sz);
-        points.push_back({x * a, y * a, z * b});
-        points.push_back({x * a, y * b, z * a});
-        points.push_back({x * b, y * a, z * a});
-      }
-    }
-  }
-  Shape s;
-  s.type = ShapeType::hull;
-  s.hull = build_convex_hull(points).value();
-  return s;
-}
-
-}  // namespace
-
 TEST_CASE("Hull in motion: a die thrown spinning onto the ground comes to rest on a face", "[hull]") {
-  const Shape die = die_shape();
+  const Shape die = test::die_hull(0.5_fx, 0.4_fx);
   REQUIRE(die.hull->faces.size() == 14);
   for (int throw_number = 0; throw_number < 4; ++throw_number) {
     test::TestWorld t;

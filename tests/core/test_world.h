@@ -27,6 +27,23 @@ inline Shape box_hull(Vec3 h) {
   return s;
 }
 
+// A die: a cube of half size a with its corners cut to b (six octagons,
+// eight triangles, 24 corners).
+inline Shape die_hull(Fixed a, Fixed b) {
+  std::vector<Vec3> points;
+  for (int k = 0; k < 8; ++k) {
+    const Fixed x = (k & 1) != 0 ? Fixed::one() : -Fixed::one(), y = (k & 2) != 0 ? Fixed::one() : -Fixed::one(),
+                z = (k & 4) != 0 ? Fixed::one() : -Fixed::one();
+    points.push_back({x * a, y * a, z * b});
+    points.push_back({x * a, y * b, z * a});
+    points.push_back({x * b, y * a, z * a});
+  }
+  Shape s;
+  s.type = ShapeType::hull;
+  s.hull = build_convex_hull(points).value();
+  return s;
+}
+
 struct TestWorld {
   World world;
 

@@ -122,6 +122,7 @@ TEST_CASE("shipped scenes have the documented body counts", "[scene]") {
   CHECK(load_file_ok("slide_stop.json").bodies.size() == 2);
   CHECK(load_file_ok("spheres.json").bodies.size() == 60 + 2);
   CHECK(load_file_ok("dice.json").bodies.size() == 2 + 3 + 10 + 5 + 2);
+  CHECK(load_file_ok("terrain.json").bodies.size() == 2 + 4 + 6 + 4 + 3 + ragdoll_parts_count);
   // Ground, pit and the car's chassis, the stacks, pyramid, jenga,
   // dominoes, tables, pile, thrown cubes, balls; the chain (its anchor and
   // 10 links), 3 ragdolls; one car.

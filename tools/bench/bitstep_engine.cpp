@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "core/convex_hull.h"
+#include "core/triangle_mesh.h"
 #include "core/world.h"
 #include "replay/state_hash.h"
 #include "replay/thread_pool.h"
@@ -35,6 +36,15 @@ Shape to_shape(const ShapeSpec& spec) {
       auto hull = build_convex_hull(points);
       if (!hull.ok()) throw std::runtime_error("a hull's points: " + hull.error().message());
       shape.hull = hull.value();
+      break;
+    }
+    case ShapeKind::mesh: {
+      shape.type = ShapeType::mesh;
+      std::vector<Vec3> vertices;
+      for (const V3& p : spec.points) vertices.push_back(fx(p));
+      auto mesh = build_triangle_mesh(vertices, spec.indices);
+      if (!mesh.ok()) throw std::runtime_error("a mesh's arrays: " + mesh.error().message());
+      shape.mesh = mesh.value();
       break;
     }
   }

@@ -90,9 +90,34 @@ ShapeMass shape_mass(const ShapeSpec& s) {
       return {v, {i_xx / v, i_yy / v, i_xx / v}};
     }
     case ShapeKind::hull: return {s.volume, {0, 0, 0}};
+    case ShapeKind::mesh: return {0, {0, 0, 0}};  // static only
   }
   return {0, {0, 0, 0}};
 }
+
+// btBvhTriangleMeshShape with the arrays it reads kept beside it.
+class MeshShape final : public btBvhTriangleMeshShape {
+ public:
+  explicit MeshShape(const ShapeSpec& s) : MeshShape(arrays_of(s)) {}
+
+ private:
+  struct Arrays {
+    std::vector<btScalar> vertices;
+    std::vector<int> indices;
+    std::unique_ptr<btTriangleIndexVertexArray> view;
+  };
+  static std::shared_ptr<Arrays> arrays_of(const ShapeSpec& s) {
+    auto a = std::make_shared<Arrays>();
+    for (const V3& p : s.points) a->vertices.insert(a->vertices.end(), {bt(p[0]), bt(p[1]), bt(p[2])});
+    for (const uint32_t i : s.indices) a->indices.push_back(static_cast<int>(i));
+    a->view = std::make_unique<btTriangleIndexVertexArray>(
+        static_cast<int>(a->indices.size() / 3), a->indices.data(), static_cast<int>(3 * sizeof(int)),
+        static_cast<int>(s.points.size()), a->vertices.data(), static_cast<int>(3 * sizeof(btScalar)));
+    return a;
+  }
+  explicit MeshShape(std::shared_ptr<Arrays> a) : btBvhTriangleMeshShape(a->view.get(), true), arrays_(std::move(a)) {}
+  std::shared_ptr<Arrays> arrays_;
+};
 
 std::unique_ptr<btCollisionShape> make_shape(const ShapeSpec& s) {
   switch (s.kind) {
@@ -109,6 +134,8 @@ std::unique_ptr<btCollisionShape> make_shape(const ShapeSpec& s) {
       hull->setMargin(btScalar(0.001));
       return hull;
     }
+    // A static mesh: Bullet's BVH mesh over its own copy of the arrays.
+    case ShapeKind::mesh: return std::make_unique<MeshShape>(s);
   }
   return nullptr;
 }

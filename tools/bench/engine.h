@@ -15,7 +15,7 @@ namespace bitstep::bench {
 using V3 = std::array<double, 3>;
 using Q4 = std::array<double, 4>;  // w, x, y, z
 
-enum class ShapeKind { box, sphere, capsule, hull };
+enum class ShapeKind { box, sphere, capsule, hull, mesh };
 
 struct ShapeSpec {
   ShapeKind kind = ShapeKind::box;
@@ -30,6 +30,8 @@ struct ShapeSpec {
   double volume = 0;                   // m^3
   V3 centroid{0, 0, 0};                // m, the shape's frame
   std::array<V3, 3> inertia_per_kg{};  // m^2, about the centroid, the shape's axes (full)
+  // A static mesh: `points` are its vertices, three indices per triangle.
+  std::vector<uint32_t> indices{};
 };
 
 struct BodySpec {

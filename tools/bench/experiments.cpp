@@ -11,7 +11,6 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "core/convex_hull.h"
 #include "fixed/splitmix64.h"
 #include "replay/generators.h"
 #include "tools/bench/scene_specs.h"
@@ -565,30 +564,20 @@ ExperimentResult thrown(const Variant& variant, const StepConfig& config, const 
   return run.result;
 }
 
-// A die: a cube of half size `a` with its corners cut to `b` (a hull of 24
-// corners: six octagons and eight triangles).
-std::vector<Vec3> die_points(Fixed a, Fixed b) {
-  std::vector<Vec3> points;
-  for (int k = 0; k < 8; ++k) {
-    const Fixed x = (k & 1) != 0 ? Fixed::one() : -Fixed::one(), y = (k & 2) != 0 ? Fixed::one() : -Fixed::one(),
-                z = (k & 4) != 0 ? Fixed::one() : -Fixed::one();
-    points.push_back({x * a, y * a, z * b});
-    points.push_back({x * a, y * b, z * a});
-    points.push_back({x * b, y * a, z * a});
-  }
-  return points;
-}
-
-// 20 dice (0.5 m, corners cut 5 cm) thrown spinning at the ground from a
+// 20 dice (scenes/dice.json's: 0.5 m cubes, corners cut 5 cm) thrown spinning at the ground from a
 // seeded spread: after 6 s each should lie on a face. Error: the largest
 // tilt of a die from face-down (degrees); failed when one is still moving
 // or below the ground.
-ExperimentResult dice(const Variant& variant, const StepConfig& config, const RunOptions&) {
+ExperimentResult dice(const Variant& variant, const StepConfig& config, const RunOptions& options) {
   Run run(variant, config);
+  // The die of scenes/dice.json (its body "die0").
+  const Result<Scene> shipped = load_scene_file(options.scenes_dir + "/dice.json");
+  if (!shipped.ok()) throw std::runtime_error(shipped.error().message());
+  const auto named = std::find_if(shipped.value().bodies.begin(), shipped.value().bodies.end(),
+                                  [](const SceneBody& b) { return b.name == "die0"; });
+  if (named == shipped.value().bodies.end()) throw std::runtime_error("dice.json: no body \"die0\"");
+  const Shape die = named->def.shapes[0];
   Scene scene;
-  Shape die;
-  die.type = ShapeType::hull;
-  die.hull = build_convex_hull(die_points(0.25_fx, 0.2_fx)).value();
   SplitMix64 random{20261201};
   const auto uniform = [&](int lo, int hi) {
     return Fixed::from_int(lo + static_cast<int>(random.next() % static_cast<uint64_t>(hi - lo + 1)));

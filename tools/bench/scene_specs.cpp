@@ -5,6 +5,7 @@
 #include <variant>
 
 #include "core/convex_hull.h"
+#include "core/triangle_mesh.h"
 #include "core/world.h"
 #include "replay/replay.h"
 #include "replay/scene.h"
@@ -28,6 +29,14 @@ ShapeSpec to_spec(const Shape& shape) {
       spec.volume = to_double(hull.volume);
       spec.centroid = to_double(hull.centroid);
       for (size_t k = 0; k < 3; ++k) spec.inertia_per_kg[k] = to_double(hull.unit_inertia.rows[k]);
+      break;
+    }
+    case ShapeType::mesh: {
+      spec.kind = ShapeKind::mesh;
+      for (const Vec3& v : shape.mesh->vertices) spec.points.push_back(to_double(v));
+      for (const TriangleMesh::Triangle& t : shape.mesh->triangles) {
+        spec.indices.insert(spec.indices.end(), t.corners.begin(), t.corners.end());
+      }
       break;
     }
   }

@@ -95,7 +95,7 @@ class Drawing {
       geometry = new THREE.SphereGeometry(shape.radius[0], 24, 16);
     } else if (shape.type === 'capsule') {
       geometry = new THREE.CapsuleGeometry(shape.radius[0], 2 * shape.half_height[0], 6, 16);
-    } else if (shape.type === 'hull') {
+    } else if (shape.type === 'hull' || shape.type === 'mesh') {
       geometry = hullGeometry(shape.vertices, shape.faces);
     } else {
       geometry = new THREE.PlaneGeometry(400, 400).rotateX(-Math.PI / 2); // the plane's normal is its local +y

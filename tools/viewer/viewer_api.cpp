@@ -24,6 +24,7 @@
 
 #include "core/convex_hull.h"
 #include "core/query.h"
+#include "core/triangle_mesh.h"
 #include "fixed/decimal.h"
 #include "replay/render_pose.h"
 #include "replay/replay.h"
@@ -147,15 +148,21 @@ std::string floats_json(std::initializer_list<float> values) {
   return out + "]";
 }
 
+// Points as one flat array [x, y, z, x, y, z, ...] (m).
+std::string vertices_json(const std::vector<Vec3>& points) {
+  std::string out = "[";
+  for (const Vec3& v : points) {
+    const std::string xyz = floats_json({to_float(v.x), to_float(v.y), to_float(v.z)});
+    out += (out.size() > 1 ? "," : "") + xyz.substr(1, xyz.size() - 2);
+  }
+  return out + "]";
+}
+
 // A hull's corners ([x, y, z, x, y, z, ...], m, the shape's frame) and its
 // faces' loops of corner indices (counter-clockwise seen from outside), as
 // the keys that follow a shape's others.
 std::string hull_json(const ConvexHull& hull) {
-  std::string vertices, faces;
-  for (const Vec3& v : hull.vertices) {
-    vertices += (vertices.empty() ? "" : ",") + floats_json({to_float(v.x), to_float(v.y), to_float(v.z)}).substr(1);
-    vertices.pop_back();
-  }
+  std::string faces;
   for (const ConvexHull::Face& face : hull.faces) {
     std::string loop;
     for (uint16_t i = 0; i < face.count; ++i) {
@@ -163,7 +170,18 @@ std::string hull_json(const ConvexHull& hull) {
     }
     faces += (faces.empty() ? "[" : ",[") + loop + "]";
   }
-  return ",\"vertices\":[" + vertices + "],\"faces\":[" + faces + "]";
+  return ",\"vertices\":" + vertices_json(hull.vertices) + ",\"faces\":[" + faces + "]";
+}
+
+// A mesh's vertices and its triangles as three-corner faces, in the keys
+// hull_json gives.
+std::string mesh_json(const TriangleMesh& mesh) {
+  std::string faces;
+  for (const TriangleMesh::Triangle& t : mesh.triangles) {
+    faces += std::string(faces.empty() ? "[" : ",[") + std::to_string(t.corners[0]) + "," +
+             std::to_string(t.corners[1]) + "," + std::to_string(t.corners[2]) + "]";
+  }
+  return ",\"vertices\":" + vertices_json(mesh.vertices) + ",\"faces\":[" + faces + "]";
 }
 
 const char* shape_type(ShapeType type) { return shape_type_names[static_cast<size_t>(type)]; }
@@ -303,7 +321,7 @@ VIEWER_EXPORT const float* bv_poses(int v) {
 // Every live body's name, type and shapes (in the body frame, whose origin
 // is the centre of mass) as JSON: [{"slot", "generation", "name", "type",
 // "shapes": [{"type", "half_extents", "radius", "half_height", "position",
-// "orientation", and a hull's "vertices" and "faces"}]}].
+// "orientation", and a hull's or mesh's "vertices" and "faces"}]}].
 VIEWER_EXPORT const char* bv_shapes(int v) {
   Player* p = player(v);
   if (p == nullptr || !p->loaded) return "[]";
@@ -326,7 +344,8 @@ VIEWER_EXPORT const char* bv_shapes(int v) {
              ",\"position\":" + floats_json({local.position[0], local.position[1], local.position[2]}) +
              ",\"orientation\":" +
              floats_json({local.orientation[0], local.orientation[1], local.orientation[2], local.orientation[3]}) +
-             (s.type == ShapeType::hull ? hull_json(*s.hull) : std::string()) + "}";
+             (s.type == ShapeType::hull ? hull_json(*s.hull) : std::string()) +
+             (s.type == ShapeType::mesh ? mesh_json(*s.mesh) : std::string()) + "}";
     }
     out += "]}";
   }
