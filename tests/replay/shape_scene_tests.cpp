@@ -84,7 +84,7 @@ TEST_CASE("hull worlds: restored mid-tumble from a snapshot, the chain is the sa
   continues_after_restore("dice.json", 45, 120);
 }
 
-TEST_CASE("mesh scenes: arrays in, triangles out; refusals name their place", "[scene][mesh]") {
+TEST_CASE("mesh scenes: arrays in, triangles out, and refusals that name their place", "[scene][mesh]") {
   const auto mesh_body = [](const std::string& type, const std::string& vertices, const std::string& indices) {
     return R"({"format": "bitstep-scene", "version": 1, "bodies": [{"type": ")" + type +
            R"(", "shapes": [{"type": "mesh", "vertices": )" + vertices + R"(, "indices": )" + indices + "}]}]}";

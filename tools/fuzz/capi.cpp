@@ -446,7 +446,7 @@ class Session {
     def.name = naming == 0 ? nullptr : naming == 1 ? "ball" : "made";
     def.shape_count = in_.byte() % 4;
     for (uint32_t i = 0; i < def.shape_count; ++i) {
-      shapes[i].type = in_.byte() % 6;
+      shapes[i].type = in_.byte() % 7;
       shapes[i].point_count = in_.byte() % 9;  // a hull's 0..8 points (or a NULL array)
       for (uint32_t k = 0; k < shapes[i].point_count; ++k) points[i][k] = vec3();
       shapes[i].points = in_.byte() < 0x10 ? nullptr : points[i];
