@@ -233,7 +233,7 @@ class ByteReader {
 
  private:
   uint64_t within(uint64_t value, uint64_t lo, uint64_t hi, const char* name) {
-    if (value < lo || value > hi) fail(std::string(name) + " out of range");
+    if (value < lo || value > hi) fail(std::string(name != nullptr ? name : "a list item") + " out of range");
     return value;
   }
   uint64_t take(int n) {
