@@ -3,6 +3,7 @@
 #include "core/triangle_mesh.h"
 
 #include <algorithm>
+#include <cstddef>
 #include <string>
 #include <tuple>
 
@@ -140,7 +141,8 @@ void build_node(TriangleMesh& mesh, uint32_t index, uint32_t lo, uint32_t hi) {
   // Split at the median along the longest axis of the centres, ties by index.
   const Vec3 spread = centre_high - centre_low;
   const int axis = spread.x >= spread.y && spread.x >= spread.z ? 0 : (spread.y >= spread.z ? 1 : 2);
-  std::sort(mesh.order.begin() + lo, mesh.order.begin() + hi, [&](uint32_t x, uint32_t y) {
+  const auto first = mesh.order.begin() + static_cast<std::ptrdiff_t>(lo);
+  std::sort(first, first + static_cast<std::ptrdiff_t>(hi - lo), [&](uint32_t x, uint32_t y) {
     const Fixed cx = centre_3(mesh, x, axis), cy = centre_3(mesh, y, axis);
     return cx < cy || (cx == cy && x < y);
   });
