@@ -137,8 +137,9 @@ else
 fi
 
 # Late join over ENet with 10% loss and 50-150 ms of jitter, at 100 frames a
-# second: player 2 of 3 (a busy script: a push every 10 ticks, so its
-# absence shows in the chain) is killed after 3 s; the host marks it absent
+# second: player 2 of 3 (a busy script: a small push every tick, so an
+# absence of any length shows in the chain; with a push every 10 ticks, an
+# absence from tick 241 to 249 missed none and proved nothing) is killed after 3 s; the host marks it absent
 # after 100 frames of silence; a new process takes its slot, to play
 # (--join) or to watch (--watch). In the first match a raw UDP sender
 # fires 3000 random datagrams at the host. Every peer, the newcomer from
@@ -146,9 +147,10 @@ fi
 # roster changes, which must differ from the chain without them.
 {
   printf '{"inputs": [\n'
-  for t in $(seq 20 10 590); do
-    printf '  {"step": %d, "type": "impulse", "body": "ball.3", "impulse": [0, 2, %d], "point": [30, 1, 25]}%s\n' \
-      "$t" $(((t / 10) % 7 - 3)) "$([ "$t" -lt 590 ] && echo ,)"
+  sideways=(-0.3 -0.2 -0.1 0 0.1 0.2 0.3)
+  for t in $(seq 20 590); do
+    printf '  {"step": %d, "type": "impulse", "body": "ball.3", "impulse": [0, 0.2, %s], "point": [30, 1, 25]}%s\n' \
+      "$t" "${sideways[t % 7]}" "$([ "$t" -lt 590 ] && echo ,)"
   done
   printf ']}\n'
 } >"$out/busy2.inputs.json"
