@@ -572,10 +572,23 @@ Points snapped_distinct(const std::vector<Vec3>& points) {
 // ---------------------------------------------------------------------------
 // Step 5: the output.
 
+// a before b in lexicographic order, written out: GCC 12's libstdc++
+// compares vectors of wider-than-byte unsigned integers with a memcmp of
+// as many bytes as elements on big-endian targets (s390x saw [21, 22, 23]
+// equal to [3, 4, 5]), so `loops[i] < loops[j]` would order faces by
+// byte order.
+bool lexicographically_before(const Loop& a, const Loop& b) {
+  const std::size_t n = std::min(a.size(), b.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    if (a[i] != b[i]) return a[i] < b[i];
+  }
+  return a.size() < b.size();
+}
+
 // Each loop from its lowest index, the loops in lexicographic order.
 std::vector<Loop> canonical_loops(std::vector<Loop> loops) {
   for (Loop& loop : loops) std::rotate(loop.begin(), std::min_element(loop.begin(), loop.end()), loop.end());
-  std::sort(loops.begin(), loops.end());
+  std::sort(loops.begin(), loops.end(), lexicographically_before);
   return loops;
 }
 
