@@ -56,7 +56,8 @@ int rank(ShapeType type) {
     case ShapeType::sphere: return 2;
     case ShapeType::capsule: return 3;
     case ShapeType::hull: return 4;
-    case ShapeType::mesh: return 5;
+    case ShapeType::mesh:
+    case ShapeType::heightfield: return 5;  // a heightfield is a mesh
   }
   return 0;
 }

@@ -201,8 +201,9 @@ Result<void> check_envelope(const BodyDef& def) {
     if (shape.type == ShapeType::plane && def.type != BodyType::static_body) {
       return Error{shape_field(static_cast<int>(i), "type"), "a plane belongs to a static body"};
     }
-    if (shape.type == ShapeType::mesh && def.type != BodyType::static_body) {
-      return Error{shape_field(static_cast<int>(i), "type"), "a mesh belongs to a static body"};
+    if (has_triangles(shape.type) && def.type != BodyType::static_body) {
+      return Error{shape_field(static_cast<int>(i), "type"),
+                   std::string("a ") + shape_name(shape.type) + " belongs to a static body"};
     }
     if (Result<void> refused = check_shape(shape, static_cast<int>(i)); !refused.ok()) return refused;
   }

@@ -17,11 +17,16 @@ enum class ShapeType : uint8_t {
   sphere,   // radius
   hull,     // a convex hull of points (core/convex_hull.h), shared and immutable
   mesh,     // static triangles, one-sided (core/triangle_mesh.h), shared and immutable; static bodies only
+  heightfield,  // a grid of heights (core/height_grid.h): a mesh built from it, in `mesh`; static bodies only
 };
 
 // Each type's name in scenes, states and messages, by its value: the one
 // list (shape_types.h has each type's other facts).
-inline constexpr std::array<const char*, 6> shape_type_names = {"plane", "box", "capsule", "sphere", "hull", "mesh"};
+inline constexpr std::array<const char*, 7> shape_type_names = {"plane", "box",  "capsule",    "sphere",
+                                                                "hull",  "mesh", "heightfield"};
+
+// A mesh or a heightfield: static triangles, in `mesh`.
+constexpr bool has_triangles(ShapeType type) { return type == ShapeType::mesh || type == ShapeType::heightfield; }
 
 struct ConvexHull;
 struct TriangleMesh;
@@ -33,7 +38,7 @@ struct Shape {
   Fixed half_height;   // m, capsule: half the length of its inner segment
   Pose local;          // in the body frame (whose origin is the centre of mass)
   std::shared_ptr<const ConvexHull> hull = nullptr;  // hull: its points, faces and mass (never null for a hull)
-  std::shared_ptr<const TriangleMesh> mesh = nullptr;  // mesh: its triangles and tree (never null for a mesh)
+  std::shared_ptr<const TriangleMesh> mesh = nullptr;  // mesh, heightfield: its triangles and tree (never null)
 };
 
 struct Mat33;

@@ -363,8 +363,8 @@ bool shape_enters(const WorldShape& moving, const Ray& path, const WorldShape& t
     return true;
   }
   if (kind == ShapeType::box && target_kind == ShapeType::box) return sweep_boxes(moving, path, target, entry);
-  if (target_kind == ShapeType::mesh) return onto_mesh(moving, path, target, entry);
-  if (kind == ShapeType::mesh) return false;  // meshes are static
+  if (has_triangles(target_kind)) return onto_mesh(moving, path, target, entry);
+  if (has_triangles(kind)) return false;  // meshes and heightfields are static
   if (kind == ShapeType::hull || target_kind == ShapeType::hull) {
     return advance_convex(moving, path, convex_core(target), entry);
   }

@@ -86,6 +86,9 @@ struct HullShape {
 struct MeshShape {
   BITSTEP_SHAPE_TYPE_FUNCTIONS
 };
+// A heightfield: a mesh built from a grid (core/height_grid.h), every fact
+// a mesh's.
+struct HeightfieldShape : MeshShape {};
 
 #undef BITSTEP_SHAPE_TYPE_FUNCTIONS
 
@@ -99,6 +102,7 @@ decltype(auto) with_shape_type(ShapeType type, F&& f) {
     case ShapeType::sphere: return f(SphereShape{});
     case ShapeType::hull: return f(HullShape{});
     case ShapeType::mesh: return f(MeshShape{});
+    case ShapeType::heightfield: return f(HeightfieldShape{});
   }
   std::abort();  // never: World::create_body and the state reader take ShapeType's values only
 }
@@ -111,7 +115,8 @@ inline bool is_shape_type(ShapeType type) {
     case ShapeType::capsule:
     case ShapeType::sphere:
     case ShapeType::hull:
-    case ShapeType::mesh: return true;
+    case ShapeType::mesh:
+    case ShapeType::heightfield: return true;
   }
   return false;
 }

@@ -158,7 +158,8 @@ void build_node(TriangleMesh& mesh, uint32_t index, uint32_t lo, uint32_t hi) {
 }  // namespace mesh_builder
 
 Result<std::shared_ptr<const TriangleMesh>> build_triangle_mesh(const std::vector<Vec3>& vertices,
-                                                                const std::vector<uint32_t>& indices) {
+                                                                const std::vector<uint32_t>& indices,
+                                                                std::shared_ptr<const HeightGrid> source_grid) {
   using namespace mesh_builder;
   if (Result<void> checked = check_arrays(vertices, indices); !checked.ok()) return checked.error();
   auto mesh = std::make_shared<TriangleMesh>();
@@ -175,6 +176,7 @@ Result<std::shared_ptr<const TriangleMesh>> build_triangle_mesh(const std::vecto
   build_node(*mesh, 0, 0, static_cast<uint32_t>(mesh->order.size()));
   mesh->bounds = mesh->nodes[0].bounds;
   for (const Vec3& v : mesh->vertices) mesh->extent = max(mesh->extent, length(v));
+  mesh->source_grid = std::move(source_grid);
   return std::shared_ptr<const TriangleMesh>(std::move(mesh));
 }
 

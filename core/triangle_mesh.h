@@ -49,6 +49,8 @@ inline constexpr Fixed mesh_active_edge_cos = 0.9962_fx;
 // m: the longest a triangle's edge may be (cross products stay in range).
 inline constexpr Fixed mesh_max_edge = 1000.0_fx;
 
+struct HeightGrid;
+
 struct TriangleMesh {
   struct Triangle {
     std::array<uint32_t, 3> corners;  // vertex indices, counter-clockwise seen from the front
@@ -70,13 +72,16 @@ struct TriangleMesh {
   std::vector<Node> nodes;      // nodes[0] is the root
   Aabb bounds;                  // of every vertex
   Fixed extent;                 // the farthest vertex's distance from the shape's origin
+  std::shared_ptr<const HeightGrid> source_grid;  // a heightfield's grid (core/height_grid.h), or none
 };
 
 // The mesh of `vertices` and `indices` (three per triangle), or why not
 // ("indices: 7 indices, not a multiple of 3", "indices[5]: vertex 12 of 10",
 // "triangle 3: area below 1e-6 m^2", "vertices[2].x: outside -16000..16000 m").
-Result<std::shared_ptr<const TriangleMesh>> build_triangle_mesh(const std::vector<Vec3>& vertices,
-                                                                const std::vector<uint32_t>& indices);
+// `source_grid`: the grid the arrays were made from, kept with the mesh.
+Result<std::shared_ptr<const TriangleMesh>> build_triangle_mesh(
+    const std::vector<Vec3>& vertices, const std::vector<uint32_t>& indices,
+    std::shared_ptr<const HeightGrid> source_grid = nullptr);
 
 // Calls visit(triangle index) for each triangle in a leaf whose bounds
 // meet `box` (the mesh's frame) and whose own bounds meet it, in the

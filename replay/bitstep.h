@@ -111,8 +111,9 @@ typedef enum {
   BITSTEP_SHAPE_BOX = 1,
   BITSTEP_SHAPE_CAPSULE = 2, /* a segment from -half_height to +half_height along local y, swept by radius */
   BITSTEP_SHAPE_SPHERE = 3,
-  BITSTEP_SHAPE_HULL = 4, /* the convex hull of points: 4..1024, within 50 m of its origin, at most 32 corners */
-  BITSTEP_SHAPE_MESH = 5  /* static triangles: made from JSON (bitstep_add_body), read here; not from a struct */
+  BITSTEP_SHAPE_HULL = 4,       /* the convex hull of points: 4..1024, within 50 m of its origin, at most 32 corners */
+  BITSTEP_SHAPE_MESH = 5,       /* static triangles: made from JSON (bitstep_add_body), read here; not from a struct */
+  BITSTEP_SHAPE_HEIGHTFIELD = 6 /* a static grid of heights: from JSON, as a mesh */
 } bitstep_shape_type;
 typedef struct {
   int32_t type;              /* bitstep_shape_type */

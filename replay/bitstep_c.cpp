@@ -171,11 +171,13 @@ bitstep::Result<bitstep::BodyDef> body_def_of(const bitstep_body_def& c) {
   for (uint32_t i = 0; i < c.shape_count; ++i) {
     const bitstep_shape& cs = c.shapes[i];
     const std::string place = "shapes[" + std::to_string(i) + "]";
-    if (cs.type < BITSTEP_SHAPE_PLANE || cs.type > BITSTEP_SHAPE_MESH) {
+    if (cs.type < BITSTEP_SHAPE_PLANE || cs.type > BITSTEP_SHAPE_HEIGHTFIELD) {
       return bitstep::Error{place + ".type", "not a bitstep_shape_type"};
     }
-    if (cs.type == BITSTEP_SHAPE_MESH) {
-      return bitstep::Error{place + ".type", "a mesh comes from JSON (bitstep_add_body), not from a struct"};
+    if (cs.type == BITSTEP_SHAPE_MESH || cs.type == BITSTEP_SHAPE_HEIGHTFIELD) {
+      return bitstep::Error{place + ".type", std::string("a ") +
+                                                 bitstep::shape_type_names[static_cast<size_t>(cs.type)] +
+                                                 " comes from JSON (bitstep_add_body), not from a struct"};
     }
     bitstep::Shape shape;
     shape.type = static_cast<bitstep::ShapeType>(cs.type);
@@ -725,6 +727,7 @@ static_assert(BITSTEP_SHAPE_CAPSULE == static_cast<int>(bitstep::ShapeType::caps
 static_assert(BITSTEP_SHAPE_SPHERE == static_cast<int>(bitstep::ShapeType::sphere));
 static_assert(BITSTEP_SHAPE_HULL == static_cast<int>(bitstep::ShapeType::hull));
 static_assert(BITSTEP_SHAPE_MESH == static_cast<int>(bitstep::ShapeType::mesh));
+static_assert(BITSTEP_SHAPE_HEIGHTFIELD == static_cast<int>(bitstep::ShapeType::heightfield));
 static_assert(BITSTEP_JOINT_MAX_DISTANCE == static_cast<int>(bitstep::JointType::max_distance));
 static_assert(BITSTEP_JOINT_HINGE == static_cast<int>(bitstep::JointType::hinge));
 static_assert(BITSTEP_JOINT_CONE == static_cast<int>(bitstep::JointType::cone));

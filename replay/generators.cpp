@@ -107,7 +107,8 @@ Fixed bounding_radius(const Shape& shape) {
     case ShapeType::capsule: return shape.radius + shape.half_height;
     case ShapeType::hull: return shape.hull ? shape.hull->extent : Fixed{};  // (the generators make none)
     case ShapeType::plane:
-    case ShapeType::mesh: break;
+    case ShapeType::mesh:
+    case ShapeType::heightfield: break;
   }
   return Fixed{};
 }

@@ -1,5 +1,6 @@
 #include "replay/scene.h"
 
+#include <algorithm>
 #include <climits>
 #include <filesystem>
 #include <fstream>
@@ -9,6 +10,7 @@
 
 #include "core/convex_hull.h"
 #include "core/envelope.h"
+#include "core/height_grid.h"
 #include "core/triangle_mesh.h"
 #include "replay/generators.h"
 #include "replay/json_tree.h"
@@ -105,6 +107,64 @@ std::shared_ptr<const TriangleMesh> read_mesh(const Node& vertices_node, const N
   return std::move(mesh.value());
 }
 
+// A heightfield's "columns" and "rows" (samples along x and z),
+// "spacing" ([x, z], m), "heights" (row by row, rows x columns) and
+// optional "holes" ([[i, j], ...]: cells without ground, in any order),
+// built into its mesh (core/height_grid.h); a refusal names its place.
+std::shared_ptr<const TriangleMesh> read_heightfield(ObjectReader& reader) {
+  HeightGrid grid;
+  const Node& columns = reader.require("columns");
+  const Node& rows = reader.require("rows");
+  grid.columns = static_cast<uint32_t>(read_int(columns, 2, static_cast<int>(max_grid_samples)));
+  grid.rows = static_cast<uint32_t>(read_int(rows, 2, static_cast<int>(max_grid_samples)));
+  const Node& spacing = reader.require("spacing");
+  if (spacing.kind != Kind::array || spacing.children.size() != 2) fail(spacing, "expected [x, z] in m");
+  grid.spacing_x = read_fixed_within(spacing.children[0], min_grid_spacing, max_grid_spacing, "m");
+  grid.spacing_z = read_fixed_within(spacing.children[1], min_grid_spacing, max_grid_spacing, "m");
+  const Node& heights = reader.require("heights");
+  if (heights.kind != Kind::array)
+    fail(heights, std::string("expected an array of heights, got ") + json::describe(heights.kind));
+  const size_t expected = size_t{grid.columns} * grid.rows;
+  if (heights.children.size() != expected) {
+    fail(heights, std::to_string(heights.children.size()) + " heights, not " + std::to_string(grid.columns) + " x " +
+                      std::to_string(grid.rows));
+  }
+  grid.heights.reserve(expected);
+  for (const Node& h : heights.children)
+    grid.heights.push_back(read_fixed_within(h, -max_grid_span, max_grid_span, "m"));
+  const Node* holes = reader.find("holes");
+  if (holes) {
+    if (holes->kind != Kind::array)
+      fail(*holes, std::string("expected an array of [i, j] cells, got ") + json::describe(holes->kind));
+    check_count(*holes, max_grid_cells, "holes");
+    for (const Node& hole : holes->children) {
+      if (hole.kind != Kind::array || hole.children.size() != 2) fail(hole, "expected a cell [i, j]");
+      const auto i = static_cast<uint32_t>(read_int(hole.children[0], 0, static_cast<int>(grid.columns) - 2));
+      const auto j = static_cast<uint32_t>(read_int(hole.children[1], 0, static_cast<int>(grid.rows) - 2));
+      grid.holes.push_back(j * (grid.columns - 1) + i);
+    }
+    // (cell, place) ascending: a cell listed twice is two neighbours; the
+    // refusal names its second place.
+    std::vector<std::pair<uint32_t, size_t>> sorted;
+    for (size_t k = 0; k < grid.holes.size(); ++k) sorted.emplace_back(grid.holes[k], k);
+    std::sort(sorted.begin(), sorted.end());
+    for (size_t k = 1; k < sorted.size(); ++k) {
+      if (sorted[k].first == sorted[k - 1].first) fail(holes->children[sorted[k].second], "a cell listed twice");
+    }
+    for (size_t k = 0; k < sorted.size(); ++k) grid.holes[k] = sorted[k].first;
+  }
+  Result<std::shared_ptr<const TriangleMesh>> mesh = build_height_grid_mesh(std::move(grid));
+  if (!mesh.ok()) {
+    const std::string& place = mesh.error().place;
+    const Node& at = place == "columns"          ? columns
+                     : place == "rows"           ? rows
+                     : place == "holes" && holes ? *holes
+                                                 : heights;
+    fail(at.path + (place.rfind("heights[", 0) == 0 ? place.substr(7) : ""), mesh.error().reason);
+  }
+  return std::move(mesh.value());
+}
+
 Shape read_shape(const Node& node) {
   ObjectReader reader(node);
   Shape shape;
@@ -120,6 +180,7 @@ Shape read_shape(const Node& node) {
     case ShapeType::plane: break;
     case ShapeType::hull: shape.hull = read_hull(reader.require("points")); break;
     case ShapeType::mesh: shape.mesh = read_mesh(reader.require("vertices"), reader.require("indices")); break;
+    case ShapeType::heightfield: shape.mesh = read_heightfield(reader); break;
   }
   read_optional(reader, "position", shape.local.position);
   if (const Node* orientation = reader.find("orientation")) shape.local.orientation = read_orientation(*orientation);

@@ -48,6 +48,7 @@
 #include "core/contact.h"
 #include "core/convex_hull.h"
 #include "core/envelope.h"
+#include "core/height_grid.h"
 #include "core/joint.h"
 #include "core/settings.h"
 #include "core/triangle_mesh.h"
@@ -257,6 +258,35 @@ void describe_mesh_arrays(V& v, Sh& shape) {
   }
 }
 
+// A heightfield's grid (its mesh is built from it again,
+// core/height_grid.h): the sizes, the heights and the holes. G is
+// HeightGrid, or const HeightGrid for a writer.
+template <class V, class G>
+void describe_grid_fields(V& v, G& grid) {
+  constexpr size_t height_bytes = 8, hole_bytes = 4;
+  v.integer("columns", grid.columns, 2, 2, max_grid_samples);
+  v.integer("rows", grid.rows, 2, 2, max_grid_samples);
+  v.fixed("spacing_x", grid.spacing_x);
+  v.fixed("spacing_z", grid.spacing_z);
+  v.list("heights", grid.heights, height_bytes, uint64_t{max_grid_samples} * max_grid_samples, nullptr,
+         [&](auto& height) { v.fixed(nullptr, height); });
+  v.list("holes", grid.holes, hole_bytes, max_grid_cells, nullptr,
+         [&](auto& hole) { v.integer(nullptr, hole, 4, 0, max_grid_cells - 1); });
+}
+
+template <class V, class Sh>
+void describe_height_grid(V& v, Sh& shape) {
+  if constexpr (V::reading) {
+    HeightGrid grid;
+    describe_grid_fields(v, grid);
+    Result<std::shared_ptr<const TriangleMesh>> mesh = build_height_grid_mesh(std::move(grid));
+    v.require([&] { return mesh.ok(); }, [] { return std::string("a grid that does not build a heightfield"); });
+    if (mesh.ok()) shape.mesh = std::move(mesh.value());
+  } else {
+    describe_grid_fields(v, *shape.mesh->source_grid);
+  }
+}
+
 template <class V, class Sh>
 void describe_shape(V& v, Sh& shape) {
   v.choice("type", shape.type, shape_types, 0);
@@ -267,6 +297,7 @@ void describe_shape(V& v, Sh& shape) {
   v.quat("orientation", shape.local.orientation);
   if (shape.type == ShapeType::hull) describe_hull_points(v, shape);
   if (shape.type == ShapeType::mesh) describe_mesh_arrays(v, shape);
+  if (shape.type == ShapeType::heightfield) describe_height_grid(v, shape);
   v.require([&] { return state_checks::shape_inside(shape); },
             [] { return std::string("a shape outside the envelope (size, position or orientation)"); });
 }

@@ -51,7 +51,8 @@ inline std::string json_of(const Shape& s) {
              "}";
     case ShapeType::plane:
     case ShapeType::hull:
-    case ShapeType::mesh: break;  // the corners are the primitives'
+    case ShapeType::mesh:
+    case ShapeType::heightfield: break;  // the corners are the primitives'
   }
   return "";
 }

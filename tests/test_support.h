@@ -2,6 +2,7 @@
 #pragma once
 
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <cstdint>
 
 #include "fixed/fixed.h"
@@ -36,6 +37,8 @@ constexpr uint64_t samples(uint64_t full) {
 
 // For reports and tolerances in tests only (never inside the simulation).
 inline double to_double(Fixed f) { return static_cast<double>(f.raw()) * 0x1p-32; }
+// The nearest Fixed to x, for test inputs computed in double (|x| < 2^31).
+inline Fixed to_fixed(double x) { return Fixed::from_raw(static_cast<int64_t>(std::llround(x * 0x1p32))); }
 
 // v sign-extended to a two's complement 128-bit value.
 inline PortableU128 wide(int64_t v) { return {v < 0 ? UINT64_MAX : 0, static_cast<uint64_t>(v)}; }

@@ -641,7 +641,8 @@ TEST_CASE("random poses: unit normals, at most 4 points, deterministic, no overf
       case ShapeType::capsule: return s.half_height + s.radius;
       case ShapeType::plane: return Fixed{};
       case ShapeType::hull: return s.hull->extent;
-      case ShapeType::mesh: return Fixed{};  // not made here
+      case ShapeType::mesh:
+      case ShapeType::heightfield: return Fixed{};  // not made here
     }
     return Fixed{};
   };

@@ -30,7 +30,8 @@ Fixed reach_below(const Shape& s) {
     case ShapeType::capsule: return s.half_height + s.radius - s.local.position.y;
     case ShapeType::plane:
     case ShapeType::hull:
-    case ShapeType::mesh: break;
+    case ShapeType::mesh:
+    case ShapeType::heightfield: break;
   }
   return Fixed{};
 }

@@ -188,6 +188,13 @@ TEST_CASE("C API: a hull from points is the hull from JSON, thrown and tumbling,
   CHECK(bitstep_create_body(by_struct, &def, &c) == BITSTEP_INVALID);
   CHECK(std::string(bitstep_last_error(by_struct)) ==
         "create_body: shapes[0].type: a mesh comes from JSON (bitstep_add_body), not from a struct");
+  shape.type = BITSTEP_SHAPE_HEIGHTFIELD;
+  CHECK(bitstep_create_body(by_struct, &def, &c) == BITSTEP_INVALID);
+  CHECK(std::string(bitstep_last_error(by_struct)) ==
+        "create_body: shapes[0].type: a heightfield comes from JSON (bitstep_add_body), not from a struct");
+  shape.type = BITSTEP_SHAPE_HEIGHTFIELD + 1;
+  CHECK(bitstep_create_body(by_struct, &def, &c) == BITSTEP_INVALID);
+  CHECK(std::string(bitstep_last_error(by_struct)) == "create_body: shapes[0].type: not a bitstep_shape_type");
   const bitstep_body ground = body(by_struct, "ground");
   CHECK(bitstep_get_hull_points(by_struct, ground, 0, corners, 6, &count) == BITSTEP_INVALID);
   CHECK(std::string(bitstep_last_error(by_struct)) == "get_hull_points: shape 0 is no hull");

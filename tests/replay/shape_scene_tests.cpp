@@ -111,3 +111,42 @@ TEST_CASE("mesh worlds: restored mid-slide from a snapshot, the chain is the sam
   // Rocks rolling down the hill, crates in flight.
   continues_after_restore("terrain.json", 60, 120);
 }
+
+TEST_CASE("heightfield scenes: a grid in, its triangles out, and refusals that name their place",
+          "[scene][heightfield]") {
+  const auto field = [](const std::string& type, const std::string& fields) {
+    return R"({"format": "bitstep-scene", "version": 1, "bodies": [{"type": ")" + type +
+           R"(", "shapes": [{"type": "heightfield", )" + fields + "}]}]}";
+  };
+  const std::string sizes = R"("columns": 3, "rows": 2, "spacing": [1, 0.5], )";
+  const auto scene =
+      parse_scene(field("static", sizes + R"("heights": [0, 1, 0, 0, 1, 0], "holes": [[1, 0]])"), "f.json");
+  REQUIRE(scene.ok());
+  const Shape& shape = scene.value().bodies[0].def.shapes[0];
+  CHECK(shape.type == ShapeType::heightfield);
+  CHECK(shape.mesh->triangles.size() == 2);
+  CHECK(shape.mesh->vertices[4] == Vec3{Fixed::one(), Fixed::one(), 0.5_fx});
+  CHECK(error_of(field("dynamic", sizes + R"("heights": [0, 0, 0, 0, 0, 0])")) ==
+        "f.json: $.bodies[0].shapes[0].type: a heightfield belongs to a static body");
+  CHECK(error_of(field("static", sizes + R"("heights": [0, 0, 0, 0, 0])")) ==
+        "f.json: $.bodies[0].shapes[0].heights: 5 heights, not 3 x 2");
+  CHECK(error_of(field("static", sizes + R"("heights": [0, 0, 0, 0, 17000, 0])")) ==
+        "f.json: $.bodies[0].shapes[0].heights[4]: outside +-16000 m");
+  CHECK(error_of(field("static", R"("columns": 1, "rows": 2, "spacing": [1, 1], "heights": [0, 0])")) ==
+        "f.json: $.bodies[0].shapes[0].columns: outside 2..4097");
+  CHECK(error_of(field("static", R"("columns": 3, "rows": 2, "spacing": [0.001, 1], "heights": [0, 0, 0, 0, 0, 0])"))
+            .rfind("f.json: $.bodies[0].shapes[0].spacing[0]: ", 0) == 0);
+  CHECK(error_of(field("static", sizes + R"("heights": [0, 0, 0, 0, 0, 0], "holes": [[0, 0], [2, 0]])")) ==
+        "f.json: $.bodies[0].shapes[0].holes[1][0]: outside 0..1");
+  CHECK(error_of(field("static", sizes + R"("heights": [0, 0, 0, 0, 0, 0], "holes": [[1, 0], [1, 0]])")) ==
+        "f.json: $.bodies[0].shapes[0].holes[1]: a cell listed twice");
+  CHECK(error_of(field("static", sizes + R"("heights": [0, 0, 0, 0, 0, 0], "holes": [[1, 0], [0, 0]])")) ==
+        "f.json: $.bodies[0].shapes[0].holes: every cell a hole: no ground");
+  CHECK(error_of(field("static", sizes + R"("heights": [0, 0, 0, 0, 0, 0], "slope": 3)"))
+            .rfind("f.json: $.bodies[0].shapes[0].slope: unknown key", 0) == 0);
+}
+
+TEST_CASE("heightfield worlds: restored mid-drive from a snapshot, the chain is the same", "[snapshot][heightfield]") {
+  // The car starting over the bumps, rocks tumbling off the hill, ragdolls falling onto the slope.
+  continues_after_restore("hills.json", 40, 100);
+}

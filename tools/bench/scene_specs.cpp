@@ -31,7 +31,8 @@ ShapeSpec to_spec(const Shape& shape) {
       for (size_t k = 0; k < 3; ++k) spec.inertia_per_kg[k] = to_double(hull.unit_inertia.rows[k]);
       break;
     }
-    case ShapeType::mesh: {
+    case ShapeType::mesh:
+    case ShapeType::heightfield: {  // Bullet takes a heightfield's triangles as a mesh
       spec.kind = ShapeKind::mesh;
       for (const Vec3& v : shape.mesh->vertices) spec.points.push_back(to_double(v));
       for (const TriangleMesh::Triangle& t : shape.mesh->triangles) {

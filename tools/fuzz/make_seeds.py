@@ -125,7 +125,8 @@ def snapshots(bitstep):
         runs = [("small_1", small, 1), ("small_30", small, 30), ("bounce_40", "scenes/bounce.json", 40),
                 ("slide_stop_20", "scenes/slide_stop.json", 20), ("sensors_30", "scenes/sensors.json", 30),
                 ("incline_20", "scenes/incline.json", 20), ("car_wall_10", "scenes/car_wall.json", 10),
-                ("sliders_motors_30", "scenes/sliders_motors.json", 30), ("dice_45", "scenes/dice.json", 45)]
+                ("sliders_motors_30", "scenes/sliders_motors.json", 30), ("dice_45", "scenes/dice.json", 45),
+                ("terrain_20", "scenes/terrain.json", 20), ("hills_20", "scenes/hills.json", 20)]
         for name, scene, step in runs:
             out = os.path.join(tmp, name + ".snapshot")
             subprocess.run([bitstep, "run", scene, "--steps", str(step + 1), "--snapshot-at", str(step), out],

@@ -345,7 +345,7 @@ VIEWER_EXPORT const char* bv_shapes(int v) {
              ",\"orientation\":" +
              floats_json({local.orientation[0], local.orientation[1], local.orientation[2], local.orientation[3]}) +
              (s.type == ShapeType::hull ? hull_json(*s.hull) : std::string()) +
-             (s.type == ShapeType::mesh ? mesh_json(*s.mesh) : std::string()) + "}";
+             (has_triangles(s.type) ? mesh_json(*s.mesh) : std::string()) + "}";
     }
     out += "]}";
   }
