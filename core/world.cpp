@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <memory>
+#include <optional>
 
 #include "core/broadphase.h"
 #include "core/contact_update.h"
@@ -126,7 +127,7 @@ void World::after_in_place_restore() {
 World World::from_state(const Settings& settings, uint64_t step_count, std::vector<Body> bodies,
                         std::vector<uint32_t> free_slots, std::vector<Contact> contacts, std::vector<Joint> joints,
                         std::vector<uint32_t> free_joint_slots, std::vector<SensorOverlap> sensor_overlaps,
-                        std::vector<Car> cars) {
+                        std::vector<Car> cars, std::vector<Character> characters) {
   World world(settings);
   world.step_count_ = step_count;
   world.bodies_ = std::move(bodies);
@@ -136,6 +137,7 @@ World World::from_state(const Settings& settings, uint64_t step_count, std::vect
   world.free_joint_slots_ = std::move(free_joint_slots);
   world.sensor_overlaps_ = std::move(sensor_overlaps);
   world.cars_ = std::move(cars);
+  world.characters_ = std::move(characters);
   for (Body& body : world.bodies_) {
     body.serial = body.alive ? ++world.last_serial_ : 0;
     if (!body.alive) continue;
@@ -526,6 +528,45 @@ void World::set_car_controls(CarId id, CarControls controls) {
   cars_[id.index].controls = controls;
 }
 
+Result<CharacterId> World::create_character(const CharacterDef& def) {
+  if (Result<void> refused = check_character(def); !refused.ok()) return refused.error();
+  Character c;
+  c.def = def;
+  c.position = def.position;
+  c.facing = def.facing;
+  characters_.push_back(c);
+  return CharacterId{static_cast<uint32_t>(characters_.size() - 1)};
+}
+
+void World::set_character_controls(CharacterId id, CharacterControls controls) {
+  if (id.index >= characters_.size() || !characters_[id.index].alive) return;
+  const Fixed fastest = 100.0_fx;  // m/s, as a body's envelope speed allows
+  controls.velocity = {clamp(controls.velocity.x, -fastest, fastest), Fixed{},
+                       clamp(controls.velocity.z, -fastest, fastest)};
+  characters_[id.index].controls = controls;
+}
+
+void World::remove_character(CharacterId id) {
+  if (id.index < characters_.size()) characters_[id.index].alive = false;
+}
+
+// Each live character's step (core/character.h) over the bodies as they
+// now are: the query covers the characters' reach this step.
+void World::move_characters() {
+  std::optional<Aabb> region;
+  for (const Character& c : characters_) {
+    if (!c.alive) continue;
+    const Fixed reach = c.def.radius + c.def.half_height + c.def.step_height + length(c.velocity) * settings_.dt +
+                        length(settings_.gravity) * settings_.dt * settings_.dt + 1.0_fx;
+    const Vec3 r{reach, reach, reach};
+    const Aabb box{c.position - r, c.position + r};
+    region = region ? Aabb{min(region->min, box.min), max(region->max, box.max)} : box;
+  }
+  if (!region) return;
+  const WorldQuery query(*this, *region);
+  for (Character& c : characters_) move_character(c, query, *this, settings_.dt);
+}
+
 void World::set_velocity(BodyId id, Vec3 linear, Vec3 angular) {
   if (!is_alive(id)) return;
   Body& body = bodies_[id.index];
@@ -561,6 +602,7 @@ void World::step() {
   } else {
     run_substeps();
   }
+  if (!characters_.empty()) move_characters();
   // Sleep counts steps of dt (its times are rounded to steps, its motion
   // average weights each step by sleep_bias): once per step with the
   // step's settings, on the islands of the last substep.

@@ -8,6 +8,7 @@
 
 #include "core/body.h"
 #include "core/car.h"
+#include "core/character.h"
 #include "core/contact.h"
 #include "core/envelope.h"
 #include "core/error.h"
@@ -62,7 +63,8 @@ class World {
   static World from_state(const Settings& settings, uint64_t step_count, std::vector<Body> bodies,
                           std::vector<uint32_t> free_slots, std::vector<Contact> contacts,
                           std::vector<Joint> joints = {}, std::vector<uint32_t> free_joint_slots = {},
-                          std::vector<SensorOverlap> sensor_overlaps = {}, std::vector<Car> cars = {});
+                          std::vector<SensorOverlap> sensor_overlaps = {}, std::vector<Car> cars = {},
+                          std::vector<Character> characters = {});
 
   // Validates the definition against the world envelope first; on error
   // (its place the field: "mass", "shapes[0].radius") the world is unchanged.
@@ -116,6 +118,16 @@ class World {
   void set_car_controls(CarId id, CarControls controls);
   // Cars in creation order; a car whose chassis is removed is dead.
   const std::vector<Car>& cars() const { return cars_; }
+
+  // A character controller (core/character.h): checked first
+  // (check_character); on error (its place the field) the world is
+  // unchanged. It moves each step, after the bodies, in creation order.
+  Result<CharacterId> create_character(const CharacterDef& def);
+  // What it is asked to do from the next step on (a `move` input).
+  void set_character_controls(CharacterId id, CharacterControls controls);
+  void remove_character(CharacterId id);
+  // Characters in creation order; a removed one is dead.
+  const std::vector<Character>& characters() const { return characters_; }
   // Wakes the body's island (no-op when it is awake or sleep is off).
   void wake(BodyId id);
 
@@ -216,6 +228,8 @@ class World {
   std::vector<uint32_t> free_joint_slots_;
   std::vector<SensorOverlap> sensor_overlaps_;  // sorted by key
   std::vector<Car> cars_;
+  std::vector<Character> characters_;
+  void move_characters();
   std::vector<WorldEvent> events_;              // the last step's (not state: the next step's are new)
   bool events_on_ = false;
   // Live bodies off the default filter or sensors, and sensors: the step

@@ -102,12 +102,12 @@ Input read_input(const Node& node, const Scene& scene, BodyNames& names) {
   Input input;
   input.source = node;
   input.step = read_int(reader.require("step"), 1, max_steps);
-  static constexpr Input::Kind kinds[] = {Input::Kind::impulse, Input::Kind::force,     Input::Kind::set_velocity,
-                                          Input::Kind::spawn,   Input::Kind::remove,    Input::Kind::wake,
+  static constexpr Input::Kind kinds[] = {Input::Kind::impulse,   Input::Kind::force,        Input::Kind::set_velocity,
+                                          Input::Kind::spawn,     Input::Kind::remove,       Input::Kind::wake,
                                           Input::Kind::add_joint, Input::Kind::remove_joint, Input::Kind::drive,
-                                          Input::Kind::motor};
+                                          Input::Kind::motor,     Input::Kind::move};
   input.kind = kinds[read_choice(reader.require("type"), {"impulse", "force", "set_velocity", "spawn", "remove", "wake",
-                                                          "add_joint", "remove_joint", "drive", "motor"})];
+                                                          "add_joint", "remove_joint", "drive", "motor", "move"})];
   const auto body = [&] { return read_body_ref(reader.require("body"), names); };
   switch (input.kind) {
     case Input::Kind::impulse:
@@ -154,6 +154,22 @@ Input read_input(const Node& node, const Scene& scene, BodyNames& names) {
       break;
     }
     case Input::Kind::motor: read_motor_input(reader, input); break;
+    case Input::Kind::move: {
+      const Node& who = reader.require("character");
+      const std::string& name = read_string(who);
+      const auto found = std::find_if(scene.characters.begin(), scene.characters.end(),
+                                      [&](const SceneCharacter& c) { return c.name == name; });
+      if (found == scene.characters.end()) fail(who, "no character named " + json::quote(name) + " in the scene");
+      input.character = static_cast<uint32_t>(found - scene.characters.begin());
+      // "velocity": [x, z], level, m/s; "jump": true or false.
+      const Node& velocity = reader.require("velocity");
+      if (velocity.kind != Kind::array || velocity.children.size() != 2) fail(velocity, "expected [x, z] in m/s");
+      const Fixed fastest = 100.0_fx;
+      input.moving.velocity = {read_fixed_within(velocity.children[0], -fastest, fastest, "m/s"), Fixed{},
+                               read_fixed_within(velocity.children[1], -fastest, fastest, "m/s")};
+      read_optional(reader, "jump", input.moving.jump);
+      break;
+    }
   }
   reader.finish();
   return input;
@@ -334,6 +350,12 @@ Result<void> build_world(const Scene& scene, World& world) {
       return created.error().within("car " + std::to_string(k) + " (" + json::quote(scene.cars[k].name) + ")");
     }
   }
+  for (size_t k = 0; k < scene.characters.size(); ++k) {
+    if (const Result<CharacterId> created = world.create_character(scene.characters[k].def); !created.ok()) {
+      return created.error().within("character " + std::to_string(k) + " (" + json::quote(scene.characters[k].name) +
+                                    ")");
+    }
+  }
   for (size_t k = 0; k < scene.joints.size(); ++k) {
     const SceneJoint& joint = scene.joints[k];
     JointDef def = joint.def;
@@ -394,6 +416,7 @@ void apply_inputs(World& world, const std::vector<Input>& inputs, int64_t step, 
         if (input.joint_number < run.joints.size()) world.remove_joint(run.joints[input.joint_number]);
         break;
       case Input::Kind::drive: world.set_car_controls({input.car}, input.controls); break;
+      case Input::Kind::move: world.set_character_controls({input.character}, input.moving); break;
       case Input::Kind::motor:
         if (input.joint_number < run.joints.size()) {
           world.set_joint_motor(run.joints[input.joint_number], input.motor_speed, input.motor_max);

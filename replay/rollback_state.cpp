@@ -24,6 +24,7 @@ struct WorldStateAccess {
     p.free_joint_slots = w.free_joint_slots_;
     p.sensor_overlaps = w.sensor_overlaps_;
     p.cars = w.cars_;
+    p.characters = w.characters_;
   }
   static void swap(World& w, OwnedStateParts& p) {
     std::swap(w.step_count_, p.step_count);
@@ -35,6 +36,7 @@ struct WorldStateAccess {
     w.free_joint_slots_.swap(p.free_joint_slots);
     w.sensor_overlaps_.swap(p.sensor_overlaps);
     w.cars_.swap(p.cars);
+    w.characters_.swap(p.characters);
   }
 };
 
@@ -128,9 +130,7 @@ size_t RollbackStates::save(const World& world, std::span<uint8_t> buffer, uint6
   const size_t payload_at = rollback_header_bytes + 8 * live;
   const uint64_t step = world.step_count();
   state_bytes::ByteWriter<BufferPut> writer{BufferPut{buffer, payload_at, rollback_header_bytes}, this};
-  describe_state(writer, StateParts<false>{step, world.settings(), world.bodies(), world.free_slots(), world.contacts(),
-                                             world.joints(), world.free_joint_slots(), world.sensor_overlaps(),
-                                             world.cars()});
+  describe_state(writer, state_parts_of(world, step));
   const size_t end = writer.put.at;
   const size_t size = end + 8;
   if (size > buffer.size()) return size;

@@ -497,6 +497,40 @@ GeneratedStructure read_generator(const Node& node, const MaterialTable& materia
 
 // One car: its chassis (a dynamic body, by name), its wheels, and the
 // CarDef fields over their defaults, each within check_car's ranges.
+// A character: "name", "position" (its capsule's centre) and, optional,
+// "radius", "half_height", "max_slope" (degrees), "step_height",
+// "jump_speed", "air_acceleration", "mass", "max_push_force", "facing"
+// (level), "collides_with" (layers).
+SceneCharacter read_character(const Node& node) {
+  ObjectReader reader(node);
+  SceneCharacter character;
+  character.name = read_string(reader.require("name"));
+  CharacterDef& def = character.def;
+  def.position = read_vec3_within(reader.require("position"), -16000.0_fx, 16000.0_fx, "m");
+  read_optional_within(reader, "radius", def.radius, 0.05_fx, 5.0_fx, "m");
+  read_optional_within(reader, "half_height", def.half_height, Fixed{}, 10.0_fx, "m");
+  if (const Node* slope = reader.find("max_slope")) {
+    const Fixed degrees = read_fixed_within(*slope, Fixed{}, 89.0_fx, "degrees");
+    def.max_slope_cos = cos(mul_div(degrees, pi_q32, Fixed::from_int(180)));
+  }
+  read_optional_within(reader, "step_height", def.step_height, Fixed{}, 10.0_fx, "m");
+  read_optional_within(reader, "jump_speed", def.jump_speed, Fixed{}, 100.0_fx, "m/s");
+  read_optional_within(reader, "air_acceleration", def.air_acceleration, Fixed{}, 1000.0_fx, "m/s^2");
+  read_optional_within(reader, "mass", def.mass, 0.1_fx, 10000.0_fx, "kg");
+  read_optional_within(reader, "max_push_force", def.max_push_force, Fixed{}, 1000000.0_fx, "N");
+  if (const Node* facing = reader.find("facing")) {
+    const Vec3 f = read_vec3_within(*facing, -Fixed::one(), Fixed::one(), "");
+    def.facing = normalize_or({f.x, Fixed{}, f.z}, {});
+    if (def.facing == Vec3{}) fail(*facing, "not a level direction");
+  }
+  if (const Node* layers = reader.find("collides_with")) def.collides_with = read_layer_bits(*layers);
+  reader.finish();
+  if (Result<void> refused = check_character(def); !refused.ok()) {
+    fail(node.path + "." + refused.error().place, refused.error().reason);
+  }
+  return character;
+}
+
 SceneCar read_car(const Node& node, const Scene& scene, const std::map<std::string, uint32_t>& bodies) {
   ObjectReader reader(node);
   SceneCar car;
@@ -748,6 +782,19 @@ Scene read_scene(const Node& root) {
       scene.cars.push_back(read_car(car, scene, names));
       if (!car_names.insert(scene.cars.back().name).second) {
         fail(*car.member("name"), "duplicate car name " + json::quote(scene.cars.back().name));
+      }
+    }
+  }
+  if (const Node* characters = reader.find("characters")) {
+    if (characters->kind != Kind::array) {
+      fail(*characters, std::string("expected an array of characters, got ") + json::describe(characters->kind));
+    }
+    check_count(*characters, limits::max_scene_cars, "characters");
+    std::set<std::string> character_names;
+    for (const Node& character : characters->children) {
+      scene.characters.push_back(read_character(character));
+      if (!character_names.insert(scene.characters.back().name).second) {
+        fail(*character.member("name"), "duplicate character name " + json::quote(scene.characters.back().name));
       }
     }
   }

@@ -13,6 +13,7 @@
 
 #include "core/body.h"
 #include "core/car.h"
+#include "core/character.h"
 #include "core/error.h"
 #include "core/joint.h"
 #include "core/settings.h"
@@ -43,11 +44,18 @@ struct SceneCar {
   CarDef def;
 };
 
+// A character controller (core/character.h): replay "move" inputs name it.
+struct SceneCharacter {
+  std::string name;
+  CharacterDef def;
+};
+
 struct Scene {
   Settings settings;
   std::vector<SceneBody> bodies;    // creation order: "bodies" first, then each generator's
   std::vector<SceneJoint> joints;   // creation order: "joints" first, then each generator's
   std::vector<SceneCar> cars;       // "cars", in order: in a new world scene car k is car k
+  std::vector<SceneCharacter> characters;  // "characters", in order: scene character k is the world's k
   MaterialTable materials;          // "materials", for bodies spawned later
 };
 

@@ -32,6 +32,7 @@ Simulation::Simulation(Scene scene, World world) : scene_(std::move(scene)), wor
     remember({i, world_.bodies()[i].generation}, scene_.bodies[i].def, scene_.bodies[i].name);
   }
   for (uint32_t k = 0; k < scene_.cars.size(); ++k) cars_.emplace(scene_.cars[k].name, k);
+  for (uint32_t k = 0; k < scene_.characters.size(); ++k) characters_.emplace(scene_.characters[k].name, k);
 }
 
 // The world moved the body's frame onto its centre of mass and its shapes
@@ -175,6 +176,24 @@ InputResult Simulation::drive(std::string_view car_name, CarControls controls) {
                          check_within(controls.brake, Fixed{}, Fixed::one(), "brake", ""),
                          check_within(controls.steer, -Fixed::one(), Fixed::one(), "steer", "")},
                         "drive", [&] { world_.set_car_controls({found->second}, controls); });
+}
+
+InputResult Simulation::move(std::string_view character_name, CharacterControls controls) {
+  const Character* c = character(character_name);
+  if (c == nullptr) return not_found();
+  using input_bounds::check_within;
+  const Fixed fastest = 100.0_fx;
+  const auto index = static_cast<uint32_t>(c - world_.characters().data());
+  return applied_unless({check_within(controls.velocity.x, -fastest, fastest, "velocity.x", "m/s"),
+                         check_within(controls.velocity.z, -fastest, fastest, "velocity.z", "m/s")},
+                        "move", [&] { world_.set_character_controls({index}, controls); });
+}
+
+const Character* Simulation::character(std::string_view name) const {
+  const auto found = characters_.find(name);
+  if (found == characters_.end() || found->second >= world_.characters().size()) return nullptr;
+  const Character& c = world_.characters()[found->second];
+  return c.alive ? &c : nullptr;
 }
 
 void Simulation::step() { world_.step(); }

@@ -81,6 +81,12 @@ class Simulation {
   InputResult set_velocity(BodyId id, Vec3 linear, Vec3 angular);
   bool wake(BodyId id);
   InputResult drive(std::string_view car_name, CarControls controls);
+  // A character's desired level velocity (within 100 m/s per component;
+  // its y is ignored) and jump, from the next step on.
+  InputResult move(std::string_view character_name, CharacterControls controls);
+  // The character named so (core/character.h: where it is, how it moves,
+  // what it stands on), or none.
+  const Character* character(std::string_view name) const;
 
   void step();
   uint64_t tick() const { return world_.step_count(); }
@@ -134,6 +140,7 @@ class Simulation {
   RollbackStates states_;
   std::map<std::string, BodyId, std::less<>> names_;     // bodies by name
   std::map<std::string, uint32_t, std::less<>> cars_;    // cars by name
+  std::map<std::string, uint32_t, std::less<>> characters_;  // characters by name
   // Per body ever created here (slot, generation): its frame's origin as
   // seen from its centre of mass, in the body frame, and its name. Kept
   // for removed bodies too, so a rolled-back world still finds them.

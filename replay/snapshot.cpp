@@ -29,7 +29,7 @@ World read_world(std::span<const uint8_t> payload) {
   if (!r.done()) r.fail("bytes left after the state");
   return World::from_state(p.settings, p.step_count, std::move(p.bodies), std::move(p.free_slots),
                            std::move(p.contacts), std::move(p.joints), std::move(p.free_joint_slots),
-                           std::move(p.sensor_overlaps), std::move(p.cars));
+                           std::move(p.sensor_overlaps), std::move(p.cars), std::move(p.characters));
 }
 
 }  // namespace

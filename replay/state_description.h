@@ -45,6 +45,7 @@
 
 #include "core/body.h"
 #include "core/car.h"
+#include "core/character.h"
 #include "core/contact.h"
 #include "core/convex_hull.h"
 #include "core/envelope.h"
@@ -52,6 +53,7 @@
 #include "core/joint.h"
 #include "core/settings.h"
 #include "core/triangle_mesh.h"
+#include "core/world.h"
 #include "replay/limits.h"
 
 namespace bitstep {
@@ -108,7 +110,14 @@ struct StateParts {
   Ref<std::vector<uint32_t>> free_joint_slots;
   Ref<std::vector<SensorOverlap>> sensor_overlaps;
   Ref<std::vector<Car>> cars;
+  Ref<std::vector<Character>> characters;
 };
+
+// A world's parts, to write (`step`: its step count, held by the caller).
+inline StateParts<false> state_parts_of(const World& world, const uint64_t& step) {
+  return {step,           world.settings(),         world.bodies(),          world.free_slots(), world.contacts(),
+          world.joints(), world.free_joint_slots(), world.sensor_overlaps(), world.cars(),       world.characters()};
+}
 
 // A world's state parts of its own, to read a state into before it
 // becomes (snapshot.cpp) or replaces (rollback_state.cpp) a world's.
@@ -122,8 +131,10 @@ struct OwnedStateParts {
   std::vector<uint32_t> free_joint_slots;
   std::vector<SensorOverlap> sensor_overlaps;
   std::vector<Car> cars;
+  std::vector<Character> characters;
   StateParts<true> refs() {
-    return {step_count, settings, bodies, free_slots, contacts, joints, free_joint_slots, sensor_overlaps, cars};
+    return {step_count, settings,         bodies,          free_slots, contacts,
+            joints,     free_joint_slots, sensor_overlaps, cars,       characters};
   }
 };
 
@@ -433,6 +444,48 @@ void describe_car(V& v, C& car, const Bodies& bodies) {
             [] { return std::string("a car's tyre impulses do not match its wheels"); });
 }
 
+// A character (core/character.h): its definition, where it is and how it
+// moves, what it was asked, and what it stands on (a body since removed
+// stays named: riding checks its generation).
+template <class V, class C>
+void describe_character(V& v, C& c) {
+  v.integer("alive", c.alive, 1, 0, 1);
+  if (!c.alive) return;
+  auto& def = c.def;
+  v.vec("start", def.position);
+  v.fixed("radius", def.radius);
+  v.fixed("half_height", def.half_height);
+  v.fixed("max_slope_cos", def.max_slope_cos);
+  v.fixed("step_height", def.step_height);
+  v.fixed("jump_speed", def.jump_speed);
+  v.fixed("air_acceleration", def.air_acceleration);
+  v.fixed("mass", def.mass);
+  v.fixed("max_push_force", def.max_push_force);
+  v.integer("collides_with", def.collides_with, 4, 0, UINT32_MAX);
+  v.vec("start_facing", def.facing);
+  v.require([&] { return check_character(def).ok(); },
+            [&] { return "a character: " + check_character(def).error().message(); });
+  v.vec("position", c.position);
+  v.vec("velocity", c.velocity);
+  v.vec("facing", c.facing);
+  v.require(
+      [&] {
+        return state_checks::within(c.position, state_checks::max_position) &&
+               state_checks::within(c.velocity, state_checks::max_position);
+      },
+      [] { return std::string("a character outside the world"); });
+  v.object("controls", [&] {
+    v.vec("velocity", c.controls.velocity);
+    v.integer("jump", c.controls.jump, 1, 0, 1);
+  });
+  v.choice("ground", c.ground, ground_state_names, 0);
+  v.integer("ground_body", c.ground_body.index, 4, 0, UINT32_MAX);
+  v.integer("ground_generation", c.ground_body.generation, 4, 0, UINT32_MAX);
+  v.vec("ground_normal", c.ground_normal);
+  v.vec("ground_position", c.ground_pose.position);
+  v.quat("ground_orientation", c.ground_pose.orientation);
+}
+
 // The fields of a joint's own type beyond those every joint has, one case
 // per type (no default: a type without its case is a -Wswitch error).
 template <class V, class J>
@@ -577,14 +630,15 @@ void describe_state(V& v, const StateParts<Reading>& state) {
   // that has them (a live body off the default layers or a sensor): a world
   // without has the bytes (and the hash) it had before they existed. The
   // filters are written after the joints' block, empty or not.
-  bool filtered = !state.sensor_overlaps.empty() || !state.cars.empty();
+  const bool moved = !state.cars.empty() || !state.characters.empty();
+  bool filtered = !state.sensor_overlaps.empty() || moved;
   for (const Body& body : state.bodies) {
     filtered = filtered || (body.alive && (body.filter != CollisionFilter{} || body.sensor));
   }
   // (The reader notes which blocks it read: a block the writer would not
   // have written, e.g. an empty joints block, is refused at the end, so that
   // every state has one image.)
-  bool joints_read = false, filters_read = false, cars_read = false;
+  bool joints_read = false, filters_read = false, cars_read = false, characters_read = false;
   constexpr size_t joint_bytes = 5;  // a dead slot: alive, generation
   v.trailing(!state.joints.empty() || !state.free_joint_slots.empty() || filtered, true, [&] {
     joints_read = true;
@@ -632,13 +686,20 @@ void describe_state(V& v, const StateParts<Reading>& state) {
                 [] { return std::string("sensor overlaps out of order"); });
     });
   });
-  // Cars last, in a world that has had one (core/car.h): the definitions,
-  // the controls and the tyres' impulses (what the wheels found is found
-  // again each step).
+  // Cars, in a world that has had a car or a character (core/car.h): the
+  // definitions, the controls and the tyres' impulses (what the wheels
+  // found is found again each step). Characters last, in a world that has
+  // had one.
   constexpr size_t car_bytes = 1;  // a dead car: alive
-  v.trailing(!state.cars.empty(), false, [&] {
+  v.trailing(moved, false, [&] {
     cars_read = true;
     v.list("cars", state.cars, car_bytes, UINT32_MAX, nullptr, [&](auto& car) { describe_car(v, car, state.bodies); });
+  });
+  constexpr size_t character_bytes = 1;  // a dead character: alive
+  v.trailing(!state.characters.empty(), false, [&] {
+    characters_read = true;
+    v.list("characters", state.characters, character_bytes, UINT32_MAX, nullptr,
+           [&](auto& character) { describe_character(v, character); });
   });
   if constexpr (Reading) {
     // A block the image does not have holds nothing: a step's state is read
@@ -650,16 +711,19 @@ void describe_state(V& v, const StateParts<Reading>& state) {
     }
     if (!filters_read) state.sensor_overlaps.clear();
     if (!cars_read) state.cars.clear();
-    bool filtered_read = !state.sensor_overlaps.empty() || !state.cars.empty();
+    if (!characters_read) state.characters.clear();
+    const bool moved_read = !state.cars.empty() || !state.characters.empty();
+    bool filtered_read = !state.sensor_overlaps.empty() || moved_read;
     for (const Body& body : state.bodies) {
       filtered_read = filtered_read || (body.alive && (body.filter != CollisionFilter{} || body.sensor));
     }
     v.require(
         [&] {
           return joints_read == (!state.joints.empty() || !state.free_joint_slots.empty() || filtered_read) &&
-                 filters_read == filtered_read && cars_read == !state.cars.empty();
+                 filters_read == filtered_read && cars_read == moved_read &&
+                 characters_read == !state.characters.empty();
         },
-        [] { return std::string("a joints, filters or cars block that this state does not have"); });
+        [] { return std::string("a joints, filters, cars or characters block that this state does not have"); });
   }
 }
 

@@ -200,9 +200,7 @@ class JsonWriter {
 std::string dump_state(const World& world) {
   const uint64_t step = world.step_count();
   JsonWriter writer;
-  describe_state(writer, StateParts<false>{step, world.settings(), world.bodies(), world.free_slots(), world.contacts(),
-                                             world.joints(), world.free_joint_slots(), world.sensor_overlaps(),
-                                             world.cars()});
+  describe_state(writer, state_parts_of(world, step));
   return writer.finish();
 }
 

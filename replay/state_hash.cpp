@@ -34,9 +34,7 @@ void write_state(const World& world, Take take) {
   };
   const uint64_t step = world.step_count();
   state_bytes::ByteWriter<decltype(put)> writer{put};
-  describe_state(writer, StateParts<false>{step, world.settings(), world.bodies(), world.free_slots(), world.contacts(),
-                                             world.joints(), world.free_joint_slots(), world.sensor_overlaps(),
-                                             world.cars()});
+  describe_state(writer, state_parts_of(world, step));
   take(block.data(), used);
 }
 

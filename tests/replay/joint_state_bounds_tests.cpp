@@ -81,9 +81,7 @@ std::vector<std::pair<std::string, size_t>> locate(const World& world, bool step
   NoStatics statics;
   Locator locator{{Count{&at}, step_alone ? &statics : nullptr}, &at, &found};
   const uint64_t step = world.step_count();
-  describe_state(locator, StateParts<false>{step, world.settings(), world.bodies(), world.free_slots(), world.contacts(),
-                                              world.joints(), world.free_joint_slots(), world.sensor_overlaps(),
-                                              world.cars()});
+  describe_state(locator, state_parts_of(world, step));
   return found;
 }
 

@@ -222,7 +222,7 @@ TEST_CASE("scene errors name the file, the JSON path and the reason", "[scene]")
           "sensor, shapes)");
     CHECK(error_of(R"({"format": "bitstep-scene", "version": 1, "setings": {}})") ==
           "f.json: $.setings: unknown key (known keys: format, version, description, settings, materials, bodies, "
-          "generators, joints, cars)");
+          "generators, joints, cars, characters)");
     CHECK(error_of(scene_text(R"({"shapes": [{"type": "sphere", "radius": 1, "half_extents": [1, 1, 1]}]})")) ==
           "f.json: $.bodies[0].shapes[0].half_extents: unknown key (known keys: type, radius, position, orientation)");
   }

@@ -1,0 +1,143 @@
+// Characters in scenes, replays and states: the "characters" key and its
+// refusals, "move" inputs, the course's golden run, and a character saved
+// mid-jump and restored continuing bit for bit.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <string>
+
+#include "replay/replay.h"
+#include "replay/scene.h"
+#include "replay/snapshot.h"
+#include "replay/state_hash.h"
+#include "tests/replay/test_scenes.h"
+#include "tests/test_support.h"
+
+using namespace bitstep;
+using bitstep::test::to_double;
+
+namespace {
+
+std::string scene_with(const std::string& characters) {
+  return R"({"format": "bitstep-scene", "version": 1, "bodies": [{"name": "ground", "type": "static",
+    "position": [0, -1, 0], "shapes": [{"type": "box", "half_extents": [10, 1, 10]}]}], "characters": )" +
+         characters + "}";
+}
+
+std::string error_of(const std::string& text) {
+  const auto result = parse_scene(text, "f.json");
+  return result.ok() ? "no error" : result.error().message();
+}
+
+std::string replay_error_of(const std::string& inputs) {
+  const std::string text = R"({"format": "bitstep-replay", "version": 1, "engine": "test", "scene": )" +
+                           scene_with(R"([{"name": "hero", "position": [0, 0.91, 0]}])") +
+                           R"(, "scene_hash": "0000000000000000", "steps": 10, "inputs": )" + inputs + "}";
+  const auto result = parse_replay(text, "r.json", false);
+  return result.ok() ? "no error" : result.error().message();
+}
+
+Replay course() {
+  auto loaded = load_replay_file(test::scenes_dir + "/course.replay.json", true);
+  REQUIRE(loaded.ok());
+  return std::move(loaded.value());
+}
+
+}  // namespace
+
+TEST_CASE("character scenes: a character in, its definition out, and refusals that name their place",
+          "[scene][character]") {
+  const auto scene = parse_scene(
+      scene_with(R"([{"name": "hero", "position": [1, 0.91, 2], "radius": 0.4, "max_slope": 60, "step_height": 0.5,
+                      "facing": [1, 0, 1], "collides_with": [0, 3]}])"),
+      "f.json");
+  REQUIRE(scene.ok());
+  REQUIRE(scene.value().characters.size() == 1);
+  const CharacterDef& def = scene.value().characters[0].def;
+  CHECK(def.radius == 0.4_fx);
+  CHECK(std::abs(to_double(def.max_slope_cos) - 0.5) < 1e-9);
+  CHECK(def.step_height == 0.5_fx);
+  CHECK(std::abs(to_double(def.facing.x) - std::sqrt(0.5)) < 1e-9);
+  CHECK(def.collides_with == 9u);
+  CHECK(error_of(scene_with(R"([{"name": "a", "position": [0, 1, 0], "radius": 9}])")) ==
+        "f.json: $.characters[0].radius: outside 0.05..5 m");
+  CHECK(error_of(scene_with(R"([{"name": "a", "position": [0, 1, 0], "step_height": 1}])")) ==
+        "f.json: $.characters[0].step_height: outside 0 m..its half height");
+  CHECK(error_of(scene_with(R"([{"name": "a", "position": [0, 1, 0], "max_slope": 90}])")) ==
+        "f.json: $.characters[0].max_slope: outside 0..89 degrees");
+  CHECK(error_of(scene_with(R"([{"name": "a", "position": [0, 1, 0], "facing": [0, 1, 0]}])")) ==
+        "f.json: $.characters[0].facing: not a level direction");
+  CHECK(error_of(scene_with(R"([{"name": "a", "position": [0, 1, 0]}, {"name": "a", "position": [2, 1, 0]}])")) ==
+        "f.json: $.characters[1].name: duplicate character name \"a\"");
+  CHECK(error_of(scene_with(R"([{"name": "a", "position": [0, 1, 0], "speed": 3}])"))
+            .rfind("f.json: $.characters[0].speed: unknown key", 0) == 0);
+  CHECK(error_of(scene_with(R"([{"position": [0, 1, 0]}])")) == "f.json: $.characters[0]: missing key \"name\"");
+}
+
+TEST_CASE("move inputs: a character by name, a level velocity and a jump", "[replay][character]") {
+  CHECK(replay_error_of(R"([{"step": 2, "type": "move", "character": "hero", "velocity": [1, -2], "jump": true}])") ==
+        "no error");
+  CHECK(replay_error_of(R"([{"step": 2, "type": "move", "character": "villain", "velocity": [1, 0]}])") ==
+        "r.json: $.inputs[0].character: no character named \"villain\" in the scene");
+  CHECK(replay_error_of(R"([{"step": 2, "type": "move", "character": "hero", "velocity": [1, 0, 0]}])") ==
+        "r.json: $.inputs[0].velocity: expected [x, z] in m/s");
+  CHECK(replay_error_of(R"([{"step": 2, "type": "move", "character": "hero", "velocity": [101, 0]}])")
+            .rfind("r.json: $.inputs[0].velocity[0]: ", 0) == 0);
+  CHECK(replay_error_of(R"([{"step": 2, "type": "move", "character": "hero"}])") ==
+        "r.json: $.inputs[0]: missing key \"velocity\"");
+}
+
+TEST_CASE("course.replay.json: the walker climbs the stairs, the pusher rides the turntable", "[replay][character]") {
+  const Replay replay = course();
+  World world(replay.scene.settings);
+  REQUIRE(build_world(replay.scene, world).ok());
+  InputRun run(world);
+  const auto feet = [&](size_t k) {
+    const Character& c = world.characters()[k];
+    return to_double(c.position.y - c.def.radius - c.def.half_height);
+  };
+  Vec3 on_table_at_600;
+  const BodyId table{10, 0};
+  REQUIRE(replay.scene.bodies[10].name == "turntable");
+  for (int64_t step = 1; step <= replay.steps; ++step) {
+    apply_inputs(world, replay.inputs, step, run);
+    world.step();
+    if (step == 200) {
+      // On the landing (its top 1.2 m up) after six 0.2 m stairs.
+      CHECK(std::abs(feet(0) - 1.2) < 0.02);
+      CHECK(world.characters()[0].ground == GroundState::on_ground);
+    }
+    const Pose& p = world.body(table).pose;
+    if (step == 600) on_table_at_600 = rotate_inverse(p.orientation, world.characters()[1].position - p.position);
+    if (step == replay.steps) {
+      // The pusher stood still on the turning table for 2 s: where it stands on the table has not moved.
+      const Vec3 now = rotate_inverse(p.orientation, world.characters()[1].position - p.position);
+      CHECK(to_double(length(now - on_table_at_600)) < 0.005);
+      CHECK(world.characters()[1].ground_body == table);
+    }
+  }
+}
+
+TEST_CASE("character worlds: saved mid-jump and restored, the chain is the same", "[snapshot][character]") {
+  const Replay replay = course();
+  World straight(replay.scene.settings);
+  REQUIRE(build_world(replay.scene, straight).ok());
+  InputRun run(straight);
+  std::vector<uint8_t> image;
+  for (int64_t step = 1; step <= 310; ++step) {
+    apply_inputs(straight, replay.inputs, step, run);
+    straight.step();
+  }
+  REQUIRE(straight.characters()[0].ground == GroundState::in_air);  // jumped at 300
+  image = snapshot(straight);
+  World restored;
+  REQUIRE(restore(image, restored).ok());
+  CHECK(snapshot(restored) == image);
+  InputRun restored_run(restored);
+  for (int64_t step = 311; step <= 420; ++step) {
+    apply_inputs(straight, replay.inputs, step, run);
+    apply_inputs(restored, replay.inputs, step, restored_run);
+    straight.step();
+    restored.step();
+    REQUIRE(state_hash(restored) == state_hash(straight));
+  }
+}
