@@ -226,6 +226,25 @@ bitstep_status bitstep_wake(bitstep_simulation* sim, bitstep_body body);
 bitstep_status bitstep_drive(bitstep_simulation* sim, const char* car, bitstep_fixed throttle, bitstep_fixed brake,
                              bitstep_fixed steer);
 
+/* A scene character's desired level velocity (x and z within +-100 m/s;
+ * its y is ignored) and jump (non-zero: jump when on walkable ground, held
+ * until cleared), from the next step on, as a replay's "move" input. */
+bitstep_status bitstep_move_character(bitstep_simulation* sim, const char* character, bitstep_vec3 velocity,
+                                      int32_t jump);
+
+/* Where a character is and what it stands on (core/character.h). */
+typedef enum { BITSTEP_ON_GROUND = 0, BITSTEP_ON_STEEP_SLOPE = 1, BITSTEP_IN_AIR = 2 } bitstep_ground_state;
+typedef struct {
+  bitstep_vec3 position;    /* the capsule's centre */
+  bitstep_vec3 velocity;    /* its own (a platform it rides adds its motion) */
+  bitstep_vec3 facing;      /* unit, level */
+  int32_t ground;           /* a bitstep_ground_state */
+  bitstep_body ground_body; /* what it stands on; {UINT32_MAX, 0} in the air */
+  bitstep_vec3 ground_normal;
+} bitstep_character_state;
+/* NOT_FOUND for a name no live character has. */
+bitstep_status bitstep_get_character(bitstep_simulation* sim, const char* character, bitstep_character_state* out);
+
 bitstep_status bitstep_step(bitstep_simulation* sim);
 uint64_t bitstep_tick(const bitstep_simulation* sim);
 /* The state hash of the replays' chains. */

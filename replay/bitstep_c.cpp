@@ -411,6 +411,33 @@ bitstep_status bitstep_drive(bitstep_simulation* sim, const char* car, bitstep_f
   });
 }
 
+bitstep_status bitstep_move_character(bitstep_simulation* sim, const char* character, bitstep_vec3 velocity,
+                                      int32_t jump) {
+  return guarded(sim, [&] {
+    if (character == nullptr) return null_argument(sim, "move_character", "character");
+    return input_status(sim, sim->sim->move(character, {vec3_of(velocity), jump != 0}),
+                        std::string("no character named \"") + character + "\"");
+  });
+}
+
+bitstep_status bitstep_get_character(bitstep_simulation* sim, const char* character, bitstep_character_state* out) {
+  return guarded(sim, [&] {
+    if (const char* null = first_null({{character, "character"}, {out, "out"}})) {
+      return null_argument(sim, "get_character", null);
+    }
+    const bitstep::Character* c = sim->sim->character(character);
+    if (c == nullptr) return fail(sim, BITSTEP_NOT_FOUND, std::string("no character named \"") + character + "\"");
+    out->position = vec3_to_c(c->position);
+    out->velocity = vec3_to_c(c->velocity);
+    out->facing = vec3_to_c(c->facing);
+    out->ground = static_cast<int32_t>(c->ground);
+    out->ground_body =
+        c->ground == bitstep::GroundState::in_air ? bitstep_body{UINT32_MAX, 0} : body_to_c(c->ground_body);
+    out->ground_normal = vec3_to_c(c->ground_normal);
+    return BITSTEP_OK;
+  });
+}
+
 bitstep_status bitstep_step(bitstep_simulation* sim) {
   return guarded(sim, [&] {
     sim->sim->step();
@@ -728,6 +755,8 @@ static_assert(BITSTEP_SHAPE_SPHERE == static_cast<int>(bitstep::ShapeType::spher
 static_assert(BITSTEP_SHAPE_HULL == static_cast<int>(bitstep::ShapeType::hull));
 static_assert(BITSTEP_SHAPE_MESH == static_cast<int>(bitstep::ShapeType::mesh));
 static_assert(BITSTEP_SHAPE_HEIGHTFIELD == static_cast<int>(bitstep::ShapeType::heightfield));
+static_assert(BITSTEP_IN_AIR == static_cast<int>(bitstep::GroundState::in_air));
+static_assert(BITSTEP_ON_STEEP_SLOPE == static_cast<int>(bitstep::GroundState::on_steep_slope));
 static_assert(BITSTEP_JOINT_MAX_DISTANCE == static_cast<int>(bitstep::JointType::max_distance));
 static_assert(BITSTEP_JOINT_HINGE == static_cast<int>(bitstep::JointType::hinge));
 static_assert(BITSTEP_JOINT_CONE == static_cast<int>(bitstep::JointType::cone));

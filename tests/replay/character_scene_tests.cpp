@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "replay/bitstep.h"
 #include "replay/replay.h"
 #include "replay/scene.h"
 #include "replay/snapshot.h"
@@ -140,4 +141,36 @@ TEST_CASE("character worlds: saved mid-jump and restored, the chain is the same"
     restored.step();
     REQUIRE(state_hash(restored) == state_hash(straight));
   }
+}
+
+TEST_CASE("C API: characters moved by bitstep_move_character give the golden chain", "[capi][character]") {
+  const Replay replay = course();
+  bitstep_simulation* sim = nullptr;
+  char error[256] = "";
+  const std::string path = test::scenes_dir + "/course.json";
+  REQUIRE(bitstep_create_from_file(path.c_str(), &sim, error, sizeof error) == BITSTEP_OK);
+  // The replay's move inputs, made as calls: velocity [x, z] and jump.
+  const auto raw = [](Fixed f) { return f.raw(); };
+  for (int64_t step = 1; step <= replay.steps; ++step) {
+    for (const Input& input : replay.inputs) {
+      if (input.step != step) continue;
+      REQUIRE(input.kind == Input::Kind::move);
+      const std::string& name = replay.scene.characters[input.character].name;
+      const bitstep_vec3 v{raw(input.moving.velocity.x), 0, raw(input.moving.velocity.z)};
+      REQUIRE(bitstep_move_character(sim, name.c_str(), v, input.moving.jump ? 1 : 0) == BITSTEP_OK);
+    }
+    REQUIRE(bitstep_step(sim) == BITSTEP_OK);
+    REQUIRE(bitstep_hash(sim) == replay.hashes[static_cast<size_t>(step - 1)]);
+  }
+  bitstep_character_state state{};
+  REQUIRE(bitstep_get_character(sim, "pusher", &state) == BITSTEP_OK);
+  CHECK(state.ground == BITSTEP_ON_GROUND);
+  CHECK(state.ground_body.index == 10u);  // the turntable
+  CHECK(bitstep_get_character(sim, "nobody", &state) == BITSTEP_NOT_FOUND);
+  CHECK(std::string(bitstep_last_error(sim)) == "no character named \"nobody\"");
+  CHECK(bitstep_move_character(sim, "walker", {Fixed::from_int(101).raw(), 0, 0}, 0) == BITSTEP_INVALID);
+  CHECK(std::string(bitstep_last_error(sim)).rfind("move: velocity.x: outside", 0) == 0);
+  CHECK(bitstep_move_character(sim, nullptr, {}, 0) == BITSTEP_NULL_ARGUMENT);
+  CHECK(bitstep_get_character(sim, "walker", nullptr) == BITSTEP_NULL_ARGUMENT);
+  bitstep_destroy(sim);
 }
