@@ -12,6 +12,11 @@
 // cost: 600 steps of a 1,200 kg chassis on a ground box with and without
 // its car (4 wheels of 1 and of 3 rays, driving), over 100 and 1,000 other
 // bodies resting on the ground (the car's query tree covers them all).
+// Then a level's terrain: a 225 x 225 heightfield 1 m apart (100,352
+// triangles, seeded bumps up to 3 m), the time to build its mesh and tree,
+// 1,000 rays straight down and 1,000 slanted ones, sphere and capsule
+// casts, shape overlaps of a 0.5 m box resting on it, and the cost of a
+// step of one character walking across it.
 #include "tools/bench/queries.h"
 
 #include <fmt/core.h>
@@ -24,10 +29,11 @@
 #include <string>
 #include <vector>
 
+#include "core/height_grid.h"
 #include "core/query.h"
 #include "fixed/splitmix64.h"
-#include "tools/cli/options.h"
 #include "tools/cli/exit_codes.h"
+#include "tools/cli/options.h"
 
 namespace bitstep {
 
@@ -37,7 +43,7 @@ using Clock = std::chrono::steady_clock;
 
 struct Region {
   SplitMix64 rng;
-  // A raw value uniform in [-span/2, span/2) metres.
+  // A raw value uniform in [-span/2, span/2) metres (span > 0).
   Fixed coordinate(int64_t span) {
     return Fixed::from_raw(static_cast<int64_t>(rng.next() % static_cast<uint64_t>(span << 32)) - (span << 31));
   }
@@ -122,6 +128,100 @@ World car_world(int others, int rays) {
   return world;
 }
 
+// 225 x 225 samples 1 m apart: heights of two seeded sine ridges, 0..3 m.
+HeightGrid terrain_grid() {
+  HeightGrid g;
+  g.columns = g.rows = 225;
+  g.spacing_x = g.spacing_z = Fixed::one();
+  SplitMix64 rng{11};
+  const Fixed a = Fixed::from_raw(static_cast<int64_t>(rng.next() % (uint64_t{1} << 32)));
+  for (uint32_t j = 0; j < g.rows; ++j) {
+    for (uint32_t i = 0; i < g.columns; ++i) {
+      const Fixed x = Fixed::from_ratio(static_cast<int64_t>(i), 9), z = Fixed::from_ratio(static_cast<int64_t>(j), 13);
+      g.heights.push_back(Fixed::from_ratio(3, 4) * (sin(x + a) + sin(z) + Fixed::from_int(2)));
+    }
+  }
+  return g;
+}
+
+void terrain_queries(int samples) {
+  constexpr size_t questions = 1000;
+  std::shared_ptr<const TriangleMesh> mesh;
+  const double build_mesh = best_seconds(samples, [&] { mesh = build_height_grid_mesh(terrain_grid()).value(); });
+  World world;
+  BodyDef def;
+  def.type = BodyType::static_body;
+  def.pose.position = {Fixed::from_int(-112), Fixed{}, Fixed::from_int(-112)};
+  Shape field;
+  field.type = ShapeType::heightfield;
+  field.mesh = mesh;
+  def.shapes.push_back(field);
+  world.create_body(def);
+  Region region{SplitMix64{5}};
+  std::vector<Vec3> above, slanted_from, slanted;
+  for (size_t q = 0; q < questions; ++q) {
+    const Fixed x = region.coordinate(220), z = region.coordinate(220);
+    above.push_back({x, Fixed::from_int(20), z});
+    slanted_from.push_back({x, Fixed::from_int(10), z});
+    slanted.push_back({region.coordinate(60), -Fixed::from_int(12), region.coordinate(60)});
+  }
+  const WorldQuery query(world);
+  const Vec3 down{Fixed{}, -Fixed::from_int(40), Fixed{}};
+  int met = 0;
+  const double straight = best_seconds(samples, [&] {
+    met = 0;
+    for (size_t q = 0; q < questions; ++q) met += query.cast_ray(above[q], down) ? 1 : 0;
+  });
+  const double oblique = best_seconds(samples, [&] {
+    for (size_t q = 0; q < questions; ++q) (void)query.cast_ray(slanted_from[q], slanted[q]);
+  });
+  const double sphere = best_seconds(samples, [&] {
+    for (size_t q = 0; q < questions; ++q) (void)query.cast_sphere(Fixed::from_ratio(1, 2), above[q], down);
+  });
+  const Shape capsule{ShapeType::capsule, {}, Fixed::from_ratio(3, 10), Fixed::from_ratio(3, 5), {}};
+  const double capsule_cast = best_seconds(samples, [&] {
+    for (size_t q = 0; q < questions; ++q) (void)query.cast_shape(capsule, {above[q], {}}, down);
+  });
+  const Fixed half = Fixed::from_ratio(1, 2);
+  const Shape box{ShapeType::box, {half, half, half}, {}, {}, {}};
+  std::vector<ShapeOverlap> overlaps;
+  std::vector<Pose> resting;
+  for (size_t q = 0; q < questions; ++q) {
+    const auto hit = query.cast_ray(above[q], down);
+    resting.push_back({hit ? hit->point : above[q], {}});
+  }
+  const double overlap = best_seconds(samples, [&] {
+    for (size_t q = 0; q < questions; ++q) query.overlap_shape(box, resting[q], overlaps);
+  });
+  // One character walking 3 m/s across the ridges for 600 steps.
+  constexpr int steps = 600;
+  double walked = 0;
+  const double character_step =
+      best_seconds(samples,
+                   [&] {
+                     World walk;
+                     walk.create_body(def);
+                     CharacterDef hero;
+                     hero.position = {Fixed::from_int(-100), Fixed::from_int(6), Fixed::from_int(-90)};
+                     const CharacterId id = walk.create_character(hero).value();
+                     walk.set_character_controls(id, {{Fixed::from_int(3), Fixed{}, Fixed::one()}, false});
+                     for (int s = 0; s < steps; ++s) walk.step();
+                     walked =
+                         static_cast<double>((walk.characters()[0].position.x + Fixed::from_int(100)).raw()) * 0x1p-32;
+                   }) /
+      steps;
+  const double us = 1e6 / questions;
+  fmt::print(
+      "\n| terrain | build (ms) | ray down (us) | slanted ray (us) | sphere cast 0.5 m (us) | "
+      "capsule cast 0.3 x 1.2 m (us) | box overlap (us) | a character's step (us) | rays meeting it |\n"
+      "|---|---|---|---|---|---|---|---|---|\n");
+  fmt::print(
+      "| heightfield 225 x 225, {} triangles | {:.1f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.2f} | {:.1f} "
+      "(walked {:.1f} m in x) | {} of {} |\n",
+      mesh->triangles.size(), build_mesh * 1e3, straight * us, oblique * us, sphere * us, capsule_cast * us,
+      overlap * us, character_step * 1e6, walked, met, questions);
+}
+
 }  // namespace
 
 int run_bench_queries(int argc, char** argv) {
@@ -188,6 +288,7 @@ int run_bench_queries(int argc, char** argv) {
     }
     fmt::print("| {} | {:.1f} | {:.1f} | {:.1f} |\n", others, per_step[0] * 1e6, per_step[1] * 1e6, per_step[2] * 1e6);
   }
+  terrain_queries(samples);
   return 0;
 }
 
