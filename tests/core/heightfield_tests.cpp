@@ -44,6 +44,16 @@ BodyId add_heightfield(TestWorld& t, HeightGrid grid, Vec3 at, Material material
 
 Material sliding(Fixed mu) { return {mu, mu, Fixed{}, Fixed{}}; }
 
+// A 0.5 m box (mu 0.2) turned with a slope (`tilt`, its normal `up`), 1 mm
+// above the surface point `surface`.
+BodyId add_slope_box(TestWorld& t, Vec3 surface, Quat tilt, Vec3 up) {
+  BodyDef def;
+  def.pose = {surface + up * 0.251_fx, tilt};
+  def.shapes.push_back({ShapeType::box, {0.25_fx, 0.25_fx, 0.25_fx}, {}, {}, {}});
+  def.material = sliding(0.2_fx);
+  return t.world.create_body(def).value();
+}
+
 std::string refusal(HeightGrid g) {
   const auto built = build_height_grid_mesh(std::move(g));
   return built.ok() ? "built" : built.error().place + ": " + built.error().reason;
@@ -117,11 +127,7 @@ TEST_CASE("Heightfield: a box slides down a slope of heights as far as the analy
   const Vec3 up = rotate(tilt, {Fixed{}, Fixed::one(), Fixed{}});
   // The surface point above x = -2 (2 m down the slope), the box 1 mm above it.
   const Vec3 surface{-2.0_fx, test::to_fixed(4.0 - 2.0 * slope), 0.3_fx};
-  BodyDef def;
-  def.pose = {surface + up * 0.251_fx, tilt};
-  def.shapes.push_back({ShapeType::box, {0.25_fx, 0.25_fx, 0.25_fx}, {}, {}, {}});
-  def.material = sliding(0.2_fx);
-  const BodyId box = t.world.create_body(def).value();
+  const BodyId box = add_slope_box(t, surface, tilt, up);
   const Vec3 start = t.world.body(box).pose.position;
   double off_surface = 0;
   for (int step = 0; step < 90; ++step) {
@@ -138,6 +144,38 @@ TEST_CASE("Heightfield: a box slides down a slope of heights as far as the analy
   CHECK(std::abs(along - expected) < 0.01 * expected);
   CHECK(std::abs(speed - a * 1.5) < 0.01 * a * 1.5);
   CHECK(off_surface < 0.002);
+}
+
+// A known defect, kept failing on purpose until it is fixed: at other
+// places across the slope than the test above's, a box slides up to 11%
+// farther than the analytic distance (bitstep bench's mesh_slope: boxes 2
+// and 7 of 10 at 1.88 and 1.91 m against 1.719 m), as if friction lost
+// part of its bound while the box crosses triangle edges. When this passes,
+// drop [!shouldfail].
+TEST_CASE("Heightfield: a box slides down a slope of heights within 1% wherever it starts across it",
+          "[heightfield][motion][!shouldfail]") {
+  const double pi = 3.14159265358979;
+  const double slope = std::tan(20 * pi / 180);
+  const auto height = [&](uint32_t i, uint32_t) { return test::to_fixed(-0.5 * i * slope); };
+  const Quat tilt = test::about_degrees({Fixed{}, Fixed{}, Fixed::one()}, -20.0_fx);
+  const Vec3 down_slope = rotate(tilt, {Fixed::one(), Fixed{}, Fixed{}});
+  const Vec3 up = rotate(tilt, {Fixed{}, Fixed::one(), Fixed{}});
+  const double a = 9.81 * (std::sin(20 * pi / 180) - 0.2 * std::cos(20 * pi / 180));
+  const double expected = a * (1.0 / 3600) * 90 * 91 / 2;
+  double worst = 0;
+  for (int k = 0; k < 10; ++k) {
+    TestWorld t;
+    add_heightfield(t, grid_of(41, 21, 0.5_fx, height), {-10.0_fx, Fixed{}, -5.0_fx}, sliding(0.2_fx));
+    const double x = -8 + 0.4 * k, z = -4 + 0.8 * k;
+    const Vec3 surface{test::to_fixed(x), test::to_fixed(-(x + 10) * slope), test::to_fixed(z)};
+    const BodyId box = add_slope_box(t, surface, tilt, up);
+    const Vec3 start = t.world.body(box).pose.position;
+    for (int step = 0; step < 90; ++step) t.world.step();
+    const double along = to_double(dot(t.world.body(box).pose.position - start, down_slope));
+    worst = std::max(worst, std::abs(along - expected) / expected);
+  }
+  INFO("worst relative error " << worst);
+  CHECK(worst < 0.01);
 }
 
 TEST_CASE("Heightfield: a box slides across cells and diagonals without a bump and stops as analysed",
