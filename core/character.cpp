@@ -67,8 +67,9 @@ void push(const Character& c, World& world, const Hit& hit, Vec3 velocity, Fixed
   world.apply_impulse(hit.body, hit.normal * -impulse, hit.point);
 }
 
-// Moves the character by `move`, sliding along what it meets; returns the
-// surfaces' normals' least y seen (1 if none), and updates the velocity.
+// Moves the character by `move`, sliding along what it meets: where it
+// ends, its velocity without the parts into what it met, and whether a wall
+// (as met) stopped part of the move.
 struct Slide {
   Vec3 position;
   Vec3 velocity;
@@ -149,7 +150,7 @@ void ride(Character& c, const World& world) {
   const Vec3 target = now.position + rotate(now.orientation, local);
   const Vec3 turned = rotate(now.orientation, rotate_inverse(then.orientation, c.facing));
   c.facing = normalize_or({turned.x, Fixed{}, turned.z}, c.facing);
-  c.position = target;  // (a platform that carries it into a wall: the next move's cast starts inside and holds)
+  c.position = target;  // (carried into a wall, depenetrate pushes it out next)
 }
 
 // Out of whatever overlaps the capsule (a platform or a body that moved into

@@ -8,7 +8,8 @@
 // Each step (World::step, after the bodies have moved):
 //   1. Riding: on the ground of a moving body, the character moves with it
 //      by the exact change of that body's pose since the last step (a
-//      platform that turns turns the character's facing too).
+//      platform that turns turns the character's facing too). Then out of
+//      whatever overlaps it, along the deepest contact's normal.
 //   2. Velocity: on walkable ground the horizontal velocity is the desired
 //      one and the vertical is 0, or the jump speed on a jump; on a steep
 //      slope or in the air gravity acts and the horizontal velocity turns
