@@ -23,8 +23,10 @@
 // sliding across a flat mesh meets faces only, never the edges between them.
 //
 // The manifold takes the deepest point's normal, the points whose normals
-// lie within 15 degrees of it, and four of them by area (choose_four): a
-// shape across a sharp ridge holds on its deeper side.
+// lie within 15 degrees of it, and four of them by area, starting from the
+// one as deep as the deepest and farthest out (choose_four_spread): a
+// shape across a sharp ridge holds on its deeper side, and a face lying on
+// several triangles keeps its corners.
 #include <array>
 #include <vector>
 
@@ -292,6 +294,44 @@ void rounded_triangle(const CoreSegment& core, Fixed r, const Triangle& t, Fixed
 
 // --- the manifold -------------------------------------------------------------
 
+// Points this close in depth to the deepest (m) are as deep as it.
+constexpr Fixed same_depth = 0.001_fx;
+
+// Four of the candidates by area (choose_four), starting from the point
+// that is as deep as the deepest and farthest from their middle. A face
+// lying on several triangles has, besides its corners, points where the
+// triangles' edges clip it, all at one depth to within rounding; started
+// from whichever of them rounded deepest (a point mid-way along the face's
+// side), the four left out a corner, and the smaller face tipped the body
+// as triangle edges passed under it (a box sliding down a slope of
+// triangles went 2.6% too far). Started from a corner, the four are the
+// face's corners, as on a plane.
+int choose_four_spread(const std::vector<Candidate>& c, Vec3 normal, int* chosen) {
+  const int count = static_cast<int>(c.size());
+  Fixed deepest = c[0].depth;
+  Vec3 middle;
+  for (const Candidate& p : c) {
+    deepest = max(deepest, p.depth);
+    middle += p.p;
+  }
+  middle = middle / Fixed::from_int(count);
+  // The rank choose_four takes its first point by: past the deepest for
+  // the points as deep as it, by their distance from the middle (squared,
+  // below the shape's extent squared).
+  const auto rank = [&](int i) {
+    const Candidate& p = c[static_cast<size_t>(i)];
+    return p.depth >= deepest - same_depth ? deepest + length_sq(p.p - middle) : p.depth;
+  };
+  return choose_four(
+      count, rank,
+      [&](int from, int to) { return length_sq(c[static_cast<size_t>(to)].p - c[static_cast<size_t>(from)].p); },
+      [&](int from, int to, int i) {
+        const Vec3 base = c[static_cast<size_t>(from)].p;
+        return dot(cross(c[static_cast<size_t>(to)].p - base, c[static_cast<size_t>(i)].p - base), normal);
+      },
+      chosen);
+}
+
 int assemble(std::vector<MeshPoint>& points, const WorldShape& mesh_shape, Vec3 centre, Manifold& out) {
   if (points.empty()) return 0;
   size_t deepest = 0;
@@ -307,7 +347,7 @@ int assemble(std::vector<MeshPoint>& points, const WorldShape& mesh_shape, Vec3 
   }
   int chosen[max_manifold_points] = {0, 1, 2, 3};
   int count = static_cast<int>(kept.size());
-  if (count > max_manifold_points) count = polyhedra::reduce_to_four(kept.data(), count, normal, chosen);
+  if (count > max_manifold_points) count = choose_four_spread(kept, normal, chosen);
   out.normal = normalize(rotate(mesh_shape.pose.orientation, normal));
   for (int k = 0; k < count; ++k) {
     const Candidate& c = kept[static_cast<size_t>(chosen[k])];

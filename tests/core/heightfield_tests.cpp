@@ -146,14 +146,15 @@ TEST_CASE("Heightfield: a box slides down a slope of heights as far as the analy
   CHECK(off_surface < 0.002);
 }
 
-// A known defect, kept failing on purpose until it is fixed: at other
-// places across the slope than the test above's, a box slides up to 11%
-// farther than the analytic distance (bitstep bench's mesh_slope: boxes 2
-// and 7 of 10 at 1.88 and 1.91 m against 1.719 m), as if friction lost
-// part of its bound while the box crosses triangle edges. When this passes,
-// drop [!shouldfail].
+// Ten starts across the slope, so triangle edges pass under the box at
+// every phase. The mesh manifold once started its four points from
+// whichever clipped point rounded deepest, often one mid-way along a side
+// where a triangle edge cut the face: a corner was left out, the smaller
+// face tipped the box, a corner a few microns up carried load outside the
+// friction cone, and boxes slid up to 11% too far (2.6% from these
+// starts). The issue asks for 1%; it is 0.01% now.
 TEST_CASE("Heightfield: a box slides down a slope of heights within 1% wherever it starts across it",
-          "[heightfield][motion][!shouldfail]") {
+          "[heightfield][motion]") {
   const double pi = 3.14159265358979;
   const double slope = std::tan(20 * pi / 180);
   const auto height = [&](uint32_t i, uint32_t) { return test::to_fixed(-0.5 * i * slope); };
@@ -175,7 +176,7 @@ TEST_CASE("Heightfield: a box slides down a slope of heights within 1% wherever 
     worst = std::max(worst, std::abs(along - expected) / expected);
   }
   INFO("worst relative error " << worst);
-  CHECK(worst < 0.01);
+  CHECK(worst < 0.002);
 }
 
 TEST_CASE("Heightfield: a box slides across cells and diagonals without a bump and stops as analysed",
