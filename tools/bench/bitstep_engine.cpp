@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "core/convex_hull.h"
+#include "core/height_grid.h"
 #include "core/triangle_mesh.h"
 #include "core/world.h"
 #include "replay/state_hash.h"
@@ -44,6 +45,19 @@ Shape to_shape(const ShapeSpec& spec) {
       for (const V3& p : spec.points) vertices.push_back(fx(p));
       auto mesh = build_triangle_mesh(vertices, spec.indices);
       if (!mesh.ok()) throw std::runtime_error("a mesh's arrays: " + mesh.error().message());
+      shape.mesh = mesh.value();
+      break;
+    }
+    case ShapeKind::heightfield: {
+      shape.type = ShapeType::heightfield;
+      HeightGrid grid;
+      grid.columns = spec.columns;
+      grid.rows = spec.rows;
+      grid.spacing_x = fx(spec.spacing_x);
+      grid.spacing_z = fx(spec.spacing_z);
+      for (const double h : spec.heights) grid.heights.push_back(fx(h));
+      auto mesh = build_height_grid_mesh(std::move(grid));
+      if (!mesh.ok()) throw std::runtime_error("a heightfield's grid: " + mesh.error().message());
       shape.mesh = mesh.value();
       break;
     }
@@ -96,6 +110,27 @@ class BitstepEngine final : public Engine {
     return joints_++;
   }
 
+  int add_character(const CharacterSpec& spec) override {
+    CharacterDef def;
+    def.position = fx(spec.position);
+    def.radius = fx(spec.radius);
+    def.half_height = fx(spec.half_height);
+    def.max_slope_cos = fx(std::cos(spec.max_slope));
+    def.step_height = fx(spec.step_height);
+    const Result<CharacterId> created = world_.create_character(def);
+    if (!created.ok()) throw std::runtime_error("bench character: " + created.error().message());
+    characters_.push_back(created.value());
+    return static_cast<int>(characters_.size()) - 1;
+  }
+
+  void walk(int character, const V3& velocity) override {
+    world_.set_character_controls(characters_[static_cast<size_t>(character)], {fx(velocity), false});
+  }
+
+  V3 character_position(int character) const override {
+    return to_double(world_.characters()[characters_[static_cast<size_t>(character)].index].position);
+  }
+
   void step() override { world_.step(); }
 
   BodyState state(int body) const override {
@@ -112,6 +147,7 @@ class BitstepEngine final : public Engine {
   World world_;
   std::unique_ptr<ThreadPool> pool_;  // null on one thread
   std::vector<BodyId> ids_;
+  std::vector<CharacterId> characters_;
   int joints_ = 0;
 };
 

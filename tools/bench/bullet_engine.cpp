@@ -28,6 +28,9 @@
 //     (BT_ENABLE_GYROSCOPIC_FORCE_IMPLICIT_BODY) on every body.
 // Set here: iterations, gravity, zero damping, zero rolling/spinning friction,
 // no deactivation (the benchmark runs without sleep), and the pair rules.
+#include <BulletCollision/CollisionDispatch/btGhostObject.h>
+#include <BulletCollision/CollisionShapes/btHeightfieldTerrainShape.h>
+#include <BulletDynamics/Character/btKinematicCharacterController.h>
 #include <btBulletDynamicsCommon.h>
 
 #include <algorithm>
@@ -90,7 +93,8 @@ ShapeMass shape_mass(const ShapeSpec& s) {
       return {v, {i_xx / v, i_yy / v, i_xx / v}};
     }
     case ShapeKind::hull: return {s.volume, {0, 0, 0}};
-    case ShapeKind::mesh: return {0, {0, 0, 0}};  // static only
+    case ShapeKind::mesh:
+    case ShapeKind::heightfield: return {0, {0, 0, 0}};  // static only
   }
   return {0, {0, 0, 0}};
 }
@@ -119,6 +123,29 @@ class MeshShape final : public btBvhTriangleMeshShape {
   std::shared_ptr<Arrays> arrays_;
 };
 
+// btHeightfieldTerrainShape over its own copy of the heights. Bullet
+// centres the grid on its bounding box (x and z from 0 to (n - 1) spacing,
+// y from the lowest height to the highest), so the terrain is the child of
+// a compound shape, moved back to put sample (0, 0) at the shape's origin.
+class HeightfieldShape final : public btCompoundShape {
+ public:
+  explicit HeightfieldShape(const ShapeSpec& s) : btCompoundShape(false, 1) {
+    heights_.reserve(s.heights.size());
+    for (const double h : s.heights) heights_.push_back(static_cast<float>(h));
+    const auto [lowest, highest] = std::minmax_element(heights_.begin(), heights_.end());
+    terrain_ = std::make_unique<btHeightfieldTerrainShape>(static_cast<int>(s.columns), static_cast<int>(s.rows),
+                                                           heights_.data(), *lowest, *highest, 1, false);
+    terrain_->setLocalScaling(btVector3(bt(s.spacing_x), 1, bt(s.spacing_z)));
+    const btVector3 centre(bt(0.5 * (s.columns - 1) * s.spacing_x), (*lowest + *highest) / 2,
+                           bt(0.5 * (s.rows - 1) * s.spacing_z));
+    addChildShape(btTransform(btQuaternion::getIdentity(), centre), terrain_.get());
+  }
+
+ private:
+  std::vector<float> heights_;
+  std::unique_ptr<btHeightfieldTerrainShape> terrain_;
+};
+
 std::unique_ptr<btCollisionShape> make_shape(const ShapeSpec& s) {
   switch (s.kind) {
     case ShapeKind::box: return std::make_unique<btBoxShape>(bt(s.half_extents));
@@ -136,6 +163,7 @@ std::unique_ptr<btCollisionShape> make_shape(const ShapeSpec& s) {
     }
     // A static mesh: Bullet's BVH mesh over its own copy of the arrays.
     case ShapeKind::mesh: return std::make_unique<MeshShape>(s);
+    case ShapeKind::heightfield: return std::make_unique<HeightfieldShape>(s);
   }
   return nullptr;
 }
@@ -178,6 +206,11 @@ class BulletEngine final : public Engine {
     // The world refers to the bodies (and they to the shapes): take them out
     // before anything is destroyed, the constraints (which refer to the
     // bodies) first.
+    for (Character& c : characters_) {
+      world_.removeAction(c.controller.get());
+      world_.removeCollisionObject(c.ghost.get());
+    }
+    if (ghost_callback_) broadphase_.getOverlappingPairCache()->setInternalGhostPairCallback(nullptr);
     for (auto it = constraints_.rbegin(); it != constraints_.rend(); ++it) world_.removeConstraint(it->get());
     for (auto it = bodies_.rbegin(); it != bodies_.rend(); ++it) world_.removeRigidBody(it->rigid.get());
   }
@@ -301,6 +334,45 @@ class BulletEngine final : public Engine {
     return static_cast<int>(constraints_.size()) - 1;
   }
 
+  // btKinematicCharacterController, as Bullet's CharacterDemo builds it: a
+  // capsule on a btPairCachingGhostObject (the world's pair cache then needs
+  // the ghost pair callback), up +y, its gravity the world's (its default is
+  // three times Earth's), walking by a displacement per step
+  // (setWalkDirection: velocity dt), updated by the world as an action in
+  // each stepSimulation.
+  int add_character(const CharacterSpec& spec) override {
+    if (!ghost_callback_) {
+      ghost_callback_ = std::make_unique<btGhostPairCallback>();
+      broadphase_.getOverlappingPairCache()->setInternalGhostPairCallback(ghost_callback_.get());
+    }
+    Character c;
+    c.shape = std::make_unique<btCapsuleShape>(bt(spec.radius), bt(2 * spec.half_height));
+    c.ghost = std::make_unique<btPairCachingGhostObject>();
+    c.ghost->setWorldTransform(btTransform(btQuaternion::getIdentity(), bt(spec.position)));
+    c.ghost->setCollisionShape(c.shape.get());
+    c.ghost->setCollisionFlags(btCollisionObject::CF_CHARACTER_OBJECT);
+    c.controller = std::make_unique<btKinematicCharacterController>(c.ghost.get(), c.shape.get(), bt(spec.step_height),
+                                                                    btVector3(0, 1, 0));
+    // Its constructor turns the ghost from its own first up (+z) to the
+    // given one, which lays a y-axis capsule on its side: stood up again.
+    c.ghost->setWorldTransform(btTransform(btQuaternion::getIdentity(), bt(spec.position)));
+    c.controller->setGravity(world_.getGravity());
+    c.controller->setMaxSlope(bt(spec.max_slope));
+    world_.addCollisionObject(c.ghost.get(), btBroadphaseProxy::CharacterFilter,
+                              btBroadphaseProxy::StaticFilter | btBroadphaseProxy::DefaultFilter);
+    world_.addAction(c.controller.get());
+    characters_.push_back(std::move(c));
+    return static_cast<int>(characters_.size()) - 1;
+  }
+
+  void walk(int character, const V3& velocity) override {
+    characters_[static_cast<size_t>(character)].controller->setWalkDirection(bt(velocity) * dt_);
+  }
+
+  V3 character_position(int character) const override {
+    return dbl(characters_[static_cast<size_t>(character)].ghost->getWorldTransform().getOrigin());
+  }
+
   // maxSubSteps = 0 is Bullet's variable-step mode: exactly one internal step
   // of dt (no fixed-step accumulator, no interpolation).
   void step() override { world_.stepSimulation(dt_, 0); }
@@ -357,6 +429,12 @@ class BulletEngine final : public Engine {
     btMatrix3x3 principal_rotation;  // principal axes -> spec body axes
   };
 
+  struct Character {
+    std::unique_ptr<btCapsuleShape> shape;
+    std::unique_ptr<btPairCachingGhostObject> ghost;
+    std::unique_ptr<btKinematicCharacterController> controller;
+  };
+
   btCollisionShape* own(std::unique_ptr<btCollisionShape> shape) {
     shapes_.push_back(std::move(shape));
     return shapes_.back().get();
@@ -372,6 +450,8 @@ class BulletEngine final : public Engine {
   std::vector<std::unique_ptr<btCollisionShape>> shapes_;
   std::vector<Body> bodies_;
   std::vector<std::unique_ptr<btTypedConstraint>> constraints_;
+  std::unique_ptr<btGhostPairCallback> ghost_callback_;  // set on the broadphase with the first character
+  std::vector<Character> characters_;
   btScalar dt_ = 0;
 };
 

@@ -15,7 +15,7 @@ namespace bitstep::bench {
 using V3 = std::array<double, 3>;
 using Q4 = std::array<double, 4>;  // w, x, y, z
 
-enum class ShapeKind { box, sphere, capsule, hull, mesh };
+enum class ShapeKind { box, sphere, capsule, hull, mesh, heightfield };
 
 struct ShapeSpec {
   ShapeKind kind = ShapeKind::box;
@@ -32,6 +32,13 @@ struct ShapeSpec {
   std::array<V3, 3> inertia_per_kg{};  // m^2, about the centroid, the shape's axes (full)
   // A static mesh: `points` are its vertices, three indices per triangle.
   std::vector<uint32_t> indices{};
+  // A static heightfield: sample (i, j) at (i spacing_x, heights[j columns
+  // + i], j spacing_z) in the shape's frame, each cell split along its
+  // (i, j)-(i + 1, j + 1) diagonal (bitstep's core/height_grid.h; Bullet's
+  // btHeightfieldTerrainShape splits the same way by default).
+  uint32_t columns = 0, rows = 0;
+  double spacing_x = 1, spacing_z = 1;  // m
+  std::vector<double> heights{};        // m, row by row
 };
 
 struct BodySpec {
@@ -71,6 +78,17 @@ struct JointSpec {
   double friction = 0;   // N m against b turning relative to a (Bullet: hinges only)
 };
 
+// A character controller: a kinematic upright capsule that walks at a
+// desired level velocity, slides along walls, steps up and down to
+// step_height and does not walk up slopes steeper than max_slope.
+struct CharacterSpec {
+  V3 position{0, 0, 0};                   // m, the capsule's centre
+  double radius = 0.3;                    // m
+  double half_height = 0.6;               // m, of the inner segment, along y
+  double max_slope = 0.7853981633974483;  // rad (45 degrees)
+  double step_height = 0.3;               // m
+};
+
 // The step every engine is given: the same dt, iteration count and gravity.
 struct StepConfig {
   double dt = 1.0 / 60.0;  // s
@@ -90,6 +108,22 @@ class Engine {
   virtual int add_joint(const JointSpec& spec) {
     (void)spec;
     return -1;
+  }
+  // Index of the new character, 0, 1, ... in creation order; -1: the
+  // engine has no character controller.
+  virtual int add_character(const CharacterSpec& spec) {
+    (void)spec;
+    return -1;
+  }
+  // The level velocity (m/s) it walks at from the next step on.
+  virtual void walk(int character, const V3& velocity) {
+    (void)character;
+    (void)velocity;
+  }
+  // Its capsule's centre, m.
+  virtual V3 character_position(int character) const {
+    (void)character;
+    return {0, 0, 0};
   }
   // The deepest overlap among the engine's current contact points, m (>= 0).
   virtual double max_penetration() const = 0;

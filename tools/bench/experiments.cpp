@@ -617,29 +617,42 @@ ExperimentResult dice(const Variant& variant, const StepConfig& config, const Ru
   return run.result;
 }
 
-// 10 boxes (0.5 m, mu 0.2) sliding down a 20-degree slope of triangles:
-// a height grid's (41 x 21 samples 0.5 m apart, h = -x tan 20; bitstep
-// makes a heightfield of such a grid, Bullet is given the same triangles
-// as a btBvhTriangleMeshShape). Each starts 1 mm above the slope, turned
-// with it, at rest. Error: the worst relative error of the distance slid in
-// 1.5 s against the semi-implicit Euler step's a dt^2 n (n + 1) / 2, a = g
-// (sin 20 - 0.2 cos 20); failed when a box left the surface by 2 cm.
-ExperimentResult mesh_slope(const Variant& variant, const StepConfig& config, const RunOptions&) {
+// 10 boxes (0.5 m, mu 0.2) sliding down a 20-degree slope of triangles: a
+// height grid's (41 x 21 samples 0.5 m apart, h = -x tan 20), as a static
+// triangle mesh (`kind` mesh: bitstep's mesh shape, Bullet's
+// btBvhTriangleMeshShape) or as a heightfield (bitstep's heightfield,
+// Bullet's btHeightfieldTerrainShape). Each starts 1 mm above the slope,
+// turned with it, at rest, at its own place across the cells so that
+// triangle edges pass under the boxes at every phase. Error: the worst
+// relative error of the distance slid in 1.5 s against the semi-implicit
+// Euler step's a dt^2 n (n + 1) / 2, a = g (sin 20 - 0.2 cos 20); failed
+// when a box left the surface by 2 cm.
+ExperimentResult slope_of_triangles(const Variant& variant, const StepConfig& config, ShapeKind kind) {
   Run run(variant, config);
   const double slope = 20 * pi / 180, rise = std::tan(slope);
   BodySpec field;
   field.is_static = true;
   field.static_friction = field.dynamic_friction = 0.2;
-  ShapeSpec grid;
-  grid.kind = ShapeKind::mesh;
   constexpr uint32_t columns = 41, rows = 21;
-  for (uint32_t j = 0; j < rows; ++j) {
-    for (uint32_t i = 0; i < columns; ++i) grid.points.push_back({-10 + 0.5 * i, -(0.5 * i) * rise, -5 + 0.5 * j});
-  }
-  for (uint32_t j = 0; j + 1 < rows; ++j) {
-    for (uint32_t i = 0; i + 1 < columns; ++i) {
-      const uint32_t s00 = j * columns + i, s10 = s00 + 1, s01 = s00 + columns, s11 = s01 + 1;
-      grid.indices.insert(grid.indices.end(), {s00, s01, s11, s00, s11, s10});
+  ShapeSpec grid;
+  grid.kind = kind;
+  if (kind == ShapeKind::heightfield) {
+    grid.columns = columns;
+    grid.rows = rows;
+    grid.spacing_x = grid.spacing_z = 0.5;
+    for (uint32_t j = 0; j < rows; ++j) {
+      for (uint32_t i = 0; i < columns; ++i) grid.heights.push_back(-(0.5 * i) * rise);
+    }
+    field.position = {-10, 0, -5};
+  } else {
+    for (uint32_t j = 0; j < rows; ++j) {
+      for (uint32_t i = 0; i < columns; ++i) grid.points.push_back({-10 + 0.5 * i, -(0.5 * i) * rise, -5 + 0.5 * j});
+    }
+    for (uint32_t j = 0; j + 1 < rows; ++j) {
+      for (uint32_t i = 0; i + 1 < columns; ++i) {
+        const uint32_t s00 = j * columns + i, s10 = s00 + 1, s01 = s00 + columns, s11 = s01 + 1;
+        grid.indices.insert(grid.indices.end(), {s00, s01, s11, s00, s11, s10});
+      }
     }
   }
   field.shapes.push_back(grid);
@@ -678,6 +691,59 @@ ExperimentResult mesh_slope(const Variant& variant, const StepConfig& config, co
   run.result.error = worst;
   run.result.failed = off_surface > 0.02;
   run.metric("farthest_off_the_surface_m", off_surface);
+  return run.result;
+}
+
+ExperimentResult mesh_slope(const Variant& variant, const StepConfig& config, const RunOptions&) {
+  return slope_of_triangles(variant, config, ShapeKind::mesh);
+}
+
+ExperimentResult heightfield_slope(const Variant& variant, const StepConfig& config, const RunOptions&) {
+  return slope_of_triangles(variant, config, ShapeKind::heightfield);
+}
+
+// --- characters --------------------------------------------------------------
+
+// A character (capsule r 0.3 m, inner segment 1.2 m, step height 0.3 m,
+// 45-degree slope limit) walks at 2 m/s along +x for 3 s from 2 m before a
+// flight of five 0.2 m steps (0.4 m treads) up to a landing 1 m high that
+// runs on to x = 8, starting 1 mm above the floor. It should walk 6 m
+// (stairs should not slow it) and end on the landing. Error: the relative
+// shortfall of the distance walked; failed when its feet end more than
+// 5 cm from the landing's height.
+ExperimentResult character_stairs(const Variant& variant, const StepConfig& config, const RunOptions&) {
+  Run run(variant, config);
+  BodySpec floor = box({10, 0.5, 3}, {0, -0.5, 0}, 1, 0.5);
+  floor.is_static = true;
+  run.add(floor);
+  constexpr int steps = 5;
+  constexpr double rise = 0.2, tread = 0.4, first = 2, end = 8;
+  for (int k = 0; k < steps; ++k) {
+    const double from = first + tread * k, height = rise * (k + 1);
+    BodySpec step = box({(end - from) / 2, height / 2, 1.5}, {(end + from) / 2, height / 2, 0}, 1, 0.5);
+    step.is_static = true;
+    run.add(step);
+  }
+  CharacterSpec spec;
+  const double feet = spec.radius + spec.half_height;  // from the capsule's centre
+  spec.position = {0, feet + 0.001, 0};
+  const int walker = run.engine->add_character(spec);
+  if (walker < 0) throw std::runtime_error("the engine has no character controller");
+  run.engine->walk(walker, {2, 0, 0});
+  const int n = run.steps_for(3.0);
+  double lowest = 0;
+  for (int i = 1; i <= n; ++i) {
+    run.step();
+    lowest = std::min(lowest, run.engine->character_position(walker)[1] - feet);
+  }
+  const V3 p = run.engine->character_position(walker);
+  const double walked = p[0] - spec.position[0], expected = 2 * n * config.dt;
+  run.result.error = std::abs(expected - walked) / expected;
+  run.result.failed = std::abs(p[1] - feet - rise * steps) > 0.05;
+  run.metric("walked_m", walked);
+  run.metric("expected_m", expected);
+  run.metric("feet_height_m", p[1] - feet);
+  run.metric("lowest_feet_m", lowest);
   return run.result;
 }
 
@@ -852,7 +918,14 @@ const std::vector<Experiment>& experiments() {
       {"dice", "hulls", "largest tilt from face-down after 6 s (degrees)",
        "20 dice (hulls: 0.5 m cubes, corners cut 5 cm) thrown spinning at the ground", true, dice},
       {"mesh_slope", "meshes", "worst relative error of the distance slid in 1.5 s",
-       "10 boxes sliding down a 20-degree slope of a height grid's 1,600 triangles, mu 0.2", true, mesh_slope},
+       "10 boxes sliding down a 20-degree slope of a height grid's 1,600 triangles as a mesh, mu 0.2", true,
+       mesh_slope},
+      {"heightfield_slope", "meshes", "worst relative error of the distance slid in 1.5 s",
+       "mesh_slope's slope as a heightfield (Bullet: btHeightfieldTerrainShape)", true, heightfield_slope},
+      {"character_stairs", "characters", "relative shortfall of the distance walked in 3 s",
+       "a character walking 2 m/s for 3 s up five 0.2 m steps (step height 0.3 m; Bullet: "
+       "btKinematicCharacterController)",
+       false, character_stairs},
       {"heap_rest", "stability", "farthest move 30-40 s (m)", "heaps of 27 cubes dropped into a pen (quick: 2 of 24)",
        false, heap_rest},
       {"pendulum", "joints", "relative error of the period",
