@@ -101,4 +101,8 @@ class WorldQuery;
 // impulses (applied at once: the next step sees them).
 void move_character(Character& character, const WorldQuery& query, World& world, Fixed dt);
 
+// Its ground state where it stands (step 5 above alone): a character
+// created on the ground stands from its first step, not one step in the air.
+void find_character_ground(Character& character, const WorldQuery& query, const World& world);
+
 }  // namespace bitstep

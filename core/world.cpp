@@ -534,6 +534,9 @@ Result<CharacterId> World::create_character(const CharacterDef& def) {
   c.def = def;
   c.position = def.position;
   c.facing = def.facing;
+  const Fixed reach = def.radius + def.half_height + 1.0_fx;
+  const Vec3 r{reach, reach, reach};
+  find_character_ground(c, WorldQuery(*this, {c.position - r, c.position + r}), *this);
   characters_.push_back(c);
   return CharacterId{static_cast<uint32_t>(characters_.size() - 1)};
 }

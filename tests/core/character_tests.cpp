@@ -68,8 +68,9 @@ TEST_CASE("Character: walks on flat ground at the asked speed and stays on it", 
   walk(t, id, {2.0_fx, Fixed{}, -1.0_fx}, 120);
   const Character& c = character(t, id);
   INFO("at " << to_double(c.position.x) << ", " << to_double(c.position.z) << ", feet " << feet_y(t, id));
-  CHECK(std::abs(to_double(c.position.x) - 4.0) < 0.04);
-  CHECK(std::abs(to_double(c.position.z) + 2.0) < 0.02);
+  // Standing from its first step (created on the ground), it walks all 2 s.
+  CHECK(std::abs(to_double(c.position.x) - 4.0) < 0.001);
+  CHECK(std::abs(to_double(c.position.z) + 2.0) < 0.001);
   CHECK(std::abs(feet_y(t, id) - 0.01) < 0.011);
   CHECK(c.ground == GroundState::on_ground);
   CHECK(c.velocity.y == Fixed{});
@@ -93,7 +94,9 @@ TEST_CASE("Character: climbs steps up to its step height, not higher, and walks 
     INFO("rise " << to_double(rise) << ": at x " << to_double(character(t, id).position.x) << ", feet at "
                  << feet_y(t, id) << " (top " << top << ")");
     if (rise <= def.step_height) {
-      CHECK(to_double(character(t, id).position.x) > 4.0);
+      // Stairs do not slow the walk: 1.5 m/s for 3 s is 4.5 m (a step's
+      // edge slid over under the round bottom once cost 4%).
+      CHECK(to_double(character(t, id).position.x) > 4.5 * 0.995);
       CHECK(std::abs(feet_y(t, id) - top) < 0.03);
       CHECK(character(t, id).ground == GroundState::on_ground);
       // Back down: it follows the steps, never more than a step in the air.
