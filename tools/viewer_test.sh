@@ -2,11 +2,13 @@
 # The viewer, tested (tools/test.sh runs it; ~1 minute):
 #   1. its wasm engine under node (tools/viewer/engine_test.mjs): the
 #      playground's golden replay at every step, scrubbing, a tampered copy,
-#      a click recorded into a replay;
+#      a click recorded into a replay, hills (a heightfield, hulls) and the
+#      course (characters);
 #   2. that replay verified by the native bitstep, and the tampered one
 #      refused by it at the same step;
 #   3. the page in headless Chromium (tools/viewer/browser_test.mjs): every
-#      step's hash, a screenshot that is not blank, DIVERGED at the right step.
+#      step's hash, a screenshot that is not blank, DIVERGED at the right step,
+#      the course's and the hills' hashes, the course's characters drawn.
 # Usage: tools/viewer_test.sh [BITSTEP]   (default build/release/bitstep)
 set -euo pipefail
 cd "$(dirname "$0")/.."

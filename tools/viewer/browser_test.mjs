@@ -7,7 +7,10 @@
 //    projected centres of bodies the pixels are not the background, at a
 //    corner of the sky they are;
 // 3. a tampered replay stops with "DIVERGED at step N" at its changed
-//    input's step; beside the original it also names the first differing field.
+//    input's step; beside the original it also names the first differing field;
+// 4. the character course and the hills: their golden hashes in the page,
+//    and in the course's screenshot each character drawn where it stands,
+//    in its ground state's colour (its strongest channel).
 import { spawn, spawnSync } from 'node:child_process';
 import { readFileSync } from 'node:fs';
 import { dirname, join, resolve } from 'node:path';
@@ -125,6 +128,26 @@ try {
   const beside = report(`replay=/files/tampered.replay.json&compare=/scenes/playground.replay.json&to=${to}&test=1`);
   check(/^DIVERGED at step \d+: .*\n\$\.\w+\[\d+\]/.test(String(beside.diverged)) && beside.tick === changed,
         `beside the original: ${JSON.stringify(beside.diverged)}`);
+  // 4. The level's shapes and the characters.
+  for (const name of ['course', 'hills']) {
+    const recorded = JSON.parse(readFileSync(join(root, `scenes/${name}.replay.json`), 'utf8'));
+    const query = `replay=/scenes/${name}.replay.json&to=${to}&test=1`;
+    const page = report(query);
+    const ok = (page.hashes ?? []).filter((h, i) => h === recorded.hashes[i]).length;
+    check(!page.error && !page.diverged && ok === to, `${name}: ${ok} of ${to} step hashes the golden ones`);
+    if (name !== 'course') continue;
+    const courseShot = join(out, 'course.png');
+    chromium([`--screenshot=${courseShot}`], query);
+    const picture = readPng(courseShot);
+    const strongest = (rgb) => rgb.indexOf(Math.max(...rgb));
+    const seen = (page.characters ?? []).filter((c) => {
+      const colour = [0, 2, 4].map((k) => parseInt(c.colour.slice(k, k + 2), 16));
+      return strongest(picture.at(c.x, c.y)) === strongest(colour);
+    });
+    check(page.characters?.length === 2 && seen.length === 2,
+          `course: ${seen.length} of ${page.characters?.length} characters drawn in their ground colour: ` +
+          (page.characters ?? []).map((c) => `${c.name} #${c.colour} ${JSON.stringify(picture.at(c.x, c.y))}`).join(', '));
+  }
 } catch (error) {
   check(false, String(error.stack ?? error));
 } finally {

@@ -34,6 +34,7 @@ export async function openEngine(createBitstep, moduleOptions = {}) {
     poses: fn('bv_poses', 'number', ['number']),
     contacts: fn('bv_contacts', 'number', ['number']),
     joints: fn('bv_joints', 'number', ['number']),
+    characters: fn('bv_characters', 'number', ['number']),
     shapes: fn('bv_shapes', 'string', ['number']),
     click: fn('bv_click', 'number', ['number', ...text7]),
     replayJson: fn('bv_replay_json', 'string', ['number']),
@@ -72,6 +73,7 @@ export async function openEngine(createBitstep, moduleOptions = {}) {
     poses: (v) => floats(v, c.poses(v)),
     contacts: (v) => floats(v, c.contacts(v)),
     joints: (v) => floats(v, c.joints(v)),
+    characters: (v) => floats(v, c.characters(v)),
     shapes: (v) => JSON.parse(c.shapes(v)),
     // origin and direction: arrays of 3 numbers; the text sent is what the
     // recorded input holds (origin to 0.1 mm, direction to 1e-6).

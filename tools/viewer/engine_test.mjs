@@ -9,7 +9,11 @@
 // 4. a click at step 60 pushes the body under the ray; the run to step 120
 //    is written to OUT_DIR/clicked.replay.json (with its scene beside it)
 //    for `bitstep verify` to accept natively (tools/viewer_test.sh), and
-//    the tampered replay to OUT_DIR/tampered.replay.json for the browser.
+//    the tampered replay to OUT_DIR/tampered.replay.json for the browser;
+// 5. the level's shapes and characters: hills.replay.json and
+//    course.replay.json give their recorded chains; the heightfield and
+//    the hulls come with the triangles or faces the page draws; the course's two characters come with their capsules and
+//    ground states, and the one asked to walk moves.
 import { copyFileSync, mkdirSync, readFileSync, writeFileSync } from 'node:fs';
 import { createRequire } from 'node:module';
 import { dirname, join, resolve } from 'node:path';
@@ -104,6 +108,36 @@ check(clickedReplay.steps === steps && clickedReplay.hashes.length === steps &&
       clickedReplay.hashes.slice(0, 60).every((h, i) => h === golden.hashes[i]) &&
       clickedReplay.inputs.at(-1).step === 61 && clickedReplay.inputs.at(-1).body === pushed,
       `clicked.replay.json: ${steps} steps, the golden chain to step 60, the push at step 61`);
+
+// 5. Hulls, meshes, heightfields and characters.
+for (const name of ['hills', 'course']) {
+  const text = readFileSync(join(scenes, `${name}.replay.json`), 'utf8');
+  const recorded = JSON.parse(text);
+  engine.loadReplay(0, await stage(0, `${name}.replay.json`, text));
+  let same = 0;
+  for (let step = 1; step <= 120; ++step) same += engine.step(0) === 1 ? 1 : 0;
+  check(same === 120 && engine.hash(0) === recorded.hashes[119], `${name}: 120 of 120 steps as recorded`);
+  const drawn = engine.shapes(0).flatMap((b) => b.shapes);
+  const withFaces = (type) => drawn.filter((s) => s.type === type && s.faces && s.faces.length > 0 && s.vertices);
+  if (name === 'hills') {
+    const field = withFaces('heightfield');
+    check(field.length === 1 && field[0].faces.length >= 4000,
+          `hills: the heightfield comes as ${field[0]?.faces.length} triangles to draw`);
+    check(withFaces('hull').length > 0, `hills: ${withFaces('hull').length} hulls come with their faces`);
+  } else {
+    const c = engine.characters(0);
+    const alive = [];
+    for (let i = 0; i < c.length; i += 9) if (c[i] === 1) alive.push(c.subarray(i, i + 9));
+    check(alive.length === 2 && alive.every((k) => k[5] > 0 && k[6] > 0 && k[1] >= 0 && k[1] <= 2),
+          `course: ${alive.length} characters with their capsules and ground states`);
+    const before = alive.map((k) => [k[2], k[4]]);
+    for (let step = 0; step < 60; ++step) engine.step(0);
+    const after = engine.characters(0);
+    const moved = before.some(([x, z], k) => Math.hypot(after[k * 9 + 2] - x, after[k * 9 + 4] - z) > 0.5);
+    check(moved, 'course: a character walks over 0.5 m in the next second');
+  }
+}
+engine.unload(0);
 
 if (failures > 0) {
   console.error(`engine_test: ${failures} check(s) failed`);

@@ -60,6 +60,8 @@ function hullGeometry(vertices, faces) {
   return geometry;
 }
 
+// A character on the ground, on a steep slope, in the air.
+const groundColours = [new THREE.Color(0x40c060), new THREE.Color(0xe09030), new THREE.Color(0x4080e0)];
 const awakeColour = (slot) => new THREE.Color().setHSL(((slot * 0.618034) % 1 + 1) % 1, 0.55, 0.55);
 
 class Drawing {
@@ -74,6 +76,7 @@ class Drawing {
       new THREE.LineBasicMaterial({ color: 0xff8080 }));
     this.jointLines = new THREE.LineSegments(new THREE.BufferGeometry(),
       new THREE.LineBasicMaterial({ color: 0xffe070, depthTest: false }));
+    this.characters = []; // per character slot: {group, material}
     for (const o of [this.contactPoints, this.contactNormals, this.jointLines]) {
       o.renderOrder = 10;
       o.frustumCulled = false;
@@ -83,7 +86,35 @@ class Drawing {
 
   clear() {
     for (const b of this.bodies) if (b) this.root.remove(b.group);
+    for (const c of this.characters) this.root.remove(c.group);
     this.bodies = [];
+    this.characters = [];
+  }
+
+  // The characters: an upright capsule each, coloured by its ground state
+  // (on ground, on a steep slope, in the air), a nose where it faces.
+  updateCharacters() {
+    const c = engine.characters(this.player);
+    const count = c.length / 9;
+    while (this.characters.length < count) {
+      const i = this.characters.length * 9;
+      const material = new THREE.MeshLambertMaterial();
+      const group = new THREE.Group();
+      group.add(new THREE.Mesh(new THREE.CapsuleGeometry(c[i + 5], 2 * c[i + 6], 6, 16), material));
+      const nose = new THREE.Mesh(new THREE.BoxGeometry(0.1, 0.1, 0.5 * c[i + 5]), material);
+      nose.position.set(0, 0.5 * c[i + 6], c[i + 5]);
+      group.add(nose);
+      this.root.add(group);
+      this.characters.push({ group, material });
+    }
+    for (let k = 0; k < this.characters.length; ++k) {
+      const i = k * 9, drawn = this.characters[k];
+      drawn.group.visible = k < count && c[i] === 1;
+      if (!drawn.group.visible) continue;
+      drawn.group.position.set(c[i + 2], c[i + 3], c[i + 4]);
+      drawn.group.rotation.set(0, Math.atan2(c[i + 7], c[i + 8]), 0);
+      drawn.material.color.copy(groundColours[c[i + 1]] || groundColours[2]);
+    }
   }
 
   meshOf(shape, material) {
@@ -95,7 +126,7 @@ class Drawing {
       geometry = new THREE.SphereGeometry(shape.radius[0], 24, 16);
     } else if (shape.type === 'capsule') {
       geometry = new THREE.CapsuleGeometry(shape.radius[0], 2 * shape.half_height[0], 6, 16);
-    } else if (shape.type === 'hull' || shape.type === 'mesh') {
+    } else if (shape.faces) { // a hull, a mesh or a heightfield's triangles
       geometry = hullGeometry(shape.vertices, shape.faces);
     } else {
       geometry = new THREE.PlaneGeometry(400, 400).rotateX(-Math.PI / 2); // the plane's normal is its local +y
@@ -142,6 +173,7 @@ class Drawing {
       if (flags & 4) body.material.color.copy(flags & 2 ? sleepingColour : awakeColour(body.slot));
       else if (flags & 8) body.material.color.copy(kinematicColour);
     }
+    this.updateCharacters();
     const contacts = showContacts ? engine.contacts(this.player) : new Float32Array(0);
     const points = [], normals = [];
     for (let i = 0; i < contacts.length; i += 6) {
@@ -476,8 +508,20 @@ async function runTest() {
       probes.push({ name: b.name, x, y });
     }
   }
+  // And the characters' centres, with their ground state (its colour).
+  const characters = [];
+  drawings[0].characters.forEach((c, k) => {
+    if (!c.group.visible) return;
+    const p = c.group.position.clone().project(camera);
+    const x = Math.round(rect.left + (p.x + 1) / 2 * rect.width);
+    const y = Math.round(rect.top + (1 - p.y) / 2 * rect.height);
+    if (p.z < 1 && x > rect.left + 2 && x < rect.right - 2 && y > rect.top + 40 && y < rect.bottom - 30) {
+      characters.push({ name: `character ${k}`, x, y, colour: c.material.color.getHexString() });
+    }
+  });
   report({
     tick: engine.tick(0),
+    characters,
     recorded_steps: state.recordedSteps,
     hashes: state.hashes,
     diverged: state.diverged,

@@ -370,6 +370,21 @@ VIEWER_EXPORT const float* bv_contacts(int v) {
   return p->floats.data();
 }
 
+// Per character slot, 9 floats: 1 when alive (else 0), its ground state
+// (0 on_ground, 1 on_steep_slope, 2 in_air), its capsule's centre x y z
+// (m), radius and half_height (m), and its facing's x and z.
+VIEWER_EXPORT const float* bv_characters(int v) {
+  Player* p = player(v);
+  if (p == nullptr || !p->loaded) return nullptr;
+  p->floats.clear();
+  for (const Character& c : p->world->characters()) {
+    p->floats.insert(p->floats.end(), {c.alive ? 1.0f : 0.0f, static_cast<float>(c.ground), to_float(c.position.x),
+                                       to_float(c.position.y), to_float(c.position.z), to_float(c.def.radius),
+                                       to_float(c.def.half_height), to_float(c.facing.x), to_float(c.facing.z)});
+  }
+  return p->floats.data();
+}
+
 // The live joints: 6 floats each, the two anchors in the world (m).
 VIEWER_EXPORT const float* bv_joints(int v) {
   Player* p = player(v);
