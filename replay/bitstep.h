@@ -232,6 +232,14 @@ bitstep_status bitstep_drive(bitstep_simulation* sim, const char* car, bitstep_f
 bitstep_status bitstep_move_character(bitstep_simulation* sim, const char* character, bitstep_vec3 velocity,
                                       int32_t jump);
 
+/* A new character from one character object of the scene format (JSON:
+ * "name", a name no live character has, "position" and the optional
+ * fields of a scene's "characters"), standing where it is created; the
+ * JSON refusal names the field. remove: NOT_FOUND for a name no live
+ * character has. As a replay's add_character and remove_character inputs. */
+bitstep_status bitstep_add_character(bitstep_simulation* sim, const char* character_json);
+bitstep_status bitstep_remove_character(bitstep_simulation* sim, const char* character);
+
 /* Where a character is and what it stands on (core/character.h). */
 typedef enum { BITSTEP_ON_GROUND = 0, BITSTEP_ON_STEEP_SLOPE = 1, BITSTEP_IN_AIR = 2 } bitstep_ground_state;
 typedef struct {

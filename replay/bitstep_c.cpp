@@ -420,6 +420,23 @@ bitstep_status bitstep_move_character(bitstep_simulation* sim, const char* chara
   });
 }
 
+bitstep_status bitstep_add_character(bitstep_simulation* sim, const char* character_json) {
+  return guarded(sim, [&] {
+    if (character_json == nullptr) return null_argument(sim, "add_character", "character_json");
+    const bitstep::Result<void> added = sim->sim->add_character(character_json);
+    if (!added.ok()) return fail(sim, added.error());
+    return BITSTEP_OK;
+  });
+}
+
+bitstep_status bitstep_remove_character(bitstep_simulation* sim, const char* character) {
+  return guarded(sim, [&] {
+    if (character == nullptr) return null_argument(sim, "remove_character", "character");
+    if (sim->sim->remove_character(character)) return BITSTEP_OK;
+    return fail(sim, BITSTEP_NOT_FOUND, std::string("no character named \"") + character + "\"");
+  });
+}
+
 bitstep_status bitstep_get_character(bitstep_simulation* sim, const char* character, bitstep_character_state* out) {
   return guarded(sim, [&] {
     if (const char* null = first_null({{character, "character"}, {out, "out"}})) {

@@ -102,12 +102,13 @@ Input read_input(const Node& node, const Scene& scene, BodyNames& names) {
   Input input;
   input.source = node;
   input.step = read_int(reader.require("step"), 1, max_steps);
-  static constexpr Input::Kind kinds[] = {Input::Kind::impulse,   Input::Kind::force,        Input::Kind::set_velocity,
-                                          Input::Kind::spawn,     Input::Kind::remove,       Input::Kind::wake,
-                                          Input::Kind::add_joint, Input::Kind::remove_joint, Input::Kind::drive,
-                                          Input::Kind::motor,     Input::Kind::move};
-  input.kind = kinds[read_choice(reader.require("type"), {"impulse", "force", "set_velocity", "spawn", "remove", "wake",
-                                                          "add_joint", "remove_joint", "drive", "motor", "move"})];
+  using K = Input::Kind;
+  static constexpr Input::Kind kinds[] = {K::impulse, K::force,         K::set_velocity,    K::spawn, K::remove,
+                                          K::wake,    K::add_joint,     K::remove_joint,    K::drive, K::motor,
+                                          K::move,    K::add_character, K::remove_character};
+  input.kind = kinds[read_choice(reader.require("type"),
+                                 {"impulse", "force", "set_velocity", "spawn", "remove", "wake", "add_joint",
+                                  "remove_joint", "drive", "motor", "move", "add_character", "remove_character"})];
   const auto body = [&] { return read_body_ref(reader.require("body"), names); };
   switch (input.kind) {
     case Input::Kind::impulse:
@@ -155,12 +156,7 @@ Input read_input(const Node& node, const Scene& scene, BodyNames& names) {
     }
     case Input::Kind::motor: read_motor_input(reader, input); break;
     case Input::Kind::move: {
-      const Node& who = reader.require("character");
-      const std::string& name = read_string(who);
-      const auto found = std::find_if(scene.characters.begin(), scene.characters.end(),
-                                      [&](const SceneCharacter& c) { return c.name == name; });
-      if (found == scene.characters.end()) fail(who, "no character named " + json::quote(name) + " in the scene");
-      input.character = static_cast<uint32_t>(found - scene.characters.begin());
+      input.added.name = read_string(reader.require("character"));  // numbered by number_characters
       // "velocity": [x, z], level, m/s; "jump": true or false.
       const Node& velocity = reader.require("velocity");
       if (velocity.kind != Kind::array || velocity.children.size() != 2) fail(velocity, "expected [x, z] in m/s");
@@ -170,9 +166,38 @@ Input read_input(const Node& node, const Scene& scene, BodyNames& names) {
       read_optional(reader, "jump", input.moving.jump);
       break;
     }
+    case Input::Kind::add_character: input.added = read_character(reader.require("character")); break;
+    case Input::Kind::remove_character: input.added.name = read_string(reader.require("character")); break;
   }
   reader.finish();
   return input;
+}
+
+// Numbers the characters that inputs name, as the world numbers them: the
+// scene's 0..n-1, then each add_character's in input order. Names are
+// unique across the scene's and add_character's; a move or a
+// remove_character names one of the scene or of an add_character before it.
+void number_characters(std::vector<Input>& inputs, const Scene& scene) {
+  std::map<std::string_view, uint32_t> numbers;  // views of names in `scene` and `inputs`, which outlive it
+  for (size_t k = 0; k < scene.characters.size(); ++k)
+    numbers.emplace(scene.characters[k].name, static_cast<uint32_t>(k));
+  auto next = static_cast<uint32_t>(scene.characters.size());
+  for (Input& input : inputs) {
+    const std::string& name = input.added.name;
+    if (input.kind == Input::Kind::add_character) {
+      input.character = next++;
+      if (!numbers.emplace(name, input.character).second) {
+        fail(input.source.path + ".character.name", "duplicate character name " + json::quote(name));
+      }
+    } else if (input.kind == Input::Kind::move || input.kind == Input::Kind::remove_character) {
+      const auto found = numbers.find(name);
+      if (found == numbers.end()) {
+        fail(input.source.path + ".character",
+             "no character named " + json::quote(name) + " in the scene or added by an add_character before it");
+      }
+      input.character = found->second;
+    }
+  }
 }
 
 // Numbers the joints that inputs name, as InputRun::joints does: the
@@ -215,6 +240,7 @@ std::vector<Input> read_inputs(const Node& node, const Scene& scene) {
   // Step order; within a step, file order.
   std::stable_sort(inputs.begin(), inputs.end(), [](const Input& a, const Input& b) { return a.step < b.step; });
   number_joints(inputs, scene);
+  number_characters(inputs, scene);
   return inputs;
 }
 
@@ -417,6 +443,10 @@ void apply_inputs(World& world, const std::vector<Input>& inputs, int64_t step, 
         break;
       case Input::Kind::drive: world.set_car_controls({input.car}, input.controls); break;
       case Input::Kind::move: world.set_character_controls({input.character}, input.moving); break;
+      // Checked when read (read_character): the world takes it, as the
+      // character numbered input.character.
+      case Input::Kind::add_character: world.create_character(input.added.def); break;
+      case Input::Kind::remove_character: world.remove_character({input.character}); break;
       case Input::Kind::motor:
         if (input.joint_number < run.joints.size()) {
           world.set_joint_motor(run.joints[input.joint_number], input.motor_speed, input.motor_max);

@@ -23,7 +23,21 @@ namespace bitstep {
 // when the slot is empty. add_joint's bodies are slots in the same way; a
 // joint the world refuses then (World::create_joint) is not added.
 struct Input {
-  enum class Kind { impulse, force, set_velocity, spawn, remove, wake, add_joint, remove_joint, drive, motor, move };
+  enum class Kind {
+    impulse,
+    force,
+    set_velocity,
+    spawn,
+    remove,
+    wake,
+    add_joint,
+    remove_joint,
+    drive,
+    motor,
+    move,
+    add_character,
+    remove_character
+  };
   int64_t step = 1;
   Kind kind = Kind::impulse;
   uint32_t body = 0;
@@ -37,7 +51,11 @@ struct Input {
   uint32_t joint_number = 0;  // add_joint, remove_joint, motor: the joint, numbered as in InputRun::joints
   uint32_t car = 0;           // drive: the scene's car
   CarControls controls;       // drive: the controls from this step on
-  uint32_t character = 0;     // move: the scene's character
+  // move, remove_character: the character, numbered as the world's: the
+  // scene's 0..n-1, then each add_character's in input order (its name
+  // resolved when the replay is read); add_character: the new one.
+  uint32_t character = 0;
+  SceneCharacter added;
   CharacterControls moving;   // move: what it is asked from this step on
   Fixed motor_speed, motor_max;  // motor: World::set_joint_motor's (rad/s or m/s; N m or N)
   json::Node source; // the input as written, kept for writing the replay back exactly

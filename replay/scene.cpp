@@ -497,39 +497,6 @@ GeneratedStructure read_generator(const Node& node, const MaterialTable& materia
 
 // One car: its chassis (a dynamic body, by name), its wheels, and the
 // CarDef fields over their defaults, each within check_car's ranges.
-// A character: "name", "position" (its capsule's centre) and, optional,
-// "radius", "half_height", "max_slope" (degrees), "step_height",
-// "jump_speed", "air_acceleration", "mass", "max_push_force", "facing"
-// (level), "collides_with" (layers).
-SceneCharacter read_character(const Node& node) {
-  ObjectReader reader(node);
-  SceneCharacter character;
-  character.name = read_string(reader.require("name"));
-  CharacterDef& def = character.def;
-  def.position = read_vec3_within(reader.require("position"), -16000.0_fx, 16000.0_fx, "m");
-  read_optional_within(reader, "radius", def.radius, 0.05_fx, 5.0_fx, "m");
-  read_optional_within(reader, "half_height", def.half_height, Fixed{}, 10.0_fx, "m");
-  if (const Node* slope = reader.find("max_slope")) {
-    const Fixed degrees = read_fixed_within(*slope, Fixed{}, 89.0_fx, "degrees");
-    def.max_slope_cos = cos(mul_div(degrees, pi_q32, Fixed::from_int(180)));
-  }
-  read_optional_within(reader, "step_height", def.step_height, Fixed{}, 10.0_fx, "m");
-  read_optional_within(reader, "jump_speed", def.jump_speed, Fixed{}, 100.0_fx, "m/s");
-  read_optional_within(reader, "air_acceleration", def.air_acceleration, Fixed{}, 1000.0_fx, "m/s^2");
-  read_optional_within(reader, "mass", def.mass, 0.1_fx, 10000.0_fx, "kg");
-  read_optional_within(reader, "max_push_force", def.max_push_force, Fixed{}, 1000000.0_fx, "N");
-  if (const Node* facing = reader.find("facing")) {
-    const Vec3 f = read_vec3_within(*facing, -Fixed::one(), Fixed::one(), "");
-    def.facing = normalize_or({f.x, Fixed{}, f.z}, {});
-    if (def.facing == Vec3{}) fail(*facing, "not a level direction");
-  }
-  if (const Node* layers = reader.find("collides_with")) def.collides_with = read_layer_bits(*layers);
-  reader.finish();
-  if (Result<void> refused = check_character(def); !refused.ok()) {
-    fail(node.path + "." + refused.error().place, refused.error().reason);
-  }
-  return character;
-}
 
 SceneCar read_car(const Node& node, const Scene& scene, const std::map<std::string, uint32_t>& bodies) {
   ObjectReader reader(node);
@@ -930,6 +897,40 @@ JointDef joint_in_world(const JointSpec& spec, const Pose& frame_a, const Pose& 
   if (spec.anchor_a_local) def.anchor_a = frame_a.apply(def.anchor_a);
   if (spec.anchor_b_local) def.anchor_b = frame_b.apply(def.anchor_b);
   return def;
+}
+
+// A character: "name", "position" (its capsule's centre) and, optional,
+// "radius", "half_height", "max_slope" (degrees), "step_height",
+// "jump_speed", "air_acceleration", "mass", "max_push_force", "facing"
+// (level), "collides_with" (layers).
+SceneCharacter read_character(const Node& node) {
+  ObjectReader reader(node);
+  SceneCharacter character;
+  character.name = read_string(reader.require("name"));
+  CharacterDef& def = character.def;
+  def.position = read_vec3_within(reader.require("position"), -16000.0_fx, 16000.0_fx, "m");
+  read_optional_within(reader, "radius", def.radius, 0.05_fx, 5.0_fx, "m");
+  read_optional_within(reader, "half_height", def.half_height, Fixed{}, 10.0_fx, "m");
+  if (const Node* slope = reader.find("max_slope")) {
+    const Fixed degrees = read_fixed_within(*slope, Fixed{}, 89.0_fx, "degrees");
+    def.max_slope_cos = cos(mul_div(degrees, pi_q32, Fixed::from_int(180)));
+  }
+  read_optional_within(reader, "step_height", def.step_height, Fixed{}, 10.0_fx, "m");
+  read_optional_within(reader, "jump_speed", def.jump_speed, Fixed{}, 100.0_fx, "m/s");
+  read_optional_within(reader, "air_acceleration", def.air_acceleration, Fixed{}, 1000.0_fx, "m/s^2");
+  read_optional_within(reader, "mass", def.mass, 0.1_fx, 10000.0_fx, "kg");
+  read_optional_within(reader, "max_push_force", def.max_push_force, Fixed{}, 1000000.0_fx, "N");
+  if (const Node* facing = reader.find("facing")) {
+    const Vec3 f = read_vec3_within(*facing, -Fixed::one(), Fixed::one(), "");
+    def.facing = normalize_or({f.x, Fixed{}, f.z}, {});
+    if (def.facing == Vec3{}) fail(*facing, "not a level direction");
+  }
+  if (const Node* layers = reader.find("collides_with")) def.collides_with = read_layer_bits(*layers);
+  reader.finish();
+  if (Result<void> refused = check_character(def); !refused.ok()) {
+    fail(node.path + "." + refused.error().place, refused.error().reason);
+  }
+  return character;
 }
 
 }  // namespace bitstep

@@ -89,6 +89,11 @@ Result<std::string> apply_settings_text(std::string_view json_text, const std::s
 // Throws an Error with the JSON path (callers read through read_json).
 SceneBody read_scene_body(const json::Node& node, const Scene& scene);
 
+// One character object in the scene format (as in "characters"), for
+// scenes and add_character inputs; its definition checked
+// (check_character). Throws an Error with the JSON path.
+SceneCharacter read_character(const json::Node& node);
+
 // One joint object in the scene format (as in "joints"), for scenes and
 // add_joint inputs: its anchors as written, each in the world frame or in
 // its body's frame, and its bodies as `resolve_body` read them ("body_a",

@@ -196,6 +196,24 @@ const Character* Simulation::character(std::string_view name) const {
   return c.alive ? &c : nullptr;
 }
 
+Result<void> Simulation::add_character(std::string_view character_json) {
+  Result<SceneCharacter> read = scene_reader::read_json(character_json, "add_character", read_character);
+  if (!read.ok()) return read.error();
+  if (character(read->name) != nullptr) {
+    return Error{"add_character: name", "a live character is named " + json::quote(read->name)};
+  }
+  const Result<CharacterId> created = world_.create_character(read->def);
+  if (!created.ok()) return created.error().within("add_character");
+  characters_.insert_or_assign(read->name, created->index);
+  return {};
+}
+
+bool Simulation::remove_character(std::string_view name) {
+  if (character(name) == nullptr) return false;
+  world_.remove_character({characters_.find(name)->second});
+  return true;
+}
+
 void Simulation::step() { world_.step(); }
 
 // The frame's origin sits at -centre from the centre of mass, in the body

@@ -87,6 +87,12 @@ class Simulation {
   // The character named so (core/character.h: where it is, how it moves,
   // what it stands on), or none.
   const Character* character(std::string_view name) const;
+  // A new character: one character object of the scene format, its name
+  // one no live character has (a replay's add_character input); it stands
+  // where it is created from the next step on. remove_character: false
+  // when no live character has the name.
+  Result<void> add_character(std::string_view character_json);
+  bool remove_character(std::string_view name);
 
   void step();
   uint64_t tick() const { return world_.step_count(); }

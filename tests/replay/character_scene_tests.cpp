@@ -1,6 +1,8 @@
 // Characters in scenes, replays and states: the "characters" key and its
-// refusals, "move" inputs, the course's golden run, and a character saved
-// mid-jump and restored continuing bit for bit.
+// refusals, "move", "add_character" and "remove_character" inputs, the
+// course's golden run, and a character saved mid-jump and restored
+// continuing bit for bit.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <string>
@@ -78,13 +80,105 @@ TEST_CASE("move inputs: a character by name, a level velocity and a jump", "[rep
   CHECK(replay_error_of(R"([{"step": 2, "type": "move", "character": "hero", "velocity": [1, -2], "jump": true}])") ==
         "no error");
   CHECK(replay_error_of(R"([{"step": 2, "type": "move", "character": "villain", "velocity": [1, 0]}])") ==
-        "r.json: $.inputs[0].character: no character named \"villain\" in the scene");
+        "r.json: $.inputs[0].character: no character named \"villain\" in the scene or added by an add_character "
+        "before it");
   CHECK(replay_error_of(R"([{"step": 2, "type": "move", "character": "hero", "velocity": [1, 0, 0]}])") ==
         "r.json: $.inputs[0].velocity: expected [x, z] in m/s");
   CHECK(replay_error_of(R"([{"step": 2, "type": "move", "character": "hero", "velocity": [101, 0]}])")
             .rfind("r.json: $.inputs[0].velocity[0]: ", 0) == 0);
   CHECK(replay_error_of(R"([{"step": 2, "type": "move", "character": "hero"}])") ==
         "r.json: $.inputs[0]: missing key \"velocity\"");
+}
+
+TEST_CASE("add_character and remove_character inputs: a character joins, walks and leaves", "[replay][character]") {
+  const std::string added = R"({"step": 5, "type": "add_character", "character": {"name": "late",
+                                "position": [3, 0.86, 0], "radius": 0.25}})";
+  CHECK(replay_error_of("[" + added + R"(, {"step": 6, "type": "move", "character": "late", "velocity": [1, 0]},
+                                          {"step": 9, "type": "remove_character", "character": "late"}])") ==
+        "no error");
+  CHECK(replay_error_of(R"([{"step": 4, "type": "move", "character": "late", "velocity": [1, 0]}, )" + added + "]") ==
+        "r.json: $.inputs[0].character: no character named \"late\" in the scene or added by an add_character "
+        "before it");
+  CHECK(replay_error_of(
+            R"([{"step": 5, "type": "add_character", "character": {"name": "hero", "position": [3, 1, 0]}}])") ==
+        "r.json: $.inputs[0].character.name: duplicate character name \"hero\"");
+  CHECK(replay_error_of(R"([{"step": 5, "type": "add_character", "character": {"name": "b", "position": [3, 1, 0],
+                              "radius": 9}}])") == "r.json: $.inputs[0].character.radius: outside 0.05..5 m");
+  CHECK(replay_error_of(R"([{"step": 5, "type": "remove_character", "character": "nobody"}])") ==
+        "r.json: $.inputs[0].character: no character named \"nobody\" in the scene or added by an add_character "
+        "before it");
+
+  // Joins at step 5, walks 1 m/s from step 6, leaves at step 60.
+  const std::string text = R"({"format": "bitstep-replay", "version": 1, "engine": "test", "scene": )" +
+                           scene_with(R"([{"name": "hero", "position": [0, 0.91, 0]}])") +
+                           R"(, "scene_hash": "0000000000000000", "steps": 90, "inputs": [)" + added +
+                           R"(, {"step": 6, "type": "move", "character": "late", "velocity": [1, 0]},
+                              {"step": 60, "type": "remove_character", "character": "late"}]})";
+  const auto replay = parse_replay(text, "r.json", false);
+  REQUIRE(replay.ok());
+  World world(replay->scene.settings);
+  REQUIRE(build_world(replay->scene, world).ok());
+  InputRun run(world);
+  std::vector<uint64_t> first;
+  std::vector<uint8_t> at_30;
+  for (int64_t step = 1; step <= 90; ++step) {
+    apply_inputs(world, replay->inputs, step, run);
+    world.step();
+    first.push_back(state_hash(world));
+    if (step == 30) at_30 = snapshot(world);
+    if (step == 5) {
+      REQUIRE(world.characters().size() == 2);
+      CHECK(world.characters()[1].ground == GroundState::on_ground);  // it stands where it is created
+    }
+    if (step == 59) {
+      // 54 steps at 1 m/s: 0.9 m.
+      INFO("late at x " << to_double(world.characters()[1].position.x));
+      CHECK(std::abs(to_double(world.characters()[1].position.x) - 3.9) < 0.001);
+      CHECK(world.characters()[1].alive);
+    }
+  }
+  CHECK_FALSE(world.characters()[1].alive);
+  CHECK(world.characters()[0].alive);
+  // Restored at step 30 (the added character in the state), the run
+  // continues on the same chain.
+  World again(replay->scene.settings);
+  REQUIRE(build_world(replay->scene, again).ok());
+  REQUIRE(restore(at_30, again).ok());
+  InputRun later(again);
+  later.next = static_cast<size_t>(
+      std::find_if(replay->inputs.begin(), replay->inputs.end(), [](const Input& in) { return in.step > 30; }) -
+      replay->inputs.begin());
+  for (int64_t step = 31; step <= 90; ++step) {
+    apply_inputs(again, replay->inputs, step, later);
+    again.step();
+    REQUIRE(state_hash(again) == first[static_cast<size_t>(step - 1)]);
+  }
+}
+
+TEST_CASE("C API: a character added and removed by name", "[capi][character]") {
+  bitstep_simulation* sim = nullptr;
+  char error[256] = "";
+  const std::string path = test::scenes_dir + "/course.json";
+  REQUIRE(bitstep_create_from_file(path.c_str(), &sim, error, sizeof error) == BITSTEP_OK);
+  REQUIRE(bitstep_add_character(sim, R"({"name": "guest", "position": [-4, 0.91, -4]})") == BITSTEP_OK);
+  bitstep_character_state state{};
+  REQUIRE(bitstep_get_character(sim, "guest", &state) == BITSTEP_OK);
+  CHECK(state.ground == BITSTEP_ON_GROUND);
+  REQUIRE(bitstep_move_character(sim, "guest", {Fixed::one().raw(), 0, 0}, 0) == BITSTEP_OK);
+  for (int i = 0; i < 30; ++i) REQUIRE(bitstep_step(sim) == BITSTEP_OK);
+  REQUIRE(bitstep_get_character(sim, "guest", &state) == BITSTEP_OK);
+  CHECK(std::abs(to_double(Fixed::from_raw(state.position.x)) + 3.5) < 0.001);  // 30 steps at 1 m/s
+  CHECK(bitstep_add_character(sim, R"({"name": "guest", "position": [4, 0.91, 4]})") != BITSTEP_OK);
+  CHECK(std::string(bitstep_last_error(sim)) == "add_character: name: a live character is named \"guest\"");
+  CHECK(bitstep_add_character(sim, R"({"name": "x", "position": [4, 0.91, 4], "radius": 9})") != BITSTEP_OK);
+  CHECK(std::string(bitstep_last_error(sim)) == "add_character: $.radius: outside 0.05..5 m");
+  REQUIRE(bitstep_remove_character(sim, "guest") == BITSTEP_OK);
+  CHECK(bitstep_get_character(sim, "guest", &state) == BITSTEP_NOT_FOUND);
+  CHECK(bitstep_remove_character(sim, "guest") == BITSTEP_NOT_FOUND);
+  CHECK(bitstep_add_character(sim, nullptr) == BITSTEP_NULL_ARGUMENT);
+  // The name is free again once its character has left.
+  CHECK(bitstep_add_character(sim, R"({"name": "guest", "position": [4, 0.91, 4]})") == BITSTEP_OK);
+  bitstep_destroy(sim);
 }
 
 TEST_CASE("course.replay.json: the walker climbs the stairs, the pusher rides the turntable", "[replay][character]") {
