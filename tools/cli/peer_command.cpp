@@ -176,8 +176,13 @@ Result<Script> read_script(const std::string& path, const Scene& scene, int dela
   if (!loaded.ok()) return loaded.error();
   Script script;
   for (const Input& input : loaded->inputs) {
+    // Each tick's inputs are read on their own, so a name an earlier tick
+    // added is unknown to a later one.
     if (input.kind == Input::Kind::add_joint || input.kind == Input::Kind::remove_joint) {
       return Error{path + ": " + input.source.path, "a peer's input cannot add or remove joints"};
+    }
+    if (input.kind == Input::Kind::add_character || input.kind == Input::Kind::remove_character) {
+      return Error{path + ": " + input.source.path, "a peer's input cannot add or remove characters"};
     }
     if (input.step <= delay) {
       return Error{path + ": " + input.source.path + ".step",
