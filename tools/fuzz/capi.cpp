@@ -93,6 +93,13 @@ constexpr const char* joint_fragments[] = {
     R"({"type": "max_distance", "body_a": "ball", "body_b": "chassis", "anchor": [0, 2, 0], "anchor_b": [5, 1, 0], "length": #})",
     R"({"type": "slider", "body_a": "ground", "body_b": "pill", "anchor": [0, 0, 0], "axis": [1, 0, 0], "limits": [#, 2]})",
 };
+// Character objects (bitstep_add_character), and the names calls give.
+constexpr const char* character_fragments[] = {
+    R"({"name": "hero", "position": [#, #, #]})",
+    R"({"name": "guest", "position": [0, 1, 3], "radius": #, "half_height": #, "step_height": #})",
+    R"({"name": "hero", "position": [2, 0.91, 2], "max_slope": #, "facing": [#, 0, 1], "jump_speed": #})",
+};
+constexpr const char* character_names[] = {"hero", "guest", ""};
 constexpr const char* names[] = {"ground", "box", "ball", "chassis", "crate", "pill", "pair", "sensor", "wall", ""};
 constexpr const char* car_names[] = {"car", "van", ""};
 
@@ -407,6 +414,7 @@ class Session {
       case Call::create_body_struct: create_body_struct(); break;
       case Call::create_joint_struct: create_joint_struct(); break;
       case Call::read_all: read_all(); break;
+      case Call::character: character(); break;
       case Call::recreate: {
         bitstep_simulation* made = created(in_.u16());
         if (made == nullptr) break;
@@ -563,6 +571,35 @@ class Session {
     check_unchanged(before);
   }
 
+  // A character joins (a fragment), is moved, leaves or is read, by name.
+  void character() {
+    const uint64_t before = mark();
+    const char* name = character_names[in_.byte() % std::size(character_names)];
+    switch (in_.byte() % 4) {
+      case 0: {
+        const std::string text = fragment(character_fragments, std::size(character_fragments));
+        check_outcome(bitstep_add_character(sim_, text.c_str()), before);
+        break;
+      }
+      case 1: {
+        const bitstep_vec3 velocity{in_.number(), in_.number(), in_.number()};
+        check_outcome(bitstep_move_character(sim_, name, velocity, in_.byte() & 1), before);
+        break;
+      }
+      case 2: check_outcome(bitstep_remove_character(sim_, name), before); break;
+      default: {
+        bitstep_character_state state{};
+        const bitstep_status status = bitstep_get_character(sim_, name, &state);
+        require(status == BITSTEP_OK || status == BITSTEP_NOT_FOUND, "a character or none");
+        if (status == BITSTEP_OK)
+          require(state.ground >= 0 && state.ground <= 2, "a ground state of the enum");
+        else
+          require_one_line_error(bitstep_last_error(sim_), "");
+        check_unchanged(before);
+      }
+    }
+  }
+
   // Every call that takes a pointer, given none where it must have one.
   void null_arguments() {
     const uint64_t before = mark();
@@ -574,6 +611,10 @@ class Session {
                                        bitstep_add_joint(sim_, nullptr, nullptr),
                                        bitstep_body_in_slot(sim_, 0, nullptr),
                                        bitstep_drive(sim_, nullptr, 0, 0, 0),
+                                       bitstep_add_character(sim_, nullptr),
+                                       bitstep_remove_character(sim_, nullptr),
+                                       bitstep_move_character(sim_, nullptr, {}, 0),
+                                       bitstep_get_character(sim_, "hero", nullptr),
                                        bitstep_get_pose(sim_, b, nullptr),
                                        bitstep_create_body(sim_, nullptr, nullptr),
                                        bitstep_create_joint(sim_, nullptr, nullptr),

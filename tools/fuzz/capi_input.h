@@ -60,8 +60,9 @@ enum class Call : uint8_t {
   create_body_struct,
   create_joint_struct,
   read_all,
+  character,
 };
-inline constexpr uint8_t call_count = static_cast<uint8_t>(Call::read_all) + 1;
+inline constexpr uint8_t call_count = static_cast<uint8_t>(Call::character) + 1;
 
 // Numbers' texts for the JSON fragments and bitstep_fixed_parse: in range,
 // at and just past the envelope's edges, past Q32.32, and not numbers.

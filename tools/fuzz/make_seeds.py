@@ -176,7 +176,7 @@ def packets(images):
 CALLS = ["add_body_fragment", "add_body_text", "add_joint_fragment", "add_joint_text", "remove_body", "remove_joint",
          "set_velocity", "apply_impulse", "apply_force", "drive", "wake", "step", "save", "load", "save_state",
          "load_state", "get", "cast_ray", "find_body", "null_arguments", "recreate",
-         "create_body_struct", "create_joint_struct", "read_all"]
+         "create_body_struct", "create_joint_struct", "read_all", "character"]
 NAMES = ["ground", "box", "ball", "chassis", "crate", "pill", "pair", "sensor", "wall", ""]
 TEXTS = ["0", "1", "-1", "0.5", "1/60", "16000", "16000.000001", "-16001", "50", "50.01",
          "0.01", "0.009", "100000", "100001", "1e9", "1e300", "-1e300", "nan", "inf", "-inf",
@@ -232,6 +232,10 @@ def step(n):
 def load(name, which, flips=(), cut=0, make_right=False):
     flipped = b"".join(struct.pack("<HB", at, xor) for at, xor in flips)
     return call(name, bytes([which, len(flips)]), flipped, struct.pack("<H", cut), bytes([1 if make_right else 0]))
+
+
+def character(name, op, *args):  # name: CHARACTER_NAMES' index; op 0 add, 1 move, 2 remove, 3 get
+    return call("character", bytes([name, op]), *args)
 
 
 def get(body, floats=(0.0,) * 8, slot=0):
@@ -292,6 +296,14 @@ def capi_seeds():
         "nulls.bin": start + call("null_arguments", known(0)) + call("save", bytes([0])) +
         call("recreate", struct.pack("<H", 100), bytes([4])) + call("recreate", struct.pack("<H", 0), bytes([8])) +
         load("load", 0) + call("set_velocity", known(2), units(1), units(0), units(0), zero3) + step(2),
+        # Characters join (one refused: a NaN position), walk, are read, leave.
+        "characters.bin": start +
+        character(0, 0, fragment(2, ["50", "1", "3"])) + character(1, 0, fragment(1, ["0.5", "1", "0.5"])) +
+        character(0, 0, fragment(0, ["nan", "1", "0"])) +
+        character(0, 1, units(1), units(0), units(0), bytes([1])) + step(8) + character(0, 3) +
+        character(1, 2) + character(1, 3) + character(1, 2) + character(2, 1, units(1), units(0), units(0), bytes([0])) +
+        character(0, 1, edge(100, 1), units(0), units(0), bytes([0])) + call("save", bytes([0])) + step(4) +
+        load("load", 0) + character(0, 3),
         "getters.bin": start + step(4) +
         get(known(2), floats=(float("nan"), 1.0, float("inf"), 0.0, 0.0, 0.0, -0.0, float("nan")), slot=1) +
         get(made_up(50, 0), slot=7) + get(known(3), floats=(1e38, -1e38, 1e-45, 0.0, 1.0, 0.0, 0.0, 0.5)),
