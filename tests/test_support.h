@@ -41,6 +41,16 @@ inline double to_double(Fixed f) { return static_cast<double>(f.raw()) * 0x1p-32
 inline Fixed to_fixed(double x) { return Fixed::from_raw(static_cast<int64_t>(std::llround(x * 0x1p32))); }
 
 // v sign-extended to a two's complement 128-bit value.
+// How far a body sliding at v0 travels until friction's deceleration a
+// stops it, stepped as the engine steps (semi-implicit Euler, dt): each
+// step takes a dt off the speed, then moves by the new speed, until the
+// speed would turn back (friction then holds it). The continuous v0^2 / 2a
+// is v0 dt / 2 farther (1% at 5 m/s, mu 0.3, 60 Hz).
+inline double euler_stop_distance(double v0, double a, double dt) {
+  const auto n = static_cast<double>(static_cast<int64_t>(v0 / (a * dt)));  // whole steps that slow it
+  return dt * (n * v0 - a * dt * n * (n + 1) / 2);
+}
+
 inline PortableU128 wide(int64_t v) { return {v < 0 ? UINT64_MAX : 0, static_cast<uint64_t>(v)}; }
 
 }  // namespace bitstep::test
