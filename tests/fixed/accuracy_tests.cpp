@@ -5,12 +5,12 @@
 #include <string>
 #include <vector>
 
+#include "tests/fixed/fixed_accuracy.h"
 #include "tests/test_support.h"
-#include "tools/measure/fixed_accuracy.h"
 
 // The accuracy bounds docs/determinism.md states ("Accuracy"), measured over edge values plus 10^6 random
 // operands per function (10^5 in unoptimised builds: test_support.h)
-// against exact integer or long double references (tools/measure/fixed_accuracy.cpp).
+// against exact integer or long double references (tests/fixed/fixed_accuracy.cpp).
 // The table goes to stdout, i.e. the ctest log.
 TEST_CASE("every fixed-point function is within its documented ulp bound over 10^6 random operands and the edges",
           "[fixed][accuracy]") {

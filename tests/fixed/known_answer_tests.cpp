@@ -1,9 +1,9 @@
 #include <catch2/catch.hpp>
 
-#include "tools/measure/known_answer.h"
+#include "fixed/known_answer.h"
 
 // The same >= 10^6 mixed operations give the same bits in every build; the
-// frozen value lives in tools/measure/known_answer.h and tools/crosscheck/crosscheck.sh compares
+// frozen value lives in fixed/known_answer.h and tools/crosscheck/crosscheck.sh compares
 // it across compilers, backends and CPUs.
 TEST_CASE("known-answer hash over a million mixed operations is frozen", "[fixed][known-answer]") {
   const bitstep::KnownAnswer answer = bitstep::run_known_answer();

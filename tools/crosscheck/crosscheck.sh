@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The cross-build matrix: builds the known-answer program (fixed/ +
-# tools/measure/known_answer.cpp) and the golden-replay verifier (fixed/, core/,
+# The cross-build matrix: builds the known-answer program (fixed/, whose
+# known_answer.cpp it runs) and the golden-replay verifier (fixed/, core/,
 # replay/ + tools/crosscheck/verify_replays_main.cpp; xxhash inlined, nlohmann
 # header-only) with every compiler, option set, 128-bit backend and CPU
 # below, each program one translation unit (its sources #included into one
@@ -14,7 +14,7 @@ cd "$(dirname "$0")/../.."
 out=build/crosscheck
 mkdir -p "$out"
 
-sources=(fixed/*.cpp tools/measure/known_answer.cpp tools/crosscheck/known_answer_main.cpp)
+sources=(fixed/*.cpp tools/crosscheck/known_answer_main.cpp)
 # The verifier links neither sessions, the C API, render poses, Simulation
 # nor the thread pool: leaving them out saves ~15% of each compile.
 replay_sources=(fixed/*.cpp core/*.cpp tools/crosscheck/verify_replays_main.cpp)
@@ -142,7 +142,7 @@ wineboot=$!
 for_each_build compile || exit 1
 wait "$wineboot" || { echo "crosscheck: wine's prefix failed:" >&2; cat "$out/wineboot.log" >&2; exit 1; }
 
-expected=$(sed -n 's/.*expected_known_answer_hash = 0x\([0-9a-f]*\);.*/\1/p' tools/measure/known_answer.h)
+expected=$(sed -n 's/.*expected_known_answer_hash = 0x\([0-9a-f]*\);.*/\1/p' fixed/known_answer.h)
 printf '| build | 128-bit backend | byte order | known-answer hash | result |\n|---|---|---|---|---|\n'
 failed=0
 for b in "${builds[@]}"; do

@@ -1,13 +1,13 @@
 // Standalone known-answer program for tools/crosscheck/crosscheck.sh: built by each
-// cross compiler from fixed/ and tools/measure/known_answer.cpp alone, it prints
+// cross compiler from fixed/ alone, it prints
 // "<hash> <operations> <128-bit backend> <byte order>" and exits 0 only if the
 // hash is the frozen value.
 #include <bit>
 #include <cinttypes>
 #include <cstdio>
 
+#include "fixed/known_answer.h"
 #include "fixed/u128.h"
-#include "tools/measure/known_answer.h"
 
 int main() {
   const bitstep::KnownAnswer answer = bitstep::run_known_answer();

@@ -2,7 +2,7 @@
 // fuzzer's bytes, feeds them to one reader of untrusted input and checks
 // what must hold whatever the bytes are. libFuzzer calls them from
 // LLVMFuzzerTestOneInput (one executable per target, built with
-// BITSTEP_FUZZ); tests/replay/fuzz_regression_tests.cpp calls the same
+// BITSTEP_FUZZ); tests/tools/fuzz_regression_tests.cpp calls the same
 // functions in a normal build (BITSTEP_FUZZ_NO_MAIN) on the seed corpora and
 // on every input a fuzzer once crashed on.
 #pragma once

@@ -1,8 +1,8 @@
 // Measured accuracy of every fixed/ function: the worst error in ulps over
 // edge values and random operands, against an exact integer/rational
 // reference (mul, div, sqrt, length, decimal parsing, ...) or a long double
-// one (transcendentals). Used by `bitstep selftest` (the table) and by
-// tests/fixed/accuracy_tests.cpp (which asserts every bound).
+// one (transcendentals). tests/fixed/accuracy_tests.cpp prints the table and
+// asserts every bound. Floating point, hence here and not in fixed/.
 #pragma once
 
 #include <cstdint>

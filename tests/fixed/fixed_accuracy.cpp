@@ -1,4 +1,4 @@
-// Measured accuracy of every fixed/ function (see tools/measure/fixed_accuracy.h).
+// Measured accuracy of every fixed/ function (see tests/fixed/fixed_accuracy.h).
 //
 // Each function gets edge operands (0, +-1 ulp, +-max, lowest, powers of two
 // and their neighbours, plus its own special points) and `random_samples`
@@ -15,10 +15,10 @@
 //  - "long double": sinl, cosl, tanl, atan2l, asinl, acosl, 1/sqrtl on the
 //    exact input (a raw int64 times 2^-32 is exact in long double's 64-bit
 //    mantissa); their own error is ~2^-63 relative, far below an ulp here.
-#include "tools/measure/fixed_accuracy.h"
+#include "tests/fixed/fixed_accuracy.h"
 
 #if !defined(__SIZEOF_INT128__)
-#error "tools/measure/fixed_accuracy.cpp needs unsigned __int128: it is built natively on 64-bit hosts only"
+#error "tests/fixed/fixed_accuracy.cpp needs unsigned __int128: it is built natively on 64-bit hosts only"
 #endif
 
 #include <algorithm>
@@ -34,8 +34,8 @@
 #include <string_view>
 
 #include "fixed/decimal.h"
-#include "fixed/vec3.h"
 #include "fixed/splitmix64.h"
+#include "fixed/vec3.h"
 
 namespace bitstep {
 

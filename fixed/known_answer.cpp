@@ -1,4 +1,4 @@
-#include "tools/measure/known_answer.h"
+#include "fixed/known_answer.h"
 
 #include "fixed/decimal.h"
 #include "fixed/mat33.h"
