@@ -46,7 +46,7 @@ replay_flags=(-isystem "$out/include" -DXXH_INLINE_ALL -DXXH_VECTOR=0)
 
 # Golden replays: every build verifies them all (wasm under node too, in
 # ~12 s; Windows under wine in ~30 s), except that the builds run under qemu,
-# and the unoptimised and checked ones, take the short versions of the four
+# and the unoptimised and checked ones, take the short versions of the six
 # heaviest scenes
 # (<scene>.short.replay.json: 2 to 20 steps) instead of their full replays
 # (minutes each when emulated; ragdolls' 8 substeps alone took 38 s at -O0);
@@ -55,7 +55,7 @@ replay_flags=(-isystem "$out/include" -DXXH_INLINE_ALL -DXXH_VECTOR=0)
 replays=(scenes/*.replay.json)
 short_replays=()
 for r in "${replays[@]}"; do
-  case "$r" in */wall128.replay.json|*/pyramid20.replay.json|*/playground.replay.json|*/ragdolls.replay.json) ;; *) short_replays+=("$r") ;; esac
+  case "$r" in */wall128.replay.json|*/pyramid20.replay.json|*/playground.replay.json|*/ragdolls.replay.json|*/terrain.replay.json|*/hills.replay.json) ;; *) short_replays+=("$r") ;; esac
 done
 
 # name | compiler | flags | runner ("-" = run directly). armhf: -Wno-psabi
@@ -121,21 +121,26 @@ compile() {
     return 1
   fi
 }
-# Runs FUNCTION once per build, nproc at a time (CI has 2 cores); fails if
-# any run failed.
-for_each_build() {
-  local status=0 pids=() b p
+# Runs FUNCTION once per build, nproc at a time (CI has 2 cores), starting
+# the next as soon as any one ends (a slow emulated run must not hold a
+# core idle); fails if any run failed. A subshell, so that `wait -n` waits
+# for these runs only (wine's prefix is made beside the compiles).
+for_each_build() (
+  status=0 running=0
   for b in "${builds[@]}"; do
-    "$1" "$b" &
-    pids+=($!)
-    if [ ${#pids[@]} -ge "$(nproc)" ]; then
-      wait "${pids[0]}" || status=1
-      pids=("${pids[@]:1}")
+    if [ "$running" -ge "$(nproc)" ]; then
+      wait -n || status=1
+      running=$((running - 1))
     fi
+    "$1" "$b" &
+    running=$((running + 1))
   done
-  for p in "${pids[@]}"; do wait "$p" || status=1; done
-  return $status
-}
+  while [ "$running" -gt 0 ]; do
+    wait -n || status=1
+    running=$((running - 1))
+  done
+  exit $status
+)
 # wine's prefix, made once per run beside the compiles (~10 s).
 timeout 300 tools/crosscheck/wine_run.sh wineboot --init >"$out/wineboot.log" 2>&1 &
 wineboot=$!
