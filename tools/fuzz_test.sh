@@ -13,7 +13,8 @@ tools/fuzz_build.sh >/dev/null
 
 # target:runs, sized so that each takes about 10 s on 2 shared cores
 # (fuzz_snapshot's seeds include mesh and heightfield worlds, which it
-# steps: ~150 runs a second; fuzz_capi's call sequences ~100).
+# steps, and fuzz_capi runs whole call sequences: both run far fewer
+# inputs a second than the readers).
 runs=(scene:8000 replay:15000 settings:100000 snapshot:2000 packet:500000 capi:1000)
 failed=()
 for entry in "${runs[@]}"; do
