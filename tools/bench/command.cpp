@@ -32,11 +32,13 @@
 #include <string_view>
 
 #include "tools/bench/context.h"
+#include "tools/bench/headline.h"
 #include "tools/bench/report.h"
 #include "tools/bench/sections.h"
-#include "tools/cli/shared_options.h"
-#include "tools/cli/options.h"
 #include "tools/cli/exit_codes.h"
+#include "tools/cli/file_output.h"
+#include "tools/cli/options.h"
+#include "tools/cli/shared_options.h"
 
 namespace bitstep {
 
@@ -76,6 +78,53 @@ std::string machine_line(const Options& options, double seconds) {
       date, cpu, sysconf(_SC_NPROCESSORS_ONLN), options.quick ? " --quick" : "", seconds);
 }
 
+std::optional<std::string> read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// The headline table from `report`'s CSV files, written into `readme`
+// (check: compared with it instead). Returns the exit code; says why on
+// stderr when it is not success.
+int update_headline(const std::string& command, const std::string& report, const std::string& readme, bool check) {
+  const std::optional<std::string> results = read_text(report + "/results.csv");
+  const std::optional<std::string> speed = read_text(report + "/speed.csv");
+  const std::optional<std::string> old_text = read_text(readme);
+  for (const auto& [text, path] : {std::pair{&results, report + "/results.csv"},
+                                   std::pair{&speed, report + "/speed.csv"}, std::pair{&old_text, readme}}) {
+    if (!text->has_value()) {
+      fmt::print(stderr, "{}: {}: cannot read it\n", command, path);
+      return exit_code::bad_input;
+    }
+  }
+  const Result<std::string> block = headline_block(*results, *speed);
+  if (!block.ok()) {
+    fmt::print(stderr, "{}: {}\n", command, block.error().within(report).message());
+    return exit_code::bad_input;
+  }
+  const Result<std::string> new_text = with_headline(*old_text, block.value());
+  if (!new_text.ok()) {
+    fmt::print(stderr, "{}: {}\n", command, new_text.error().within(readme).message());
+    return exit_code::bad_input;
+  }
+  if (check) {
+    if (new_text.value() == *old_text) return exit_code::success;
+    fmt::print(stderr, "{}: {}: its headline table is not the one {} gives (bitstep bench headline writes it)\n",
+               command, readme, report);
+    return exit_code::check_failed;
+  }
+  std::string reason;
+  if (!write_file_atomically(readme, new_text.value(), reason)) {
+    fmt::print(stderr, "{}: {}\n", command, reason);
+    return exit_code::output_failed;
+  }
+  fmt::print("headline table: {} (from {})\n", readme, report);
+  return exit_code::success;
+}
+
 // Runs the chosen sections; writes summary.md. Returns the exit code.
 int run_bench(const Options& options) {
   Context context(options);
@@ -108,6 +157,7 @@ int run_bench(const Options& options) {
   ok = context.write("summary.md", md + sections) && ok;
   if (context.write_failed) return exit_code::output_failed;  // its line was printed
   fmt::print("report: {}/summary.md ({:.0f} s)\n", options.out, elapsed.count());
+  if (ok && !options.readme.empty()) return update_headline("bitstep bench", options.out, options.readme, false);
   return ok ? exit_code::success : exit_code::check_failed;
 }
 
@@ -133,6 +183,9 @@ std::optional<int> parse_options(int argc, char** argv, Options& options) {
   app.add_option("--out", options.out, "the report's folder (default bench-report)")->type_name("DIR");
   app.add_option("--scenes", options.scenes, "the scenes' folder")->type_name("DIR");
   app.add_flag_callback("--no-peer", [&options] { options.peer = false; }, "leave Bullet out");
+  app.add_option("--readme", options.readme,
+                 "after a full run, write its headline table into FILE (between its headline markers)")
+      ->type_name("FILE");
   cli::add_threads(app, options.threads, 2, "the workers of the speed table's threaded column (default 2)");
   cli::add_read(
       app, "--sections", "a list of results, sweep, scale, speed, costs, determinism",
@@ -162,6 +215,17 @@ std::optional<int> parse_options(int argc, char** argv, Options& options) {
 }
 
 }  // namespace
+
+int run_bench_headline(int argc, char** argv) {
+  std::string report = "tools/report", readme = "README.md";
+  bool check = false;
+  CLI::App app("the README's headline table, from a report's results.csv and speed.csv", "bitstep bench headline");
+  app.add_option("--report", report, "the report's folder (default tools/report)")->type_name("DIR");
+  app.add_option("--readme", readme, "the file holding the table (default README.md)")->type_name("FILE");
+  app.add_flag("--check", check, "write nothing; exit 1 when the file's table is not the report's");
+  if (const std::optional<int> code = cli::parse(app, "bench headline", argc, argv)) return *code;
+  return update_headline("bitstep bench headline", report, readme, check);
+}
 
 int run_bench_suite(int argc, char** argv) {
   Options options;

@@ -26,6 +26,7 @@ struct Options {
   std::set<std::string> only;  // experiments; empty: all
   bool peer = true;
   int threads = 2;  // the speed section's threaded column
+  std::string readme;  // a README whose headline table the run rewrites; empty: none
 };
 
 // One experiment run at one dt and iteration count.

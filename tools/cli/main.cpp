@@ -65,14 +65,18 @@ constexpr const char* usage =
     "                           nudges a body at a tick (a desync to be found)\n"
     "  selftest                 the fixed-point known-answer hash: does this build give the frozen bits?\n"
     "  bench [--quick | --full] [--out DIR] [--sections LIST] [--only EXPERIMENTS] [--no-peer] [--scenes DIR]\n"
-    "        [--threads N]\n"
+    "        [--threads N] [--readme FILE]\n"
     "                           the suite: accuracy and stability experiments on bitstep's variants and\n"
     "                           Bullet, work-precision sweeps, scale, speed against Bullet, costs; writes\n"
     "                           CSV, summary.md and plots to DIR (default bench-report); sections:\n"
     "                           results,sweep,scale,speed,costs,determinism; --threads N: the workers of\n"
-    "                           the speed table's threaded column (default 2)\n"
+    "                           the speed table's threaded column (default 2); --readme FILE: then writes\n"
+    "                           the headline table into FILE\n"
     "  bench fixed [--quick] [--csv FILE]\n"
     "                           ns/op of fixed-point operations next to float and double\n"
+    "  bench headline [--report DIR] [--readme FILE] [--check]\n"
+    "                           the README's headline table from a report's CSV files (default\n"
+    "                           tools/report, README.md); --check: exit 1 if FILE's table differs\n"
     "  bench queries [--quick]  us per ray, shape cast and overlap over 100 to 10,000 bodies\n"
     "  bench session [--quick] [--scenes DIR]\n"
     "                           what a session adds to a tick; the largest world lockstep and rollback\n"
@@ -131,9 +135,8 @@ struct Command {
 
 // `bitstep bench NAME` runs one of these; `bitstep bench` with options, the suite.
 constexpr Command bench_commands[] = {
-    {"fixed", bitstep::run_bench_fixed},
-    {"queries", bitstep::run_bench_queries},
-    {"session", bitstep::run_bench_session},
+    {"fixed", bitstep::run_bench_fixed},     {"headline", bitstep::run_bench_headline},
+    {"queries", bitstep::run_bench_queries}, {"session", bitstep::run_bench_session},
     {"sleep", bitstep::run_bench_sleep},
 };
 
