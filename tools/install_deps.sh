@@ -18,8 +18,8 @@ wasm_packages=(cmake make nlohmann-json3-dev libxxhash-dev emscripten node-acorn
 viewer_packages=("${wasm_packages[@]}" chromium)
 test_packages=(clang libfuzzer-14-dev g++-i686-linux-gnu g++-aarch64-linux-gnu g++-s390x-linux-gnu g++-arm-linux-gnueabihf
   g++-riscv64-linux-gnu g++-powerpc64le-linux-gnu qemu-user clang-16 g++-mingw-w64-x86-64-posix wine64
-  mono-mcs mono-runtime python3)  # mono: the C# binding of tests/consumer/csharp (tools/check_package.sh);
-                                 # python3: tools/check_layers.py
+  mono-mcs mono-runtime python3 ccache)  # mono: the C# binding of tests/consumer/csharp (tools/check_package.sh);
+                                 # python3: tools/check_layers.py; ccache: test.sh's compiler cache
 
 case "${1:-build}" in
   build) wanted=("${build_packages[@]}") ;;

@@ -98,6 +98,21 @@ program() {
   echo "$out/$1_$(slug "$2")$suffix"
 }
 
+# The compiler cache of tools/test.sh (CMAKE_CXX_COMPILER_LAUNCHER, ccache),
+# when it set one: it caches compiles, not links, so each program is
+# compiled to an object and linked apart.
+launcher=()
+[ -n "${CMAKE_CXX_COMPILER_LAUNCHER:-}" ] && launcher=("$CMAKE_CXX_COMPILER_LAUNCHER")
+# build_program COMPILER FLAGS OUTPUT ARGS...: the object, then the program;
+# the compiler's messages in OUTPUT.log.
+build_program() {
+  local compiler=$1 flags=$2 output=$3
+  shift 3
+  # shellcheck disable=SC2086
+  "${launcher[@]}" "$compiler" "$@" $flags -c -o "$output.o" 2>"$output.log" &&
+    "$compiler" $flags "$output.o" -o "$output" 2>>"$output.log"
+}
+
 # Compiles one build's two programs.
 compile() {
   IFS='|' read -r name compiler flags _ <<<"$1"
@@ -116,13 +131,13 @@ compile() {
     return 0
   fi
   # shellcheck disable=SC2086
-  if ! "$compiler" "${common[@]}" $flags "${sources[@]}" -o "$exe" 2>"$exe.log"; then
+  if ! build_program "$compiler" "$flags" "$exe" "${common[@]}" "${sources[@]}"; then
     echo "crosscheck: build '$name' failed to compile:" >&2
     cat "$exe.log" >&2
     return 1
   fi
   # shellcheck disable=SC2086
-  if ! "$compiler" "${common[@]}" "${replay_flags[@]}" $flags "${replay_sources[@]}" -o "$verifier" 2>"$verifier.log"; then
+  if ! build_program "$compiler" "$flags" "$verifier" "${common[@]}" "${replay_flags[@]}" "${replay_sources[@]}"; then
     echo "crosscheck: the replay verifier of build '$name' failed to compile:" >&2
     cat "$verifier.log" >&2
     return 1
