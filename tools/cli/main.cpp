@@ -10,7 +10,7 @@
 #include "fixed/known_answer.h"
 #include "fixed/u128.h"
 #include "tools/bench/command.h"
-#include "tools/bench/fixed.h"
+#include "tools/bench/fixed_ops.h"
 #include "tools/bench/queries.h"
 #include "tools/bench/session.h"
 #include "tools/bench/sleep.h"

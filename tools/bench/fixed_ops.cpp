@@ -15,7 +15,7 @@
 // work, fold it across sweeps or vectorise it, and it adds no instruction. The
 // times include the operand loads and the loop (unrolled by 4): about one cycle
 // per element, which is all of the float add and mul figures.
-#include "tools/bench/fixed.h"
+#include "tools/bench/fixed_ops.h"
 
 #include <fmt/core.h>
 
