@@ -65,7 +65,7 @@ TEST_CASE("the headline table refuses a report it cannot read whole, naming the 
     csv.replace(csv.find("0.25"), 4, "0.2x");
     const Result<std::string> block = headline_block(csv, speed);
     REQUIRE_FALSE(block.ok());
-    CHECK(block.error().message() == "results.csv: row 2: error is '0.2x', not a number");
+    CHECK(block.error().message() == "results.csv: line 2: error is '0.2x', not a number");
   }
   SECTION("a shown experiment missing") {
     std::string csv = results_header;

@@ -54,9 +54,15 @@ std::optional<Record> split_line(std::string_view line) {
   return fields;
 }
 
-// A CSV file's rows as column name -> field; an error names the line.
-Result<std::vector<std::map<std::string, std::string>>> read_csv(std::string_view text, const std::string& name) {
-  std::vector<std::map<std::string, std::string>> rows;
+// A CSV row: column name -> field, and where it stands ("results.csv: line 7").
+struct CsvRow {
+  std::string place;
+  std::map<std::string, std::string> fields;
+};
+
+// A CSV file's rows under its header line; an error names the line.
+Result<std::vector<CsvRow>> read_csv(std::string_view text, const std::string& name) {
+  std::vector<CsvRow> rows;
   Record header;
   int line_number = 0;
   while (!text.empty()) {
@@ -75,18 +81,19 @@ Result<std::vector<std::map<std::string, std::string>>> read_csv(std::string_vie
     if (fields->size() != header.size()) {
       return Error{place, fmt::format("{} fields, the header has {}", fields->size(), header.size())};
     }
-    std::map<std::string, std::string>& row = rows.emplace_back();
-    for (size_t i = 0; i < header.size(); ++i) row[header[i]] = (*fields)[i];
+    CsvRow& row = rows.emplace_back();
+    row.place = place;
+    for (size_t i = 0; i < header.size(); ++i) row.fields[header[i]] = (*fields)[i];
   }
   if (header.empty()) return Error{name, "empty"};
   return rows;
 }
 
 // A field that must be a number; an error names it.
-Result<double> number(const std::map<std::string, std::string>& row, const std::string& column,
-                      const std::string& place) {
-  const auto found = row.find(column);
-  if (found == row.end()) return Error{place, "no column " + column};
+Result<double> number(const CsvRow& row, const std::string& column) {
+  const std::string& place = row.place;
+  const auto found = row.fields.find(column);
+  if (found == row.fields.end()) return Error{place, "no column " + column};
   double value = 0;
   const std::string& text = found->second;
   const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
@@ -107,17 +114,16 @@ Result<std::string> speed_sentence(std::string_view speed_csv) {
   if (!rows.ok()) return rows.error();
   std::vector<std::pair<std::string, std::pair<std::vector<double>, std::vector<double>>>> cases;
   std::vector<std::string> phase_names;
-  int line = 1;
-  for (const auto& row : rows.value()) {
-    const std::string place = fmt::format("speed.csv: row {}", ++line);
-    const auto bitstep = number(row, "bitstep_cpu_ms_per_step", place);
+  for (const CsvRow& row : rows.value()) {
+    const auto bitstep = number(row, "bitstep_cpu_ms_per_step");
     if (!bitstep.ok()) return bitstep.error();
-    const auto peer = number(row, "bullet_cpu_ms_per_step", place);
+    const auto peer = number(row, "bullet_cpu_ms_per_step");
     if (!peer.ok()) return peer.error();
-    if (row.count("scene") == 0 || row.count("phase") == 0) return Error{place, "no scene or phase column"};
-    const std::string key = row.at("scene") + " " + row.at("phase");
-    if (std::find(phase_names.begin(), phase_names.end(), row.at("phase")) == phase_names.end()) {
-      phase_names.push_back(row.at("phase"));
+    const auto scene = row.fields.find("scene"), phase = row.fields.find("phase");
+    if (scene == row.fields.end() || phase == row.fields.end()) return Error{row.place, "no scene or phase column"};
+    const std::string key = scene->second + " " + phase->second;
+    if (std::find(phase_names.begin(), phase_names.end(), phase->second) == phase_names.end()) {
+      phase_names.push_back(phase->second);
     }
     auto found = std::find_if(cases.begin(), cases.end(), [&](const auto& c) { return c.first == key; });
     if (found == cases.end()) found = cases.insert(cases.end(), {key, {}});
@@ -142,17 +148,17 @@ Result<std::string> headline_block(std::string_view results_csv, std::string_vie
   const auto rows = read_csv(results_csv, "results.csv");
   if (!rows.ok()) return rows.error();
   std::map<std::string, std::pair<Cell, Cell>> cells;  // experiment -> bitstep, Bullet
-  int line = 1;
-  for (const auto& row : rows.value()) {
-    const std::string place = fmt::format("results.csv: row {}", ++line);
-    const auto experiment = row.find("experiment"), variant = row.find("variant");
-    if (experiment == row.end() || variant == row.end()) return Error{place, "no experiment or variant column"};
+  for (const CsvRow& row : rows.value()) {
+    const auto experiment = row.fields.find("experiment"), variant = row.fields.find("variant");
+    if (experiment == row.fields.end() || variant == row.fields.end()) {
+      return Error{row.place, "no experiment or variant column"};
+    }
     if (variant->second != bitstep_variant && variant->second != peer_variant) continue;
-    const auto error = number(row, "error", place);
+    const auto error = number(row, "error");
     if (!error.ok()) return error.error();
-    const auto failed = number(row, "failed", place);
+    const auto failed = number(row, "failed");
     if (!failed.ok()) return failed.error();
-    const auto ms = number(row, "ms_per_step", place);
+    const auto ms = number(row, "ms_per_step");
     if (!ms.ok()) return ms.error();
     Cell& cell =
         variant->second == bitstep_variant ? cells[experiment->second].first : cells[experiment->second].second;
