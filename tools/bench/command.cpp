@@ -31,6 +31,7 @@
 #include <string>
 #include <string_view>
 
+#include "replay/scene.h"
 #include "tools/bench/context.h"
 #include "tools/bench/headline.h"
 #include "tools/bench/report.h"
@@ -78,40 +79,31 @@ std::string machine_line(const Options& options, double seconds) {
       date, cpu, sysconf(_SC_NPROCESSORS_ONLN), options.quick ? " --quick" : "", seconds);
 }
 
-std::optional<std::string> read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 // The headline table from `report`'s CSV files, written into `readme`
 // (check: compared with it instead). Returns the exit code; says why on
 // stderr when it is not success.
 int update_headline(const std::string& command, const std::string& report, const std::string& readme, bool check) {
-  const std::optional<std::string> results = read_text(report + "/results.csv");
-  const std::optional<std::string> speed = read_text(report + "/speed.csv");
-  const std::optional<std::string> old_text = read_text(readme);
-  for (const auto& [text, path] : {std::pair{&results, report + "/results.csv"},
-                                   std::pair{&speed, report + "/speed.csv"}, std::pair{&old_text, readme}}) {
-    if (!text->has_value()) {
-      fmt::print(stderr, "{}: {}: cannot read it\n", command, path);
+  const Result<std::string> results = read_text_file(report + "/results.csv");
+  const Result<std::string> speed = read_text_file(report + "/speed.csv");
+  const Result<std::string> old_text = read_text_file(readme);
+  for (const Result<std::string>* read : {&results, &speed, &old_text}) {
+    if (!read->ok()) {
+      fmt::print(stderr, "{}: {}\n", command, read->error().message());
       return exit_code::bad_input;
     }
   }
-  const Result<std::string> block = headline_block(*results, *speed);
+  const Result<std::string> block = headline_block(results.value(), speed.value());
   if (!block.ok()) {
     fmt::print(stderr, "{}: {}\n", command, block.error().within(report).message());
     return exit_code::bad_input;
   }
-  const Result<std::string> new_text = with_headline(*old_text, block.value());
+  const Result<std::string> new_text = with_headline(old_text.value(), block.value());
   if (!new_text.ok()) {
     fmt::print(stderr, "{}: {}\n", command, new_text.error().within(readme).message());
     return exit_code::bad_input;
   }
   if (check) {
-    if (new_text.value() == *old_text) return exit_code::success;
+    if (new_text.value() == old_text.value()) return exit_code::success;
     fmt::print(stderr, "{}: {}: its headline table is not the one {} gives (bitstep bench headline writes it)\n",
                command, readme, report);
     return exit_code::check_failed;

@@ -130,13 +130,11 @@ compile() {
     ln -sf "$PWD/build/wasm/tools/wasm/bitstep-verify-replays.js" "$verifier"
     return 0
   fi
-  # shellcheck disable=SC2086
   if ! build_program "$compiler" "$flags" "$exe" "${common[@]}" "${sources[@]}"; then
     echo "crosscheck: build '$name' failed to compile:" >&2
     cat "$exe.log" >&2
     return 1
   fi
-  # shellcheck disable=SC2086
   if ! build_program "$compiler" "$flags" "$verifier" "${common[@]}" "${replay_flags[@]}" "${replay_sources[@]}"; then
     echo "crosscheck: the replay verifier of build '$name' failed to compile:" >&2
     cat "$verifier.log" >&2
